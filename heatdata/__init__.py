@@ -1,0 +1,28 @@
+"""heatdata: heat-diffusion descriptors of partial 3D views (Brandao 2015).
+
+>>> import heatdata as hd
+>>> model = hd.load_model("mug.obj", size=(0.12, 0.10, 0.08))
+>>> view = hd.render_view(model, azimuth=30.0, elevation=45.0, distance=1.0, noise=True, seed=0)
+>>> d = hd.pvhk(view, samples=64, source="closest")
+"""
+
+from .catalog import import_sh3f, load_catalog_model, read_catalog
+from .descriptors import (COLOR_MAPS, Descriptor, DescriptorSpec, c_pvhk, describe, heat_kernel, pvhk,
+                          sample_boundary, source_vertex)
+from .distance import mhd, mhd_matrix
+from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
+from .models import Model, load_model
+from .recognition import accuracy_by, confusion_matrix, nearest_neighbours
+from .render import camera_pose, render_view
+from .spectrum import HeatOperator, Spectrum, eigen_spectrum, krylov_heat, lambda2, laplacian
+from .view import View
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "COLOR_MAPS", "Descriptor", "DescriptorSpec", "HeatOperator", "HeatdataError", "Model", "ModelError", "RenderError",
+    "Spectrum", "SpectrumError", "View", "ViewError", "accuracy_by", "c_pvhk", "camera_pose",
+    "confusion_matrix", "describe", "eigen_spectrum", "heat_kernel", "import_sh3f", "krylov_heat", "lambda2",
+    "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "nearest_neighbours", "pvhk",
+    "read_catalog", "render_view", "sample_boundary", "source_vertex", "__version__",
+]

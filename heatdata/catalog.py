@@ -1,0 +1,194 @@
+"""Model catalogues: a CSV listing objects with their class, file and real size.
+
+Both the embedded default data (``data/models/catalog.csv``) and any Sweet Home 3D
+furniture library imported with :func:`import_sh3f` are described by the same table,
+so the rest of heatdata reads models one way:
+
+============  =====================================================================
+column        meaning
+============  =====================================================================
+object        stable object identifier (unique in the catalogue)
+label         object class used for recognition (e.g. ``mug``)
+file          model file, relative to the catalogue's folder
+width         real size along the model's x axis, metres (empty: file units are m)
+height        real size along y (up), metres
+depth         real size along z, metres
+rotation      optional 9 numbers (row-major 3x3) applied before scaling
+name          human-readable name
+source        where the model came from (library and creator)
+licence       licence of the model
+============  =====================================================================
+"""
+
+from __future__ import annotations
+
+import codecs
+import csv
+import logging
+import re
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .errors import ModelError
+from .models import Model, load_model
+
+log = logging.getLogger(__name__)
+
+CATALOG_COLUMNS = ["object", "label", "file", "width", "height", "depth", "rotation", "name", "source", "licence"]
+SH3F_LICENCES = {"blendswap-cc-0": "CC0-1.0"}
+
+
+def read_catalog(path: str | Path) -> pd.DataFrame:
+    """Read and check a catalogue CSV.
+
+    Raises
+    ------
+    ModelError
+        The file is missing, lacks a column, has duplicate object ids, or names a model
+        file that does not exist.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ModelError(f"{path}: no such catalogue")
+    table = pd.read_csv(path, dtype={"object": str, "label": str, "file": str, "rotation": str}, keep_default_na=False)
+    missing = [c for c in ("object", "label", "file") if c not in table.columns]
+    if missing:
+        raise ModelError(f"{path}: catalogue lacks column(s) {', '.join(missing)}")
+    duplicated = table["object"][table["object"].duplicated()].tolist()
+    if duplicated:
+        raise ModelError(f"{path}: duplicate object id(s) {duplicated}")
+    for column in CATALOG_COLUMNS:
+        if column not in table.columns:
+            table[column] = ""
+    table["path"] = [str(path.parent / f) for f in table["file"]]
+    return table
+
+
+def load_catalog_model(row: pd.Series | dict) -> Model:
+    """Load the model of one catalogue row, scaled to its real size."""
+    size = None
+    if str(row.get("width", "")) not in ("", "nan"):
+        size = (float(row["width"]), float(row["height"]), float(row["depth"]))
+    rotation = None
+    if str(row.get("rotation", "")).strip():
+        rotation = np.array([float(x) for x in str(row["rotation"]).split()]).reshape(3, 3)
+    return load_model(row["path"], size=size, rotation=rotation, name=row["object"], label=row["label"])
+
+
+def parse_properties(text: str) -> dict[str, str]:
+    """Parse a Java ``.properties`` text (``key=value`` lines, ``\\uXXXX`` escapes)."""
+    result: dict[str, str] = {}
+    logical, pending = [], ""
+    for raw in text.splitlines():
+        line = pending + raw.lstrip() if pending else raw.strip()
+        if line.endswith("\\") and not line.endswith("\\\\"):
+            pending = line[:-1]
+            continue
+        pending = ""
+        logical.append(line)
+    for line in logical:
+        if not line or line[0] in "#!":
+            continue
+        match = re.match(r"((?:[^=:\\\s]|\\.)+)\s*[=:]?\s*(.*)", line)
+        if match:
+            key, value = (codecs.decode(s, "unicode_escape") for s in match.groups())
+            result[key] = value
+    return result
+
+
+def sh3f_entries(sh3f_path: str | Path) -> pd.DataFrame:
+    """The furniture entries of a Sweet Home 3D library (``.sh3f``), one row each.
+
+    Columns: ``index, name, category, model, width, depth, height, rotation, creator``;
+    sizes converted from centimetres to metres.
+    """
+    sh3f_path = Path(sh3f_path)
+    try:
+        with zipfile.ZipFile(sh3f_path) as archive:
+            text = archive.read("PluginFurnitureCatalog.properties").decode("latin-1")
+    except (OSError, zipfile.BadZipFile, KeyError) as exc:
+        raise ModelError(f"{sh3f_path}: not a readable Sweet Home 3D furniture library ({exc})") from exc
+    props = parse_properties(text)
+    indices = sorted({int(k.split("#")[1]) for k in props if k.startswith("name#")})
+    rows = []
+    for i in indices:
+        rows.append({
+            "index": i,
+            "name": props[f"name#{i}"],
+            "category": props.get(f"category#{i}", ""),
+            "model": props.get(f"model#{i}", "").lstrip("/"),
+            "width": float(props[f"width#{i}"]) / 100.0,
+            "depth": float(props[f"depth#{i}"]) / 100.0,
+            "height": float(props[f"height#{i}"]) / 100.0,
+            "rotation": props.get(f"modelRotation#{i}", ""),
+            "creator": props.get(f"creator#{i}", ""),
+        })
+    return pd.DataFrame(rows)
+
+
+def import_sh3f(
+    sh3f_path: str | Path,
+    out_dir: str | Path,
+    *,
+    name_pattern: str | None = None,
+    label: str | None = None,
+) -> pd.DataFrame:
+    """Extract models of a Sweet Home 3D furniture library into a catalogue folder.
+
+    Parameters
+    ----------
+    sh3f_path : path
+        A ``.sh3f`` file, e.g. ``/usr/share/sweethome3d/furniture/Scopia.sh3f`` from the
+        Debian package ``sweethome3d-furniture``.
+    out_dir : path
+        Folder to write the models and ``catalog.csv`` into (appends to an existing one).
+    name_pattern : str, optional
+        Case-insensitive regular expression on the furniture name (e.g. ``"chair|stool"``).
+    label : str, optional
+        Class for every imported object; by default the lower-cased furniture name.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The catalogue rows written for this library.
+    """
+    sh3f_path, out_dir = Path(sh3f_path), Path(out_dir)
+    entries = sh3f_entries(sh3f_path)
+    if name_pattern:
+        entries = entries[entries["name"].str.contains(name_pattern, case=False, regex=True)]
+    if entries.empty:
+        raise ModelError(f"{sh3f_path}: no furniture matches {name_pattern!r}")
+    library = sh3f_path.stem
+    out_dir.mkdir(parents=True, exist_ok=True)
+    rows = []
+    with zipfile.ZipFile(sh3f_path) as archive:
+        names = archive.namelist()
+        for entry in entries.itertuples():
+            folder = str(Path(entry.model).parent) + "/"
+            members = [n for n in names if n.startswith(folder) and not n.endswith("/")]
+            for member in members:
+                archive.extract(member, out_dir)
+            object_id = f"{library}-{entry.index:03d}-{Path(entry.model).stem}"
+            rows.append({
+                "object": object_id,
+                "label": label or entry.name.lower(),
+                "file": entry.model,
+                "width": entry.width,
+                "height": entry.height,
+                "depth": entry.depth,
+                "rotation": entry.rotation,
+                "name": entry.name,
+                "source": f"Sweet Home 3D {library}, {entry.creator}",
+                "licence": SH3F_LICENCES.get(library.lower(), "CC-BY-3.0"),
+            })
+    table = pd.DataFrame(rows, columns=CATALOG_COLUMNS)
+    catalog_path = out_dir / "catalog.csv"
+    if catalog_path.exists():
+        old = pd.read_csv(catalog_path, dtype=str, keep_default_na=False)
+        table = pd.concat([old[~old["object"].isin(table["object"])], table.astype(str)])
+    table.to_csv(catalog_path, index=False, quoting=csv.QUOTE_MINIMAL)
+    log.info("imported %d models from %s into %s", len(rows), sh3f_path, out_dir)
+    return table

@@ -1,0 +1,254 @@
+"""The ``heatdata`` command.
+
+Exit codes: 0 success; 1 bad input (a heatdata error, its message names the file or
+view); 2 wrong command-line usage.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import os
+import sys
+import time
+from multiprocessing import get_context
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from . import __version__
+from .catalog import import_sh3f, load_catalog_model, read_catalog
+from .dataset import describe_object, view_plan
+from .descriptors import DescriptorSpec, describe, heat_kernel
+from .errors import HeatdataError
+from .evaluate import RENDERED_NOTE, accuracy_table, classify, plot_confusion, plot_view_confusion, plot_views
+from .models import load_model
+from .render import render_view
+from .tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, read_table, write_table
+from .view import View
+
+log = logging.getLogger("heatdata")
+
+DEFAULT_CATALOG = Path(__file__).resolve().parents[1] / "data" / "models" / "catalog.csv"
+DEMO_SPECS = [DescriptorSpec("pvhk", 64, source, sampling)
+              for source in ("closest", "center") for sampling in ("arclength", "polar")]
+DEMO_SPECS.append(DescriptorSpec("c-pvhk", 64, "center", "polar", "c3"))
+
+
+def _setup_logging(verbose: bool) -> None:
+    logging.basicConfig(level=logging.DEBUG if verbose else logging.INFO,
+                        format="%(asctime)s %(levelname)s %(name)s: %(message)s", datefmt="%H:%M:%S")
+    logging.getLogger("trimesh").setLevel(logging.WARNING)
+    if not verbose:  # per-view repairs are summarized per object and recorded in the tables
+        logging.getLogger("heatdata.view").setLevel(logging.WARNING)
+
+
+def _one_thread() -> None:
+    """Worker initializer: one BLAS thread per process, so jobs do not oversubscribe cores."""
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(1)
+    _setup_logging(verbose=False)
+
+
+def _describe_catalog_object(job: tuple) -> pd.DataFrame:
+    row, plan, specs, noise = job
+    return describe_object(load_catalog_model(row), plan, specs, noise=noise)
+
+
+def _safe(name: str) -> str:
+    return name.replace("/", "_")
+
+
+def cmd_demo(args: argparse.Namespace) -> None:
+    """Render the embedded objects, describe every view, classify the test views."""
+    start = time.perf_counter()
+    catalog = read_catalog(args.catalog)
+    if args.objects:
+        wanted = args.objects.split(",")
+        unknown = sorted(set(wanted) - set(catalog["object"]))
+        if unknown:
+            raise HeatdataError(f"{args.catalog}: unknown object(s) {unknown}")
+        catalog = catalog[catalog["object"].isin(wanted)]
+    plan = view_plan(catalog["object"].tolist(), args.train, args.test, elevation=args.elevation,
+                     distance=args.distance, seed=args.seed)
+    jobs = [(row.to_dict(), plan[plan["object"] == row["object"]], DEMO_SPECS, not args.no_noise)
+            for _, row in catalog.iterrows()]
+    log.info("describing %d views of %d objects (%d descriptors each) with %d processes",
+             len(plan), len(catalog), len(DEMO_SPECS), args.jobs)
+    with get_context("spawn").Pool(args.jobs, initializer=_one_thread) as pool:
+        descriptors = pd.concat(pool.map(_describe_catalog_object, jobs, chunksize=1), ignore_index=True)
+        log.info("classifying %d test views per descriptor against %d library views",
+                 (plan["split"] == "test").sum(), (plan["split"] == "train").sum())
+        subsets = [(descriptors[descriptors["descriptor"] == spec.name], spec.name) for spec in DEMO_SPECS]
+        predictions = pd.concat(pool.starmap(classify, subsets, chunksize=1), ignore_index=True)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    run = {k: v for k, v in vars(args).items() if k != "func"}
+    write_table(descriptors, out / "descriptors.parquet", DESCRIPTOR_SCHEMA, run)
+    write_table(predictions, out / "predictions.parquet", PREDICTION_SCHEMA, run)
+    accuracy = accuracy_table(predictions)
+    accuracy.to_csv(out / "accuracy.csv")
+    for spec in DEMO_SPECS:
+        subset = predictions[predictions["descriptor"] == spec.name]
+        plot_confusion(subset, out / f"confusion_objects_{_safe(spec.name)}.png", spec.name)
+        plot_view_confusion(subset, out / f"confusion_views_{_safe(spec.name)}.png", spec.name)
+    _draw_example_views(catalog, args, out / "views.png")
+    summary = _summary_markdown(accuracy, descriptors, args, time.perf_counter() - start)
+    (out / "summary.md").write_text(summary)
+    print(summary)
+
+
+def _draw_example_views(catalog: pd.DataFrame, args: argparse.Namespace, path: Path) -> None:
+    views, temps, sources, titles = [], [], [], []
+    for _, row in catalog.head(8).iterrows():
+        view = render_view(load_catalog_model(row), 30.0, args.elevation, args.distance, noise=not args.no_noise,
+                           seed=args.seed)
+        d = describe(view, [DescriptorSpec("pvhk", 64, "closest")])[0]
+        views.append(view)
+        temps.append(heat_kernel(view, d.source, [d.time])[0])
+        sources.append(d.source)
+        titles.append(f"{row['object']} ({view.n_vertices} vertices)")
+    plot_views(views, temps, sources, path, titles)
+
+
+def _summary_markdown(accuracy: pd.DataFrame, descriptors: pd.DataFrame, args: argparse.Namespace,
+                      seconds: float) -> str:
+    overall = accuracy.loc["all"].sort_values(ascending=False)
+    lines = [
+        "# heatdata demo: nearest-neighbour recognition of the embedded objects",
+        "",
+        f"{RENDERED_NOTE}",
+        "",
+        f"- objects: {descriptors['object'].nunique()}; library: {args.train} views per object; "
+        f"test: {args.test} views per object; elevation {args.elevation} deg; distance {args.distance} m; "
+        f"noise {'off' if args.no_noise else 'on (tau = 1.42e-3 1/m)'}; seed {args.seed}",
+        f"- views: {descriptors['view_id'].nunique()}, mean {descriptors['n_vertices'].mean():.0f} vertices "
+        f"(max {descriptors['n_vertices'].max()})",
+        f"- time per view (render + {len(DEMO_SPECS)} descriptors, one core): "
+        f"{descriptors.groupby('view_id')['seconds'].sum().mean() * 1e3:.0f} ms",
+        f"- heatdata {__version__}; wall time {seconds:.0f} s with {args.jobs} processes",
+        "",
+        "## Accuracy (fraction of test views whose nearest library view is the same object)",
+        "",
+        "| descriptor | accuracy |",
+        "|---|---|",
+    ]
+    lines += [f"| {name} | {value:.1%} |" for name, value in overall.items()]
+    lines += ["", "## Per object", "", accuracy.map(lambda v: f"{v:.1%}").to_markdown(), ""]
+    return "\n".join(lines)
+
+
+def cmd_render(args: argparse.Namespace) -> None:
+    """Render one partial view of a model file to a .npz view file."""
+    model = load_model(args.model, size=tuple(args.size) if args.size else None, scale=args.scale)
+    view = render_view(model, args.azimuth, args.elevation, args.distance, noise=not args.no_noise, seed=args.seed)
+    view.save(args.out)
+    print(json.dumps({"view": str(args.out), "vertices": view.n_vertices, "faces": len(view.faces),
+                      "boundary": len(view.boundary), "repairs": view.repairs}))
+
+
+def cmd_describe(args: argparse.Namespace) -> None:
+    """Describe a saved view; print the descriptor as JSON."""
+    view = View.load(args.view)
+    source = int(args.source) if args.source.isdigit() else args.source
+    kind = "c-pvhk" if args.color_map else "pvhk"
+    spec = DescriptorSpec(kind, None if args.samples == 0 else args.samples, source, args.sampling, args.color_map)
+    d = describe(view, [spec])[0]
+    print(json.dumps({"descriptor": spec.name, "source": d.source, "time": d.time, "lambda2": d.lambda2,
+                      "repairs": list(view.repairs) + list(d.repairs), "values": np.round(d.values, 8).tolist()}))
+
+
+def cmd_classify(args: argparse.Namespace) -> None:
+    """Classify the test rows of a descriptor table against its training rows."""
+    descriptors, _ = read_table(args.descriptors)
+    names = sorted(descriptors["descriptor"].unique()) if args.descriptor is None else [args.descriptor]
+    unknown = sorted(set(names) - set(descriptors["descriptor"]))
+    if unknown:
+        raise HeatdataError(f"{args.descriptors}: no descriptor {unknown}; it has {sorted(set(descriptors['descriptor']))}")
+    predictions = pd.concat([classify(descriptors, name) for name in names], ignore_index=True)
+    if args.out:
+        write_table(predictions, args.out, PREDICTION_SCHEMA, {"descriptors": str(args.descriptors)})
+    print(accuracy_table(predictions).loc[["all"]].to_string())
+
+
+def cmd_import_sh3f(args: argparse.Namespace) -> None:
+    """Extract a Sweet Home 3D furniture library into a catalogue folder."""
+    table = import_sh3f(args.sh3f, args.out, name_pattern=args.names, label=args.label)
+    print(f"{len(table)} models in {Path(args.out) / 'catalog.csv'}")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="heatdata", description="Heat-diffusion descriptors of partial 3D views.")
+    parser.add_argument("--version", action="version", version=f"heatdata {__version__}")
+    parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    demo = sub.add_parser("demo", help="the main job: render, describe and classify the embedded objects",
+                          description=cmd_demo.__doc__)
+    demo.add_argument("--catalog", type=Path, default=DEFAULT_CATALOG, help="catalogue CSV (default: embedded)")
+    demo.add_argument("--objects", help="comma-separated object ids (default: all in the catalogue)")
+    demo.add_argument("--out", default="results", help="output folder (default: results)")
+    demo.add_argument("--train", type=int, default=40, help="library views per object (default 40)")
+    demo.add_argument("--test", type=int, default=120, help="test views per object (default 120)")
+    demo.add_argument("--elevation", type=float, default=30.0, help="view elevation, degrees (default 30)")
+    demo.add_argument("--distance", type=float, default=1.0, help="camera distance, metres (default 1)")
+    demo.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
+    demo.add_argument("--no-noise", action="store_true", help="render without sensor noise")
+    demo.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="processes (default: all cores)")
+    demo.set_defaults(func=cmd_demo)
+
+    render = sub.add_parser("render", help="render one partial view of a model", description=cmd_render.__doc__)
+    render.add_argument("model", type=Path, help="OBJ, PLY, STL, OFF or GLB file")
+    render.add_argument("--out", type=Path, required=True, help="output .npz view")
+    render.add_argument("--azimuth", type=float, default=0.0)
+    render.add_argument("--elevation", type=float, default=30.0)
+    render.add_argument("--distance", type=float, default=1.0)
+    render.add_argument("--size", type=float, nargs=3, metavar=("W", "H", "D"), help="real size in metres")
+    render.add_argument("--scale", type=float, default=1.0, help="file units to metres (default 1)")
+    render.add_argument("--seed", type=int, default=0)
+    render.add_argument("--no-noise", action="store_true")
+    render.set_defaults(func=cmd_render)
+
+    desc = sub.add_parser("describe", help="PVHK or C-PVHK of a saved view", description=cmd_describe.__doc__)
+    desc.add_argument("view", type=Path, help=".npz view written by 'heatdata render'")
+    desc.add_argument("--samples", type=int, default=64, help="boundary samples; 0: one per boundary vertex")
+    desc.add_argument("--source", default="closest", help="closest, center or a vertex index")
+    desc.add_argument("--sampling", default="arclength", choices=["arclength", "polar"])
+    desc.add_argument("--color-map", default=None, help="c1, c2, c3, c4 or hue: compute a C-PVHK")
+    desc.set_defaults(func=cmd_describe)
+
+    cls = sub.add_parser("classify", help="nearest-neighbour accuracy of a descriptor table",
+                         description=cmd_classify.__doc__)
+    cls.add_argument("descriptors", type=Path, help="descriptors.parquet")
+    cls.add_argument("--descriptor", help="descriptor name (default: every one in the table)")
+    cls.add_argument("--out", type=Path, help="write predictions.parquet here")
+    cls.set_defaults(func=cmd_classify)
+
+    imp = sub.add_parser("import-sh3f", help="import a Sweet Home 3D furniture library",
+                         description=cmd_import_sh3f.__doc__ + " E.g. after 'apt-get install sweethome3d-furniture': "
+                         "heatdata import-sh3f /usr/share/sweethome3d/furniture/Scopia.sh3f models/ --names chair")
+    imp.add_argument("sh3f", type=Path)
+    imp.add_argument("out", type=Path)
+    imp.add_argument("--names", help="regular expression on the furniture names")
+    imp.add_argument("--label", help="class for every imported model (default: its name)")
+    imp.set_defaults(func=cmd_import_sh3f)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    _setup_logging(args.verbose)
+    try:
+        args.func(args)
+    except HeatdataError as exc:
+        log.error("%s", exc)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,25 @@
+"""Exceptions raised by heatdata.
+
+Every error names the file, object or view it concerns and what is wrong with it,
+so a failed batch job can be traced to its input without a debugger.
+"""
+
+
+class HeatdataError(Exception):
+    """Base class of every error heatdata raises on purpose."""
+
+
+class ModelError(HeatdataError):
+    """A 3D model file is missing, unreadable, empty or has no faces."""
+
+
+class RenderError(HeatdataError):
+    """A partial view could not be rendered (no valid pixel, bad camera)."""
+
+
+class ViewError(HeatdataError):
+    """A partial view cannot be described (too small, no boundary, NaN coordinates)."""
+
+
+class SpectrumError(HeatdataError):
+    """The Laplace-Beltrami spectrum could not be computed to the requested accuracy."""

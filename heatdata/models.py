@@ -1,0 +1,208 @@
+"""3D models: loading OBJ/MTL/textures, PLY, STL, OFF and GLB into one in-memory form.
+
+A :class:`Model` is a triangle mesh in metres with everything the renderer needs to
+colour a ray hit: per-face-corner colours for untextured faces and per-face-corner
+texture coordinates plus texture images for textured ones. Files are parsed with
+trimesh; this module only gathers its scene graph into flat arrays and scales the
+result to real size (thesis 2.1: partial views are measured in the sensor's metres).
+
+The model frame is the file's own, with +y up (the OBJ and Sweet Home 3D convention).
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+from .errors import ModelError
+
+log = logging.getLogger(__name__)
+
+SUPPORTED_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
+DEFAULT_GREY = (0.7, 0.7, 0.7)
+
+
+@dataclass
+class Model:
+    """A coloured triangle mesh in metres.
+
+    Attributes
+    ----------
+    name : str
+        Object identifier (stable string).
+    vertices : (n, 3) float64
+        Vertex positions in metres, model frame (+y up).
+    faces : (m, 3) int64
+        Triangles as vertex indices.
+    corner_colors : (m, 3, 3) float32
+        RGB in [0, 1] at each corner of each face; used where a face has no texture.
+    corner_uv : (m, 3, 2) float32
+        Texture coordinates at each face corner (meaningful where ``face_texture >= 0``).
+    face_texture : (m,) int32
+        Index into ``textures`` per face, -1 for untextured faces.
+    textures : list of (h, w, 3) float32
+        Texture images, RGB in [0, 1], row 0 at the top of the image.
+    label : str
+        Object class (e.g. ``"mug"``).
+    source : str
+        The file the model was read from.
+    """
+
+    name: str
+    vertices: np.ndarray
+    faces: np.ndarray
+    corner_colors: np.ndarray
+    corner_uv: np.ndarray
+    face_texture: np.ndarray
+    textures: list = field(default_factory=list)
+    label: str = ""
+    source: str = ""
+
+    @property
+    def extents(self) -> np.ndarray:
+        """(3,) float64: bounding-box size along x, y, z in metres."""
+        return self.vertices.max(axis=0) - self.vertices.min(axis=0)
+
+    @property
+    def center(self) -> np.ndarray:
+        """(3,) float64: bounding-box centre."""
+        return 0.5 * (self.vertices.max(axis=0) + self.vertices.min(axis=0))
+
+
+def _image_to_array(image) -> np.ndarray | None:
+    if image is None:
+        return None
+    array = np.asarray(image.convert("RGB"), dtype=np.float32) / 255.0
+    return array if array.size else None
+
+
+def _material_color_and_texture(visual) -> tuple[np.ndarray, np.ndarray | None]:
+    """Base RGB colour and texture image of a trimesh TextureVisuals material."""
+    material = getattr(visual, "material", None)
+    if material is None:
+        return np.array(DEFAULT_GREY), None
+    if isinstance(material, trimesh.visual.material.PBRMaterial):
+        factor = material.baseColorFactor
+        color = np.asarray(factor[:3], float) / 255.0 if factor is not None else np.array(DEFAULT_GREY)
+        return color, _image_to_array(material.baseColorTexture)
+    diffuse = getattr(material, "diffuse", None)
+    color = np.asarray(diffuse[:3], float) / 255.0 if diffuse is not None else np.array(DEFAULT_GREY)
+    return color, _image_to_array(getattr(material, "image", None))
+
+
+def _read_scene(path: Path) -> trimesh.Scene:
+    try:
+        loaded = trimesh.load(str(path), force="scene", process=False)
+    except Exception as exc:  # trimesh raises many types on corrupt input
+        raise ModelError(f"{path}: cannot read the model file ({type(exc).__name__}: {exc})") from exc
+    return loaded
+
+
+def load_model(
+    path: str | Path,
+    *,
+    size: tuple[float, float, float] | None = None,
+    scale: float = 1.0,
+    rotation: np.ndarray | None = None,
+    name: str | None = None,
+    label: str = "",
+) -> Model:
+    """Load a mesh file into a :class:`Model` in metres.
+
+    Parameters
+    ----------
+    path : str or Path
+        An OBJ (with MTL and textures), PLY, STL, OFF, GLB or glTF file.
+    size : (3,) float, optional
+        Real size (width along x, height along y, depth along z) in metres. The mesh is
+        scaled per axis to this bounding box, as Sweet Home 3D does with its catalogue sizes
+        (an axis along which the mesh is flat stays flat).
+    scale : float
+        Uniform factor from file units to metres, used when ``size`` is not given.
+    rotation : (3, 3) float, optional
+        Rotation applied before scaling (a Sweet Home 3D ``modelRotation``).
+    name, label : str
+        Object identifier (default: the file stem) and class.
+
+    Returns
+    -------
+    Model
+
+    Raises
+    ------
+    ModelError
+        The file does not exist, is of an unsupported type, cannot be parsed, or holds no
+        triangle.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ModelError(f"{path}: no such model file")
+    if path.suffix.lower() not in SUPPORTED_SUFFIXES:
+        raise ModelError(f"{path}: unsupported model type {path.suffix!r} (use one of {', '.join(SUPPORTED_SUFFIXES)})")
+    if path.stat().st_size == 0:
+        raise ModelError(f"{path}: the model file is empty")
+    scene = _read_scene(path)
+    meshes = [g for g in scene.dump(concatenate=False) if isinstance(g, trimesh.Trimesh) and len(g.faces)]
+    if not meshes:
+        raise ModelError(f"{path}: the model has no triangle faces")
+
+    vertices, faces, colors, uvs, face_tex, textures = [], [], [], [], [], []
+    offset = 0
+    for mesh in meshes:
+        v = np.asarray(mesh.vertices, dtype=np.float64)
+        f = np.asarray(mesh.faces, dtype=np.int64)
+        n_faces = len(f)
+        corner_uv = np.zeros((n_faces, 3, 2), np.float32)
+        tex_index = -1
+        visual = mesh.visual
+        if isinstance(visual, trimesh.visual.texture.TextureVisuals):
+            color, image = _material_color_and_texture(visual)
+            corner = np.broadcast_to(color.astype(np.float32), (n_faces, 3, 3))
+            if image is not None and visual.uv is not None and len(visual.uv) == len(v):
+                textures.append(image)
+                tex_index = len(textures) - 1
+                corner_uv = np.asarray(visual.uv, np.float32)[f]
+        elif isinstance(visual, trimesh.visual.color.ColorVisuals) and visual.kind == "vertex":
+            corner = (np.asarray(visual.vertex_colors, np.float32)[:, :3] / 255.0)[f]
+        elif isinstance(visual, trimesh.visual.color.ColorVisuals) and visual.kind == "face":
+            rgb = np.asarray(visual.face_colors, np.float32)[:, :3] / 255.0
+            corner = np.repeat(rgb[:, None, :], 3, axis=1)
+        else:
+            corner = np.broadcast_to(np.array(DEFAULT_GREY, np.float32), (n_faces, 3, 3))
+        vertices.append(v)
+        faces.append(f + offset)
+        colors.append(np.array(corner, np.float32))
+        uvs.append(corner_uv)
+        face_tex.append(np.full(n_faces, tex_index, np.int32))
+        offset += len(v)
+
+    vertices = np.concatenate(vertices)
+    if not np.all(np.isfinite(vertices)):
+        raise ModelError(f"{path}: the model has NaN or infinite vertex coordinates")
+    if rotation is not None:
+        vertices = vertices @ np.asarray(rotation, float).T
+    vertices = vertices - 0.5 * (vertices.max(axis=0) + vertices.min(axis=0))
+    if size is not None:
+        extents = vertices.max(axis=0) - vertices.min(axis=0)
+        flat = extents <= 0  # a flat model keeps zero thickness; its other axes are scaled
+        vertices = vertices * np.where(flat, 1.0, np.asarray(size, float) / np.where(flat, 1.0, extents))
+    else:
+        vertices = vertices * scale
+    model = Model(
+        name=name or path.stem,
+        vertices=vertices,
+        faces=np.concatenate(faces),
+        corner_colors=np.concatenate(colors),
+        corner_uv=np.concatenate(uvs),
+        face_texture=np.concatenate(face_tex),
+        textures=textures,
+        label=label,
+        source=str(path),
+    )
+    log.debug("loaded %s: %d vertices, %d faces, %d textures, extents %s m",
+              path, len(model.vertices), len(model.faces), len(textures), np.round(model.extents, 3))
+    return model

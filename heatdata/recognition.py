@@ -1,0 +1,52 @@
+"""Nearest-neighbour recognition and confusion matrices (thesis 3.1, 3.3.2, Fig. 3.5)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from .distance import mhd_matrix
+
+
+@dataclass
+class NearestNeighbours:
+    """For each query: the index of its nearest library descriptor and the distance."""
+
+    index: np.ndarray
+    distance: np.ndarray
+
+
+def nearest_neighbours(queries: np.ndarray, library: np.ndarray, **kwargs) -> NearestNeighbours:
+    """Nearest library descriptor of each query under eq. 3.1.
+
+    Parameters
+    ----------
+    queries : (Q, M) float
+    library : (N, M') float
+
+    Returns
+    -------
+    NearestNeighbours
+        ``index`` (Q,) int and ``distance`` (Q,) float.
+    """
+    d = mhd_matrix(queries, library, **kwargs)
+    index = np.argmin(d, axis=1)
+    return NearestNeighbours(index=index, distance=d[np.arange(len(index)), index])
+
+
+def confusion_matrix(true: pd.Series, predicted: pd.Series, labels: list | None = None) -> pd.DataFrame:
+    """Counts of (true, predicted) pairs: rows are true objects, columns predicted."""
+    labels = sorted(set(true) | set(predicted)) if labels is None else labels
+    table = pd.crosstab(pd.Categorical(true, labels), pd.Categorical(predicted, labels), dropna=False)
+    table.index.name, table.columns.name = "true", "predicted"
+    return table
+
+
+def accuracy_by(true: pd.Series, predicted: pd.Series) -> pd.Series:
+    """Fraction of correct predictions per true label, plus ``"all"``."""
+    correct = pd.Series(np.asarray(true) == np.asarray(predicted), index=np.asarray(true))
+    per = correct.groupby(level=0).mean()
+    per["all"] = correct.mean()
+    return per

@@ -1,0 +1,305 @@
+"""The spectral core: Laplace-Beltrami operator, its spectrum, and heat diffusion (thesis 2.2, 2.4).
+
+Heat diffuses by ``C^{-1} L T = -dT/dt`` (eq. 2.1, 2.10), with ``L = D - W`` and
+``W_ij = 1/||x_i - x_j||^2`` on mesh edges (eq. 2.2-2.3) and ``C = diag(c)`` the colour
+rates (``c = 1`` for plain PVHK). With the unit pulse ``T(0) = e_s`` of eq. 2.5 the
+total heat ``sum_i c_i T_i`` is conserved and the equilibrium is ``c_s / sum(c)``;
+heatdata reports temperatures divided by that equilibrium, so equilibrium = 1.
+
+Everything is computed in the symmetric form ``S = C^{-1/2} L C^{-1/2}`` whose null
+vector ``e ~ sqrt(c)`` is known exactly, from one sparse Cholesky factorization
+(CHOLMOD, simplicial, AMD ordering) of ``L + sigma C``. Two ways use it:
+
+* :class:`Spectrum` - the smallest eigenpairs by shift-invert Lanczos (ARPACK), the
+  form of eq. 2.6/2.9/2.11. One spectrum serves any number of sources and times, so
+  many descriptors per view cost one eigen-solve.
+* :func:`krylov_heat` - ``exp(-t S) v`` for one source by shift-invert Krylov
+  projection (the "restricted rational" Krylov method), with ``lambda_2`` from a short
+  Lanczos run on the same factorization. It needs no truncation of the eigen-expansion
+  and is the fastest route to a single PVHK (see ``benchmarks/``).
+
+Both are checked against ``scipy.sparse.linalg.expm_multiply`` in the tests.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+from sksparse.cholmod import CholmodError, cholesky
+
+from .errors import SpectrumError
+
+log = logging.getLogger(__name__)
+
+SHIFT = 1e-6  # sigma relative to the mean diagonal of L: keeps L + sigma C positive definite
+
+
+def laplacian(vertices: np.ndarray, edges: np.ndarray, name: str = "mesh") -> sp.csc_matrix:
+    """Laplace-Beltrami operator ``L = D - W`` of eq. 2.2-2.3.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float64
+    edges : (e, 2) int
+        Unique undirected edges.
+
+    Returns
+    -------
+    (n, n) scipy.sparse.csc_matrix
+        Symmetric, rows sum to zero.
+
+    Raises
+    ------
+    SpectrumError
+        An edge has zero length (duplicate vertices).
+    """
+    x = np.asarray(vertices, dtype=np.float64)  # rendered points may be float32: weights need float64
+    i, j = edges[:, 0], edges[:, 1]
+    length2 = np.sum((x[i] - x[j]) ** 2, axis=1)
+    if np.any(length2 <= 0.0):
+        raise SpectrumError(f"{name}: {int(np.sum(length2 <= 0))} zero-length edges (duplicate vertices)")
+    w = 1.0 / length2
+    n = len(x)
+    diagonal = np.arange(n)
+    degree = np.bincount(i, w, n) + np.bincount(j, w, n)
+    rows = np.concatenate([i, j, diagonal])
+    cols = np.concatenate([j, i, diagonal])
+    return sp.csc_matrix((np.concatenate([-w, -w, degree]), (rows, cols)), shape=(n, n))
+
+
+class HeatOperator:
+    """``L``, the rates ``c`` and one Cholesky factorization of ``L + sigma C``.
+
+    Parameters
+    ----------
+    L : (n, n) sparse
+        Laplace-Beltrami operator.
+    rates : (n,) float64, optional
+        Diagonal of ``C`` (eq. 2.10); all ones when omitted.
+    name : str
+        For error messages.
+    """
+
+    def __init__(self, L: sp.spmatrix, rates: np.ndarray | None = None, name: str = "mesh"):
+        self.name = name
+        self.L = sp.csc_matrix(L)
+        n = self.L.shape[0]
+        self.c = np.ones(n) if rates is None else np.asarray(rates, dtype=np.float64)
+        if self.c.shape != (n,) or not np.all(np.isfinite(self.c)) or np.any(self.c <= 0):
+            raise SpectrumError(f"{name}: colour rates must be {n} positive finite numbers")
+        self.sqrt_c = np.sqrt(self.c)
+        self.null = self.sqrt_c / np.linalg.norm(self.sqrt_c)  # null vector of S
+        self.sigma = SHIFT * float(self.L.diagonal().mean() / self.c.mean())
+        shifted = self.L.copy()
+        column = np.repeat(np.arange(n), np.diff(shifted.indptr))
+        on_diagonal = shifted.indices == column
+        shifted.data[on_diagonal] += self.sigma * self.c[shifted.indices[on_diagonal]]
+        try:
+            self.factor = cholesky(shifted, mode="simplicial", ordering_method="amd")
+        except CholmodError as exc:
+            raise SpectrumError(f"{name}: L + sigma C is not positive definite ({exc})") from exc
+
+    @property
+    def n(self) -> int:
+        return self.L.shape[0]
+
+    def apply_inverse(self, y: np.ndarray) -> np.ndarray:
+        """``(S + sigma I)^{-1} y`` restricted to the complement of the null vector."""
+        out = self.sqrt_c * self.factor.solve_A(self.sqrt_c * y)
+        return out - self.null * (self.null @ out)
+
+    def apply_S(self, y: np.ndarray) -> np.ndarray:
+        """``S y = C^{-1/2} L C^{-1/2} y`` for (n,) or (n, k) ``y``."""
+        scale = self.sqrt_c if y.ndim == 1 else self.sqrt_c[:, None]
+        return (self.L @ (y / scale)) / scale
+
+    def pulse(self, source: int) -> np.ndarray:
+        """``C^{1/2} e_s``: the unit pulse of eq. 2.5 in symmetric coordinates."""
+        v = np.zeros(self.n)
+        v[source] = self.sqrt_c[source]
+        return v
+
+    def to_temperature(self, y: np.ndarray, source: int) -> np.ndarray:
+        """Symmetric coordinates to temperatures normalized by the equilibrium."""
+        equilibrium = self.c[source] / self.c.sum()
+        return (y / self.sqrt_c) / equilibrium
+
+
+def _lanczos(op: HeatOperator, start: np.ndarray, max_steps: int, converged) -> tuple[np.ndarray, np.ndarray]:
+    """Orthonormal basis ``Q`` (rows) of the shift-invert Krylov space and ``H = Q S Q^T``.
+
+    ``converged(Q, H)`` is asked after every step from the fourth on; full
+    re-orthogonalization (two Gram-Schmidt passes) keeps ``Q`` orthonormal.
+    """
+    n = op.n
+    steps = min(max_steps, n - 1)
+    Q = np.empty((steps + 1, n))  # rows are basis vectors (contiguous slices)
+    start = start - op.null * (op.null @ start)
+    norm = np.linalg.norm(start)
+    if norm == 0:
+        raise SpectrumError(f"{op.name}: Krylov start vector lies in the null space")
+    Q[0] = start / norm
+    SQ = np.empty((steps + 1, n))
+    SQ[0] = op.apply_S(Q[0])
+    m = 1
+    while m <= steps:
+        w = op.apply_inverse(Q[m - 1])
+        for _ in range(2):
+            w -= (Q[:m] @ w) @ Q[:m]
+        norm = np.linalg.norm(w)
+        if norm < 1e-12:
+            break  # invariant subspace: the projection is exact
+        Q[m] = w / norm
+        SQ[m] = op.apply_S(Q[m])
+        m += 1
+        if m >= 4 and converged(Q[:m], Q[:m] @ SQ[:m].T):
+            break
+    H = Q[:m] @ SQ[:m].T
+    return Q[:m], 0.5 * (H + H.T)
+
+
+def lambda2(op: HeatOperator, *, rtol: float = 1e-12, max_steps: int = 60, seed: int = 0) -> float:
+    """First non-zero eigenvalue of ``L phi = lambda C phi`` (sets t_s = 1/lambda_2, 2.3.1).
+
+    Lanczos on ``(S + sigma I)^{-1}`` from a seeded random start, deflated of the null
+    vector, until the smallest Ritz value changes by less than ``rtol``.
+    """
+    if op.n < 3:
+        raise SpectrumError(f"{op.name}: too few vertices for a spectrum")
+    history: list[float] = []
+
+    def done(Q, H):
+        history.append(float(np.linalg.eigvalsh(H)[0]))
+        return len(history) > 1 and abs(history[-1] - history[-2]) <= rtol * abs(history[-1])
+
+    start = np.random.default_rng(seed).standard_normal(op.n)
+    Q, H = _lanczos(op, start, max_steps, done)
+    value = float(np.linalg.eigvalsh(H)[0])
+    if not value > 0:
+        raise SpectrumError(f"{op.name}: lambda_2 = {value} is not positive (is the mesh connected?)")
+    return value
+
+
+def krylov_heat(
+    op: HeatOperator,
+    source: int,
+    times: np.ndarray,
+    at: np.ndarray | None = None,
+    *,
+    tol: float = 1e-8,
+    max_steps: int = 120,
+) -> np.ndarray:
+    """Normalized temperatures ``T(t)`` after a unit pulse at ``source``.
+
+    Projects ``exp(-t S)`` onto the shift-invert Krylov space of the pulse, adding
+    vectors until the temperatures at ``at`` change by less than ``tol`` between
+    steps.
+
+    Parameters
+    ----------
+    op : HeatOperator
+    source : int
+    times : (k,) float
+        Positive diffusion times.
+    at : (b,) int, optional
+        Vertices to report (default: all).
+    tol : float
+        Stopping tolerance on the normalized temperatures.
+
+    Returns
+    -------
+    (k, b) float64
+        Temperatures divided by the equilibrium temperature.
+    """
+    times = np.atleast_1d(np.asarray(times, dtype=np.float64))
+    if np.any(times <= 0) or not np.all(np.isfinite(times)):
+        raise SpectrumError(f"{op.name}: diffusion times must be positive and finite, got {times}")
+    at = np.arange(op.n) if at is None else np.asarray(at)
+    v = op.pulse(source)
+    steady = op.null * (op.null @ v)
+    r = v - steady
+    beta = np.linalg.norm(r)
+    equilibrium = op.c[source] / op.c.sum()
+    scale = 1.0 / (op.sqrt_c[at] * equilibrium)
+    previous: list[np.ndarray] = []
+
+    def evaluate(Q, H):
+        theta, U = np.linalg.eigh(0.5 * (H + H.T))
+        coef = (U * np.exp(-np.outer(times, theta))[:, None, :]) @ U[0]  # (k, m): exp(-tH) e_1
+        return (steady[at] + beta * coef @ Q[:, at]) * scale
+
+    def done(Q, H):
+        previous.append(evaluate(Q, H))
+        return len(previous) > 1 and np.max(np.abs(previous[-1] - previous[-2])) <= tol
+
+    Q, H = _lanczos(op, r, max_steps, done)
+    result = evaluate(Q, H)
+    if len(previous) > 1 and np.max(np.abs(result - previous[-2])) > tol and Q.shape[1] < op.n - 1:
+        raise SpectrumError(f"{op.name}: heat did not converge to {tol} in {Q.shape[1]} Krylov steps "
+                            f"(times {times.min():.3g}..{times.max():.3g})")
+    return result
+
+
+@dataclass
+class Spectrum:
+    """Smallest eigenpairs of ``L phi = lambda C phi`` (eq. 2.6, 2.9, 2.11).
+
+    Attributes
+    ----------
+    values : (k,) float64
+        Eigenvalues, ascending; ``values[0] = 0``.
+    vectors : (n, k) float64
+        Eigenvectors, C-orthonormal (``vectors.T @ diag(c) @ vectors = I``).
+    rates : (n,) float64
+        Diagonal of ``C``.
+    """
+
+    values: np.ndarray
+    vectors: np.ndarray
+    rates: np.ndarray
+
+    @property
+    def lambda2(self) -> float:
+        return float(self.values[1])
+
+    def truncation(self, time: float) -> float:
+        """``exp(-lambda_k t)``: the weight of the first mode left out at ``time``."""
+        return float(np.exp(-self.values[-1] * time))
+
+    def heat(self, sources: np.ndarray, time: float, at: np.ndarray | None = None) -> np.ndarray:
+        """Normalized temperatures for several sources at one time (eq. 2.9/2.11).
+
+        Returns
+        -------
+        (len(sources), b) float64
+            ``Phi_at diag(exp(-lambda t)) Phi_S^T C_S`` divided by the equilibrium.
+        """
+        sources = np.atleast_1d(sources)
+        at = slice(None) if at is None else at
+        phi_at = self.vectors[at] * np.exp(-self.values * time)
+        kernel = self.vectors[sources] @ phi_at.T  # (s, b)
+        return kernel * self.rates.sum()
+
+
+def eigen_spectrum(op: HeatOperator, k: int = 30, *, tol: float = 1e-10) -> Spectrum:
+    """The ``k`` smallest eigenpairs by ARPACK shift-invert with the CHOLMOD factor."""
+    n = op.n
+    k = min(k, n - 2)
+    if k < 2:
+        raise SpectrumError(f"{op.name}: too few vertices ({n}) for a spectrum")
+    opinv = sla.LinearOperator((n, n), matvec=lambda b: op.factor(np.asarray(b).ravel()), dtype=np.float64)
+    try:
+        values, vectors = sla.eigsh(op.L, k=k, M=sp.diags(op.c).tocsc(), sigma=-op.sigma, OPinv=opinv,
+                                    which="LM", tol=tol,
+                                    v0=np.random.default_rng(0).standard_normal(n))
+    except sla.ArpackNoConvergence as exc:
+        raise SpectrumError(f"{op.name}: ARPACK did not converge for {k} eigenpairs") from exc
+    order = np.argsort(values)
+    values, vectors = values[order], vectors[:, order]
+    values[0] = 0.0  # the constant mode, exact by construction
+    vectors[:, 0] = 1.0 / np.sqrt(op.c.sum())
+    return Spectrum(values=values, vectors=vectors, rates=op.c)

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Set up heatdata on a fresh Debian machine (Python 3.11, pip, root; no GPU needed):
+#   1. the Debian libraries open3d and scikit-sparse need, when missing;
+#   2. a virtual environment at .venv/ with the exact pins of requirements.txt;
+#   3. heatdata itself, editable, with its `heatdata` command.
+# Safe to run again: steps already done are skipped.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# libusb for `import open3d`; libgl1/libegl1/libgomp1 for its renderer core; SuiteSparse headers to build
+# scikit-sparse (CHOLMOD).
+packages=(libusb-1.0-0 libgl1 libegl1 libgomp1 libsuitesparse-dev)
+missing=()
+for p in "${packages[@]}"; do
+    dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
+done
+if ((${#missing[@]})); then
+    echo "setup: installing Debian packages: ${missing[*]}"
+    sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+python=${PYTHON:-python3}
+if [ ! -x .venv/bin/python ]; then
+    echo "setup: creating .venv with $($python --version)"
+    "$python" -m venv .venv
+fi
+
+stamp=.venv/.heatdata-requirements
+want=$(cat requirements.txt pyproject.toml | sha256sum | cut -d' ' -f1)
+if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
+    echo "setup: installing pinned dependencies into .venv (a few minutes the first time)"
+    .venv/bin/python -m pip install --quiet --disable-pip-version-check --upgrade pip
+    .venv/bin/python -m pip install --quiet --disable-pip-version-check -r requirements.txt
+    .venv/bin/python -m pip install --quiet --disable-pip-version-check --no-deps -e .
+    echo "$want" > "$stamp"
+fi
+.venv/bin/python -c "import open3d, sksparse.cholmod, heatdata" || {
+    echo "setup: the environment does not import; remove .venv and run again" >&2
+    exit 1
+}
+echo "setup: ready (.venv/bin/heatdata, .venv/bin/python -m pytest)"

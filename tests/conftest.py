@@ -1,0 +1,68 @@
+"""Shared fixtures: small meshes with known answers, written without the renderer."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.spatial import Delaunay
+
+import heatdata as hd
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def grid_mesh(nx: int, ny: int, spacing: float = 0.002, depth: float = 1.0):
+    """A flat rectangular grid of triangles facing the camera at ``depth`` metres.
+
+    Returns (vertices (nx*ny, 3), faces (2(nx-1)(ny-1), 3)); faces are oriented like the
+    renderer's (counter-clockwise in image coordinates with v down).
+    """
+    xs = (np.arange(nx) - (nx - 1) / 2) * spacing
+    ys = (np.arange(ny) - (ny - 1) / 2) * spacing
+    x, y = np.meshgrid(xs, ys)
+    vertices = np.column_stack([x.ravel(), y.ravel(), np.full(x.size, depth)])
+    index = np.arange(nx * ny).reshape(ny, nx)
+    a, b, c, d = index[:-1, :-1].ravel(), index[:-1, 1:].ravel(), index[1:, :-1].ravel(), index[1:, 1:].ravel()
+    faces = np.concatenate([np.column_stack([a, b, c]), np.column_stack([b, d, c])])
+    return vertices, faces
+
+
+def disc_view(rings: int = 20, spacing: float = 0.002) -> hd.View:
+    """A flat disc of concentric rings (6k vertices on ring k), Delaunay-triangulated.
+
+    Nearly isotropic, unlike a square grid, so a central source gives an almost
+    constant boundary temperature.
+    """
+    points = [np.zeros((1, 2))]
+    for k in range(1, rings + 1):
+        angle = 2 * np.pi * (np.arange(6 * k) + 0.5 * (k % 2)) / (6 * k)
+        points.append(k * spacing * np.column_stack([np.cos(angle), np.sin(angle)]))
+    xy = np.vstack(points)
+    faces = Delaunay(xy).simplices
+    vertices = np.column_stack([xy, np.ones(len(xy))])
+    return hd.View.from_arrays(vertices, faces, view_id="disc")
+
+
+def square_view(n: int = 21, spacing: float = 0.002) -> hd.View:
+    vertices, faces = grid_mesh(n, n, spacing)
+    return hd.View.from_arrays(vertices, faces, view_id="square")
+
+
+@pytest.fixture
+def disc() -> hd.View:
+    return disc_view()
+
+
+@pytest.fixture
+def square() -> hd.View:
+    return square_view()
+
+
+@pytest.fixture(scope="session")
+def catalog():
+    return hd.read_catalog(ROOT / "data" / "models" / "catalog.csv")
+
+
+@pytest.fixture(scope="session")
+def mug(catalog) -> hd.Model:
+    return hd.load_catalog_model(catalog[catalog["object"] == "beer-mug"].iloc[0])

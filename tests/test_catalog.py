@@ -1,0 +1,102 @@
+"""Catalogues, the Sweet Home 3D importer and the embedded default data."""
+
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import heatdata as hd
+from heatdata.catalog import parse_properties, sh3f_entries
+from test_models import write_textured_quad
+
+SH3F_DIR = Path("/usr/share/sweethome3d/furniture")
+
+
+def make_sh3f(tmp_path) -> Path:
+    """A two-model Sweet Home 3D library in the real layout."""
+    src = tmp_path / "src"
+    src.mkdir(exist_ok=True)
+    write_textured_quad(src)
+    path = tmp_path / "Mini.sh3f"
+    props = "\n".join([
+        "# a comment", "name#1=Coffee mug", "category#1=Kitchen", "model#1=/mini/mug/quad.obj",
+        "width#1=12", "depth#1=8", "height#1=10", "creator#1=Someone",
+        "name#2=Caf\\u00e9 chair", "category#2=Living room", "model#2=/mini/chair/quad.obj",
+        "width#2=40", "depth#2=40", "height#2=80", "modelRotation#2=1 0 0 0 0 1 0 -1 0", "creator#2=Other",
+    ])
+    with zipfile.ZipFile(path, "w") as archive:
+        archive.writestr("PluginFurnitureCatalog.properties", props)
+        for folder in ("mini/mug", "mini/chair"):
+            for f in ("quad.obj", "quad.mtl", "tex.png"):
+                archive.write(src / f, f"{folder}/{f}")
+    return path
+
+
+def test_parse_properties_handles_escapes_and_continuations():
+    text = "a=1\nb = two words\n! note\nc=caf\\u00e9\nd=first \\\n   second\n"
+    assert parse_properties(text) == {"a": "1", "b": "two words", "c": "café", "d": "first second"}
+
+
+def test_sh3f_entries_in_metres(tmp_path):
+    entries = sh3f_entries(make_sh3f(tmp_path))
+    assert entries["name"].tolist() == ["Coffee mug", "Café chair"]
+    assert entries.loc[0, ["width", "height", "depth"]].tolist() == [0.12, 0.10, 0.08]
+
+
+def test_import_and_load(tmp_path):
+    out = tmp_path / "models"
+    table = hd.import_sh3f(make_sh3f(tmp_path), out, name_pattern="mug|chair")
+    assert len(table) == 2
+    catalog = hd.read_catalog(out / "catalog.csv")
+    mug = hd.load_catalog_model(catalog.iloc[0])
+    assert mug.label == "coffee mug" and np.allclose(mug.extents, [0.12, 0.10, 0.0])
+    chair = hd.load_catalog_model(catalog.iloc[1])
+    assert catalog.iloc[1]["licence"] == "CC-BY-3.0"
+    assert np.allclose(chair.extents, [0.4, 0.0, 0.4])  # the rotation laid the quad in the xz-plane
+    again = hd.import_sh3f(make_sh3f(tmp_path), out, name_pattern="mug")  # appends without duplicates
+    assert len(hd.read_catalog(out / "catalog.csv")) == 2 and len(again) == 2
+
+
+def test_import_errors(tmp_path):
+    with pytest.raises(hd.ModelError, match="no furniture matches"):
+        hd.import_sh3f(make_sh3f(tmp_path), tmp_path / "m", name_pattern="piano")
+    bad = tmp_path / "bad.sh3f"
+    bad.write_bytes(b"junk")
+    with pytest.raises(hd.ModelError, match="not a readable Sweet Home 3D"):
+        hd.import_sh3f(bad, tmp_path / "m")
+
+
+def test_catalog_errors(tmp_path):
+    path = tmp_path / "catalog.csv"
+    pd.DataFrame({"object": ["a", "a"], "label": ["x", "y"], "file": ["a.obj", "b.obj"]}).to_csv(path, index=False)
+    with pytest.raises(hd.ModelError, match="duplicate object"):
+        hd.read_catalog(path)
+    pd.DataFrame({"object": ["a"], "file": ["a.obj"]}).to_csv(path, index=False)
+    with pytest.raises(hd.ModelError, match="lacks column"):
+        hd.read_catalog(path)
+    with pytest.raises(hd.ModelError, match="no such catalogue"):
+        hd.read_catalog(tmp_path / "none.csv")
+
+
+def test_embedded_data_is_complete(catalog):
+    assert len(catalog) >= 12
+    assert (catalog["licence"] == "CC0-1.0").all()
+    assert {"cup", "mug", "box", "bottle"} <= set(catalog["label"])
+    assert (catalog["label"] == "box").sum() >= 2 and (catalog["label"] == "cup").sum() >= 2
+    for _, row in catalog.iterrows():
+        model = hd.load_catalog_model(row)
+        assert np.allclose(model.extents, row[["width", "height", "depth"]].astype(float), rtol=1e-6)
+    root = Path(catalog["path"].iloc[0]).parents[1]
+    assert (root / "LICENSE-BlendSwap-CC-0.txt").is_file()
+    assert sum(f.stat().st_size for f in root.rglob("*") if f.is_file()) < 8e6
+
+
+@pytest.mark.skipif(not (SH3F_DIR / "BlendSwap-CC-0.sh3f").exists(),
+                    reason="Debian's sweethome3d-furniture is not installed")
+def test_real_sweet_home_library(tmp_path):
+    table = hd.import_sh3f(SH3F_DIR / "BlendSwap-CC-0.sh3f", tmp_path, name_pattern="^Plastic cup$")
+    model = hd.load_catalog_model(hd.read_catalog(tmp_path / "catalog.csv").iloc[0])
+    assert table.iloc[0]["licence"] == "CC0-1.0"
+    assert np.allclose(model.extents, [0.079, 0.10, 0.079])

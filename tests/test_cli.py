@@ -1,0 +1,73 @@
+"""The heatdata command: the demo job end to end on a small plan, and its exit codes."""
+
+import json
+
+import numpy as np
+import pytest
+
+from heatdata.cli import main
+from heatdata.tables import DESCRIPTOR_SCHEMA, read_table
+
+
+@pytest.fixture(scope="module")
+def demo_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("demo")
+    code = main(["demo", "--objects", "plastic-cup,milk-carton", "--train", "6", "--test", "6",
+                 "--jobs", "2", "--out", str(out)])
+    return code, out
+
+
+def test_demo_writes_tables_figures_and_summary(demo_run):
+    code, out = demo_run
+    assert code == 0
+    descriptors, meta = read_table(out / "descriptors.parquet")
+    assert list(descriptors.columns) == DESCRIPTOR_SCHEMA.names
+    assert len(descriptors) == 2 * 12 * 5  # objects x views x descriptors
+    assert descriptors["values"].map(len).eq(64).all()
+    assert meta["train"] == 6 and meta["heatdata_version"]
+    assert np.allclose(descriptors["time"] * descriptors["lambda2"], 1.0)
+    predictions, _ = read_table(out / "predictions.parquet")
+    assert len(predictions) == 5 * 2 * 6
+    assert predictions["correct"].mean() > 0.8
+    for name in ("summary.md", "accuracy.csv", "views.png",
+                 "confusion_objects_pvhk_arclength_closest_64.png", "confusion_views_pvhk_polar_center_64.png"):
+        assert (out / name).stat().st_size > 0
+    assert "not real sensor data" in (out / "summary.md").read_text()
+
+
+def test_demo_is_reproducible(demo_run, tmp_path):
+    _, out = demo_run
+    assert main(["demo", "--objects", "plastic-cup", "--train", "6", "--test", "6", "--jobs", "1",
+                 "--out", str(tmp_path)]) == 0
+    first, _ = read_table(out / "descriptors.parquet")
+    again, _ = read_table(tmp_path / "descriptors.parquet")
+    first = first[first["object"] == "plastic-cup"].reset_index(drop=True)
+    assert np.array_equal(np.stack(first["values"]), np.stack(again["values"]))
+
+
+def test_render_describe_classify(demo_run, tmp_path, capsys):
+    _, out = demo_run
+    model = tmp_path.parent / "model.ply"
+    import trimesh
+
+    trimesh.creation.box(extents=(0.2, 0.1, 0.15)).export(model)
+    assert main(["render", str(model), "--azimuth", "30", "--out", str(tmp_path / "v.npz")]) == 0
+    rendered = json.loads(capsys.readouterr().out)
+    assert rendered["vertices"] > 1000
+    assert main(["describe", str(tmp_path / "v.npz"), "--samples", "16", "--sampling", "polar"]) == 0
+    described = json.loads(capsys.readouterr().out)
+    assert len(described["values"]) == 16 and described["descriptor"] == "pvhk/polar/closest/16"
+    assert main(["describe", str(tmp_path / "v.npz"), "--color-map", "c3", "--samples", "0"]) == 0
+    assert json.loads(capsys.readouterr().out)["descriptor"].startswith("c-pvhk")
+    assert main(["classify", str(out / "descriptors.parquet"), "--descriptor", "pvhk/polar/center/64"]) == 0
+    assert "pvhk/polar/center/64" in capsys.readouterr().out
+
+
+def test_exit_codes(tmp_path, caplog):
+    assert main(["render", str(tmp_path / "missing.obj"), "--out", str(tmp_path / "v.npz")]) == 1
+    assert "missing.obj: no such model file" in caplog.text
+    assert main(["demo", "--objects", "unicorn", "--out", str(tmp_path)]) == 1
+    assert main(["classify", str(tmp_path / "none.parquet")]) == 1
+    with pytest.raises(SystemExit) as usage:
+        main(["render"])
+    assert usage.value.code == 2

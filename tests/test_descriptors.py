@@ -1,0 +1,151 @@
+"""PVHK and C-PVHK: analytic cases, options and bad input."""
+
+import logging
+
+import numpy as np
+import pytest
+import scipy.sparse.linalg as sla
+
+import heatdata as hd
+from conftest import disc_view, grid_mesh
+
+
+@pytest.mark.parametrize("sampling", ["arclength", "polar"])
+def test_disc_with_central_source_gives_flat_pvhk(disc, sampling):
+    centre = hd.source_vertex(disc, "center")
+    assert np.hypot(*disc.vertices[centre, :2]) < 1e-9
+    d = hd.pvhk(disc, 64, source="center", sampling=sampling)
+    assert d.source == centre
+    assert np.std(d.values) / np.mean(d.values) < 0.005  # measured 0.26%: the rings are only nearly round
+    off = hd.pvhk(disc, 64, source=int(np.argmax(disc.vertices[:, 0] - 10 * np.abs(disc.vertices[:, 1]))))
+    assert np.std(off.values) / np.mean(off.values) > 5 * np.std(d.values) / np.mean(d.values)
+
+
+def test_pvhk_matches_expm_reference(mug):
+    view = hd.render_view(mug, 40.0, 30.0, 1.4, seed=3)
+    d = hd.pvhk(view, samples=None)
+    L = hd.laplacian(view.vertices, view.edges)
+    pulse = np.zeros(view.n_vertices)
+    pulse[d.source] = 1.0
+    exact = sla.expm_multiply(-d.time * L, pulse)[view.boundary] * view.n_vertices
+    assert np.max(np.abs(d.values - exact)) < 1e-6
+    assert d.time == pytest.approx(1.0 / d.lambda2)
+
+
+def test_eigen_and_krylov_methods_agree(mug):
+    view = hd.render_view(mug, 120.0, 30.0, 1.4, seed=4)
+    fast = hd.pvhk(view, 64)
+    thesis = hd.pvhk(view, 64, method="eigen", modes=30)
+    assert np.max(np.abs(fast.values - thesis.values)) < 1e-6
+    assert fast.lambda2 == pytest.approx(thesis.lambda2, rel=1e-9)
+
+
+def test_source_rules():
+    vertices, faces = grid_mesh(15, 15)
+    vertices[:, 2] += 0.5 * vertices[:, 0] + 0.01 * (vertices[:, 0] ** 2 + vertices[:, 1] ** 2)
+    vertices[:, :2] += 0.004  # the optical axis is off the grid centre
+    view = hd.View.from_arrays(vertices, faces)
+    closest = hd.source_vertex(view, "closest")
+    center = hd.source_vertex(view, "center")
+    assert closest == np.argmin(np.linalg.norm(view.vertices, axis=1))  # eq. 2.7
+    assert center == np.argmin(np.hypot(view.vertices[:, 0], view.vertices[:, 1]))  # eq. 2.8
+    assert closest != center
+    with pytest.raises(hd.ViewError, match="source rule"):
+        hd.source_vertex(view, "nearest")
+    with pytest.raises(hd.ViewError, match="not in"):
+        hd.source_vertex(view, 10_000)
+
+
+def test_samples_none_gives_one_value_per_boundary_vertex(disc):
+    d = hd.pvhk(disc, samples=None)
+    assert d.values.shape == disc.boundary.shape
+    assert d.positions[0] == 0.0 and np.all(np.diff(d.positions) > 0) and d.positions[-1] < 1.0
+
+
+def test_arclength_samples_interpolate_per_vertex_values(disc):
+    full = hd.pvhk(disc, samples=None)
+    sampled = hd.pvhk(disc, samples=32)
+    closed_pos = np.append(full.positions, 1.0)
+    closed_val = np.append(full.values, full.values[0])
+    assert np.allclose(sampled.values, np.interp(sampled.positions, closed_pos, closed_val))
+
+
+def test_polar_samples_follow_the_angle(square):
+    view = square
+    temps = view.planar[view.boundary, 0]  # value = x coordinate of the boundary point
+    values, positions = hd.sample_boundary(view, view.boundary, temps, 8, "polar")
+    theta = 2 * np.pi * positions
+    # rays at 0, 45, 90 ... deg cross the square's boundary where x = r cos(theta)
+    assert values[0] > 0 and values[4] < 0 and abs(values[2]) < 1e-9 and abs(values[6]) < 1e-9
+    assert np.allclose(values[[1, 3, 5, 7]], values[0] * np.sign(np.cos(theta[[1, 3, 5, 7]])), atol=1e-9)
+
+
+def test_constant_color_rates_give_the_plain_pvhk(mug):
+    view = hd.render_view(mug, 10.0, 30.0, 1.4, seed=5)
+    plain = hd.pvhk(view, 64)
+    colored = hd.c_pvhk(view, 64, color_map=lambda rgb: np.full(len(rgb), 3.7))
+    assert np.max(np.abs(plain.values - colored.values)) < 1e-7  # C = kI rescales time only
+    assert colored.time == pytest.approx(3.7 * plain.time)
+
+
+def test_color_changes_the_descriptor():
+    vertices, faces = grid_mesh(21, 21)
+    colors = np.where(vertices[:, [0]] > 0, [[1.0, 0, 0]], [[0, 0, 1.0]])  # red right half, blue left
+    view = hd.View.from_arrays(vertices, faces, colors)
+    plain = hd.pvhk(view, 64, source="center")
+    for name in ("c1", "c2", "c3", "c4", "hue"):
+        colored = hd.c_pvhk(view, 64, name, source="center")
+        assert colored.kind == "c-pvhk" and colored.color_map == name
+        assert np.max(np.abs(colored.values - plain.values)) > 1e-3
+
+
+def test_bad_color_maps(square):
+    with pytest.raises(hd.ViewError, match="colour map"):
+        hd.c_pvhk(square, 64, "c9")
+    with pytest.raises(hd.ViewError, match="positive"):
+        hd.c_pvhk(square, 64, lambda rgb: -np.ones(len(rgb)))
+
+
+def test_several_components_keep_the_source_component(caplog):
+    caplog.set_level(logging.INFO, logger="heatdata.view")
+    v1, f1 = grid_mesh(12, 12)
+    v2, f2 = grid_mesh(8, 8)
+    vertices = np.vstack([v1, v2 + [0.1, 0, 0.2]])  # second part farther from the camera
+    view = hd.View.from_arrays(vertices, np.vstack([f1, f2 + len(v1)]))
+    d = hd.pvhk(view, 32, source="closest")
+    assert d.source < len(v1)
+    assert any("kept the component" in r for r in d.repairs)
+    assert "kept the component" in caplog.text
+    alone = hd.pvhk(hd.View.from_arrays(v1, f1), 32, source="closest")
+    assert np.allclose(d.values, alone.values, atol=1e-9)
+
+
+def test_describe_shares_work_and_matches_single_calls(mug):
+    view = hd.render_view(mug, 200.0, 30.0, 1.4, seed=6)
+    specs = [hd.DescriptorSpec("pvhk", 64, s, p) for s in ("closest", "center") for p in ("arclength", "polar")]
+    specs.append(hd.DescriptorSpec("c-pvhk", 64, "center", "polar", "c3"))
+    together = hd.describe(view, specs)
+    for spec, d in zip(specs, together):
+        if spec.kind == "pvhk":
+            alone = hd.pvhk(view, 64, spec.source, sampling=spec.sampling)
+        else:
+            alone = hd.c_pvhk(view, 64, "c3", spec.source, sampling=spec.sampling)
+        assert np.array_equal(d.values, alone.values)
+    assert specs[-1].name == "c-pvhk/polar/center/64/c3"
+
+
+def test_descriptor_spec_validation():
+    with pytest.raises(hd.ViewError, match="kind"):
+        hd.DescriptorSpec("pvst")
+    with pytest.raises(hd.ViewError, match="color_map"):
+        hd.DescriptorSpec("c-pvhk")
+    with pytest.raises(hd.ViewError, match="sampling"):
+        hd.DescriptorSpec(sampling="random")
+
+
+def test_heat_kernel_public_api(disc):
+    temps = hd.heat_kernel(disc, source="center", times=[1e-4, 1e-3])
+    assert temps.shape == (2, disc.n_vertices)
+    centre = hd.source_vertex(disc, "center")
+    assert temps[0, centre] > temps[1, centre] > 1.0  # cooling at the source
+    assert np.allclose(temps.mean(axis=1), 1.0, atol=1e-9)  # heat conserved (c = 1)

@@ -1,0 +1,77 @@
+"""The modified Hausdorff distance of eq. 3.1 and its batched form."""
+
+import numpy as np
+import pytest
+
+import heatdata as hd
+
+
+@pytest.fixture
+def curves():
+    rng = np.random.default_rng(0)
+    x = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    return 1.0 + 0.2 * np.sin(3 * x) + 0.01 * rng.standard_normal(64), 1.0 + 0.2 * np.cos(2 * x)
+
+
+def test_zero_on_identical_curves(curves):
+    a, _ = curves
+    assert hd.mhd(a, a) == 0.0
+
+
+def test_symmetric(curves):
+    a, b = curves
+    assert hd.mhd(a, b) == pytest.approx(hd.mhd(b, a))
+
+
+def test_small_for_a_one_sample_shift(curves):
+    x = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    a, b = 1.0 + 0.2 * np.sin(3 * x), curves[1]
+    shifted = np.roll(a, 1)
+    # a shift of the boundary parameterization (3.2): every point has its twin 1/M away
+    assert hd.mhd(a, shifted) <= 64 * (1 / 64) + 1e-12
+    assert hd.mhd(a, shifted) < 0.5 * np.abs(a - shifted).sum()
+    assert hd.mhd(a, shifted) < 0.3 * hd.mhd(a, b)
+
+
+def test_matches_definition_on_a_hand_example():
+    z1, z2 = np.array([0.0, 1.0]), np.array([0.0, 0.0, 1.0])
+    x1, x2 = np.array([0.5, 1.0]), np.array([1 / 3, 2 / 3, 1.0])
+    d = np.hypot(x1[:, None] - x2[None, :], z1[:, None] - z2[None, :])
+    expected = min(d.min(axis=1).sum(), d.min(axis=0).sum())
+    assert hd.mhd(z1, z2) == pytest.approx(expected)
+
+
+def test_matrix_equals_pairwise_and_chunks_do_not_matter():
+    rng = np.random.default_rng(1)
+    queries, library = rng.random((7, 16)), rng.random((23, 16))
+    pairwise = np.array([[hd.mhd(q, l) for l in library] for q in queries])
+    assert np.allclose(hd.mhd_matrix(queries, library, dtype=np.float64), pairwise)
+    assert np.allclose(hd.mhd_matrix(queries, library, chunk_elements=300), pairwise, atol=1e-5)
+    longer = rng.random((5, 24))  # different lengths take the full-tensor path
+    assert np.allclose(hd.mhd_matrix(queries, longer, dtype=np.float64),
+                       [[hd.mhd(q, l) for l in longer] for q in queries])
+
+
+def test_matrix_on_descriptor_like_curves():
+    rng = np.random.default_rng(2)
+    x = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    curves = 1 + 0.3 * np.sin(np.outer(rng.uniform(1, 4, 30), x) + rng.uniform(0, 6, (30, 1)))
+    curves[5] = curves[4] + 1e-3  # near neighbours stop the offset loop early
+    pairwise = np.array([[hd.mhd(p, q) for q in curves] for p in curves[:8]])
+    assert np.allclose(hd.mhd_matrix(curves[:8], curves, dtype=np.float64), pairwise, rtol=1e-12)
+
+
+def test_nearest_neighbours_and_confusion():
+    library = np.array([[0.0] * 8, [1.0] * 8])
+    queries = np.array([[0.1] * 8, [0.9] * 8, [0.2] * 8])
+    nn = hd.nearest_neighbours(queries, library)
+    assert nn.index.tolist() == [0, 1, 0]
+    table = hd.confusion_matrix(["a", "b", "b"], ["a", "b", "a"])
+    assert table.loc["b", "a"] == 1 and table.loc["a", "a"] == 1
+    accuracy = hd.accuracy_by(np.array(["a", "b", "b"]), np.array(["a", "b", "a"]))
+    assert accuracy["a"] == 1.0 and accuracy["b"] == 0.5 and accuracy["all"] == pytest.approx(2 / 3)
+
+
+def test_bad_input():
+    with pytest.raises(hd.HeatdataError):
+        hd.mhd(np.zeros((2, 2)), np.zeros(2))

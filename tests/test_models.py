@@ -1,0 +1,97 @@
+"""Loading models in every supported format, and every kind of bad file."""
+
+import numpy as np
+import pytest
+import trimesh
+from PIL import Image
+
+import heatdata as hd
+
+
+def write_textured_quad(folder):
+    """A 1 x 1 quad whose texture is red on the left half and blue on the right."""
+    texture = np.zeros((4, 4, 3), np.uint8)
+    texture[:, :2] = [255, 0, 0]
+    texture[:, 2:] = [0, 0, 255]
+    Image.fromarray(texture).save(folder / "tex.png")
+    (folder / "quad.mtl").write_text("newmtl skin\nKd 1 1 1\nmap_Kd tex.png\n")
+    (folder / "quad.obj").write_text(
+        "mtllib quad.mtl\n"
+        "v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0.5 0.5 0\nv -0.5 0.5 0\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+        "usemtl skin\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n")
+    return folder / "quad.obj"
+
+
+def colored_box(extents=(0.2, 0.2, 0.2)):
+    box = trimesh.creation.box(extents=extents)
+    box.visual.face_colors = np.tile([200, 50, 50, 255], (len(box.faces), 1))
+    return box
+
+
+def test_obj_with_mtl_and_texture(tmp_path):
+    model = hd.load_model(write_textured_quad(tmp_path))
+    assert len(model.textures) == 1 and model.textures[0].shape == (4, 4, 3)
+    assert np.all(model.face_texture == 0)
+    assert model.corner_uv.shape == (2, 3, 2)
+
+
+@pytest.mark.parametrize("suffix", ["ply", "stl", "off", "glb"])
+def test_other_formats(tmp_path, suffix):
+    path = tmp_path / f"box.{suffix}"
+    colored_box().export(path)
+    model = hd.load_model(path, name="box", label="cube")
+    assert len(model.faces) == 12
+    assert np.allclose(model.extents, 0.2, atol=1e-6)
+    assert model.name == "box" and model.label == "cube"
+    if suffix in ("ply", "glb"):
+        assert np.allclose(model.corner_colors[0, 0], np.array([200, 50, 50]) / 255, atol=0.02)
+
+
+def test_size_and_scale(tmp_path):
+    path = tmp_path / "box.ply"
+    colored_box((20.0, 10.0, 5.0)).export(path)  # centimetres
+    assert np.allclose(hd.load_model(path, scale=0.01).extents, [0.2, 0.1, 0.05])
+    assert np.allclose(hd.load_model(path, size=(0.3, 0.3, 0.3)).extents, 0.3)
+    assert np.allclose(hd.load_model(path).center, 0.0)
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(hd.ModelError, match="no such model file"):
+        hd.load_model(tmp_path / "nothing.obj")
+
+
+def test_unsupported_type(tmp_path):
+    path = tmp_path / "model.fbx"
+    path.write_text("x")
+    with pytest.raises(hd.ModelError, match="unsupported"):
+        hd.load_model(path)
+
+
+def test_empty_file(tmp_path):
+    path = tmp_path / "empty.ply"
+    path.write_bytes(b"")
+    with pytest.raises(hd.ModelError, match="empty"):
+        hd.load_model(path)
+
+
+@pytest.mark.parametrize("suffix", ["ply", "glb", "stl"])
+def test_corrupt_file(tmp_path, suffix):
+    path = tmp_path / f"corrupt.{suffix}"
+    path.write_bytes(bytes(np.random.default_rng(0).integers(0, 256, 500, dtype=np.uint8)))
+    with pytest.raises(hd.ModelError, match=str(path.name)):
+        hd.load_model(path)
+
+
+def test_no_faces(tmp_path):
+    path = tmp_path / "points.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n")
+    with pytest.raises(hd.ModelError, match="no triangle faces"):
+        hd.load_model(path)
+
+
+def test_nan_coordinates(tmp_path):
+    path = tmp_path / "nan.obj"
+    path.write_text("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n")
+    with pytest.raises(hd.ModelError, match="NaN"):
+        hd.load_model(path)

@@ -1,0 +1,111 @@
+"""The Laplace-Beltrami operator, spectra and heat diffusion against known answers."""
+
+import numpy as np
+import pytest
+import scipy.linalg as sl
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+
+import heatdata as hd
+from conftest import grid_mesh, square_view
+
+
+def test_laplacian_rows_sum_to_zero_and_symmetric(square):
+    L = hd.laplacian(square.vertices, square.edges)
+    assert np.allclose(np.asarray(L.sum(axis=1)).ravel(), 0.0, atol=1e-6 * L.diagonal().max())
+    assert abs(L - L.T).max() == 0.0
+
+
+def test_laplacian_weights_are_inverse_squared_lengths():
+    vertices = np.array([[0.0, 0, 1], [0.5, 0, 1], [0, 2.0, 1]])
+    L = hd.laplacian(vertices, np.array([[0, 1], [0, 2]]))
+    assert L[0, 1] == pytest.approx(-1 / 0.25)
+    assert L[0, 2] == pytest.approx(-1 / 4.0)
+    assert L[0, 0] == pytest.approx(4.25)
+
+
+def test_zero_length_edge_is_an_error():
+    vertices = np.array([[0.0, 0, 1], [0.0, 0, 1], [1, 0, 1]])
+    with pytest.raises(hd.SpectrumError, match="zero-length"):
+        hd.laplacian(vertices, np.array([[0, 1], [1, 2]]))
+
+
+def test_one_zero_eigenvalue_per_component():
+    v1, f1 = grid_mesh(5, 5)
+    v2, f2 = grid_mesh(4, 6)
+    vertices = np.vstack([v1, v2 + [1.0, 0, 0]])
+    faces = np.vstack([f1, f2 + len(v1)])
+    view = hd.View.from_arrays(vertices, faces)
+    values = sl.eigvalsh(hd.laplacian(view.vertices, view.edges).toarray())
+    scale = values.max()
+    assert np.sum(values < 1e-10 * scale) == 2 == view.n_components
+
+
+def test_lambda2_matches_dense(square):
+    L = hd.laplacian(square.vertices, square.edges)
+    exact = sl.eigvalsh(L.toarray())[1]
+    assert hd.lambda2(hd.HeatOperator(L)) == pytest.approx(exact, rel=1e-9)
+
+
+def test_generalized_lambda2_matches_dense(square):
+    L = hd.laplacian(square.vertices, square.edges)
+    rates = np.random.default_rng(1).uniform(0.5, 2.0, square.n_vertices)
+    exact = sl.eigh(L.toarray(), np.diag(rates), eigvals_only=True)[1]
+    assert hd.lambda2(hd.HeatOperator(L, rates)) == pytest.approx(exact, rel=1e-9)
+
+
+@pytest.mark.parametrize("with_color", [False, True])
+def test_krylov_heat_matches_expm_multiply(square, with_color):
+    L = hd.laplacian(square.vertices, square.edges)
+    n = square.n_vertices
+    rates = np.random.default_rng(2).uniform(0.5, 2.0, n) if with_color else np.ones(n)
+    op = hd.HeatOperator(L, rates)
+    t2 = 1.0 / hd.lambda2(op)
+    times = np.array([0.05, 0.3, 1.0]) * t2
+    source = 37
+    got = hd.krylov_heat(op, source, times, tol=1e-10)
+    pulse = np.zeros(n)
+    pulse[source] = 1.0
+    A = -(sp.diags(1.0 / rates) @ L)  # dT/dt = -C^{-1} L T
+    for k, t in enumerate(times):
+        reference = sla.expm_multiply(t * A, pulse) / (rates[source] / rates.sum())
+        assert np.max(np.abs(got[k] - reference)) < 1e-8
+
+
+def test_heat_is_conserved(square):
+    rates = np.random.default_rng(3).uniform(0.5, 2.0, square.n_vertices)
+    op = hd.HeatOperator(hd.laplacian(square.vertices, square.edges), rates)
+    t2 = 1.0 / hd.lambda2(op)
+    temps = hd.krylov_heat(op, 5, [0.1 * t2, t2, 10 * t2])
+    # normalized so that the equilibrium is 1: the c-weighted mean temperature is 1 at all times
+    assert np.allclose(temps @ rates / rates.sum(), 1.0, atol=1e-9)
+    assert np.allclose(temps[-1], 1.0, atol=1e-3)  # near equilibrium after 10 time scales
+
+
+def test_eigen_spectrum_is_c_orthonormal_and_matches_dense(square):
+    L = hd.laplacian(square.vertices, square.edges)
+    rates = np.random.default_rng(4).uniform(0.5, 2.0, square.n_vertices)
+    spectrum = hd.eigen_spectrum(hd.HeatOperator(L, rates), 12)
+    exact = sl.eigh(L.toarray(), np.diag(rates), eigvals_only=True)[:12]
+    assert np.allclose(spectrum.values, exact, rtol=1e-8, atol=1e-8 * exact[1])
+    gram = spectrum.vectors.T @ (rates[:, None] * spectrum.vectors)
+    assert np.allclose(gram, np.eye(12), atol=1e-8)
+
+
+def test_spectrum_heat_with_all_modes_is_exact():
+    view = square_view(n=8)
+    L = hd.laplacian(view.vertices, view.edges)
+    op = hd.HeatOperator(L)
+    spectrum = hd.eigen_spectrum(op, view.n_vertices - 2)
+    t = 0.5 / spectrum.lambda2
+    exact = sla.expm_multiply(-t * L, np.eye(view.n_vertices)[:, [3, 9]]).T * view.n_vertices
+    got = spectrum.heat([3, 9], t)
+    assert np.max(np.abs(got - exact)) < 2 * spectrum.truncation(t) * view.n_vertices + 1e-9
+
+
+def test_bad_rates_and_times_are_errors(square):
+    L = hd.laplacian(square.vertices, square.edges)
+    with pytest.raises(hd.SpectrumError, match="positive"):
+        hd.HeatOperator(L, np.zeros(square.n_vertices))
+    with pytest.raises(hd.SpectrumError, match="times"):
+        hd.krylov_heat(hd.HeatOperator(L), 0, [-1.0])

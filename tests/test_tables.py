@@ -1,0 +1,33 @@
+"""Parquet tables: schema, metadata, errors."""
+
+import pandas as pd
+import pytest
+
+import heatdata as hd
+from heatdata.tables import PREDICTION_SCHEMA, read_table, write_table
+
+
+def prediction_rows():
+    return pd.DataFrame({
+        "descriptor": ["pvhk"], "object": ["a"], "label": ["cup"], "view_id": ["a/test/000"], "azimuth": [1.5],
+        "predicted_object": ["a"], "predicted_label": ["cup"], "predicted_view_id": ["a/train/000"],
+        "predicted_azimuth": [0.0], "distance": [0.25], "correct": [True],
+    })
+
+
+def test_round_trip_with_metadata(tmp_path):
+    path = tmp_path / "p.parquet"
+    write_table(prediction_rows(), path, PREDICTION_SCHEMA, {"seed": 3})
+    frame, meta = read_table(path)
+    assert frame.equals(prediction_rows())
+    assert meta["seed"] == 3 and meta["heatdata_version"] == hd.__version__
+
+
+def test_missing_column_and_bad_files(tmp_path):
+    with pytest.raises(hd.HeatdataError, match="lacks column"):
+        write_table(prediction_rows().drop(columns="correct"), tmp_path / "p.parquet", PREDICTION_SCHEMA)
+    with pytest.raises(hd.HeatdataError, match="no such table"):
+        read_table(tmp_path / "none.parquet")
+    (tmp_path / "bad.parquet").write_text("nope")
+    with pytest.raises(hd.HeatdataError, match="not a readable Parquet"):
+        read_table(tmp_path / "bad.parquet")

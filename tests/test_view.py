@@ -1,0 +1,91 @@
+"""Views from raw arrays: cleaning, components, the boundary loop, saving."""
+
+import numpy as np
+import pytest
+import trimesh
+
+import heatdata as hd
+from conftest import grid_mesh
+
+
+def signed_area(points):
+    x, y = points[:, 0], points[:, 1]
+    return 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
+
+
+def test_boundary_is_the_outer_loop_counter_clockwise_from_the_x_axis():
+    vertices, faces = grid_mesh(21, 21)
+    hole = (np.abs(vertices[:, 0]) < 0.005) & (np.abs(vertices[:, 1]) < 0.005)
+    faces = faces[~hole[faces].any(axis=1)]  # a hole in the middle: the outer loop must win
+    view = hd.View.from_arrays(vertices, faces)
+    loop = view.planar[view.boundary]
+    assert len(view.boundary) == 80  # the 21 x 21 grid's rim
+    assert signed_area(loop) > 0  # counter-clockwise with y up
+    start = loop[0]
+    assert start[0] > 0 and start[1] >= 0 and abs(start[1]) <= 2.0  # first vertex at the +x axis
+    assert np.all(np.abs(np.diff(np.unwrap(np.arctan2(loop[:, 1], loop[:, 0])))) < 0.5)
+
+
+def test_nan_coordinates_are_an_error():
+    vertices, faces = grid_mesh(8, 8)
+    vertices[5, 1] = np.nan
+    with pytest.raises(hd.ViewError, match="NaN"):
+        hd.View.from_arrays(vertices, faces, view_id="bad")
+
+
+def test_duplicate_vertices_are_merged_and_recorded(caplog):
+    vertices, faces = grid_mesh(8, 8)
+    vertices = np.vstack([vertices, vertices[10]])
+    rows, cols = np.nonzero(faces == 10)
+    faces[rows[:2], cols[:2]] = len(vertices) - 1  # two faces use the copy, the others the original
+    view = hd.View.from_arrays(vertices, faces)
+    assert view.n_vertices == 64
+    assert view.repairs == ["merged 1 duplicate vertices"]
+    assert "merged 1 duplicate" in caplog.text
+    assert np.allclose(hd.laplacian(view.vertices, view.edges).sum(axis=1), 0, atol=1e-3)
+
+
+def test_degenerate_faces_are_dropped():
+    vertices, faces = grid_mesh(8, 8)
+    faces = np.vstack([faces, [[3, 3, 4]]])
+    view = hd.View.from_arrays(vertices, faces)
+    assert "dropped 1 degenerate faces" in view.repairs
+
+
+def test_too_few_vertices():
+    vertices, faces = grid_mesh(4, 4)
+    with pytest.raises(hd.ViewError, match="only 16 vertices"):
+        hd.View.from_arrays(vertices, faces)
+
+
+def test_bad_arrays():
+    with pytest.raises(hd.ViewError, match="faces"):
+        hd.View.from_arrays(np.zeros((40, 3)), np.zeros((0, 3)))
+    with pytest.raises(hd.ViewError, match="outside"):
+        hd.View.from_arrays(np.random.rand(40, 3), np.array([[0, 1, 99]]))
+
+
+def test_closed_surface_has_no_boundary():
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.1)
+    view = hd.View.from_arrays(sphere.vertices + [0, 0, 1.0], sphere.faces)
+    with pytest.raises(hd.ViewError, match="no boundary"):
+        view.boundary
+    with pytest.raises(hd.ViewError, match="no boundary"):
+        hd.pvhk(view)
+
+
+def test_save_and_load_round_trip(tmp_path, mug):
+    view = hd.render_view(mug, 20.0, 30.0, 1.4, seed=2)
+    view.save(tmp_path / "v.npz")
+    back = hd.View.load(tmp_path / "v.npz")
+    assert np.array_equal(back.vertices, view.vertices) and np.array_equal(back.faces, view.faces)
+    assert back.intrinsics == view.intrinsics and back.view_id == view.view_id
+    assert (back.azimuth, back.elevation, back.distance) == (20.0, 30.0, 1.4)
+    assert np.array_equal(hd.pvhk(back).values, hd.pvhk(view).values)
+
+
+def test_loading_a_corrupt_view(tmp_path):
+    path = tmp_path / "bad.npz"
+    path.write_bytes(b"not a zip")
+    with pytest.raises(hd.ViewError, match="not a readable"):
+        hd.View.load(path)
