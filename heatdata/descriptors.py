@@ -117,7 +117,7 @@ def heat_operator(view: View, rates: np.ndarray | None = None) -> HeatOperator:
 
 
 def heat_kernel(view: View, source: int | str = "closest", times=None, *, color_map=None,
-                tol: float = 1e-8) -> np.ndarray:
+                tol: float = 1e-7) -> np.ndarray:
     """Temperatures over the whole view after a unit pulse at ``source`` (eq. 2.5-2.6, 2.11).
 
     Parameters

@@ -109,3 +109,22 @@ def test_bad_rates_and_times_are_errors(square):
         hd.HeatOperator(L, np.zeros(square.n_vertices))
     with pytest.raises(hd.SpectrumError, match="times"):
         hd.krylov_heat(hd.HeatOperator(L), 0, [-1.0])
+
+
+def test_non_convergence_is_reported_not_hidden(square):
+    op = hd.HeatOperator(hd.laplacian(square.vertices, square.edges))
+    with pytest.raises(hd.SpectrumError, match="did not converge"):
+        hd.krylov_heat(op, 0, [1e-6], max_steps=4)
+    with pytest.raises(hd.SpectrumError, match="did not converge"):
+        hd.lambda2(op, max_steps=4, rtol=1e-16)
+
+
+def test_tiny_mesh_krylov_space_becomes_invariant_and_is_exact():
+    view = square_view(n=6)
+    L = hd.laplacian(view.vertices, view.edges)
+    op = hd.HeatOperator(L)
+    t = 1.0 / hd.lambda2(op)
+    got = hd.krylov_heat(op, 0, [t], tol=0.0, max_steps=200)[0]  # tol 0: only an invariant space stops it
+    pulse = np.zeros(view.n_vertices)
+    pulse[0] = 1.0
+    assert np.allclose(got, sla.expm_multiply(-t * L, pulse) * view.n_vertices, atol=1e-9)
