@@ -167,7 +167,8 @@ def cmd_classify(args: argparse.Namespace) -> None:
     names = sorted(descriptors["descriptor"].unique()) if args.descriptor is None else [args.descriptor]
     unknown = sorted(set(names) - set(descriptors["descriptor"]))
     if unknown:
-        raise HeatdataError(f"{args.descriptors}: no descriptor {unknown}; it has {sorted(set(descriptors['descriptor']))}")
+        known = sorted(set(descriptors["descriptor"]))
+        raise HeatdataError(f"{args.descriptors}: no descriptor {unknown}; it has {known}")
     predictions = pd.concat([classify(descriptors, name) for name in names], ignore_index=True)
     if args.out:
         write_table(predictions, args.out, PREDICTION_SCHEMA, {"descriptors": str(args.descriptors)})

@@ -62,7 +62,7 @@ def describe_object(model: Model, plan: pd.DataFrame, specs: list[DescriptorSpec
                            seed=view_row.seed, view_id=view_id)
         descriptors = describe(view, specs)
         seconds = (time.perf_counter() - tic) / len(specs)
-        for spec, d in zip(specs, descriptors):
+        for spec, d in zip(specs, descriptors, strict=True):
             rows.append({
                 "object": model.name, "label": model.label, "view_id": view_id, "split": view_row.split,
                 "azimuth": view_row.azimuth, "elevation": view_row.elevation, "distance": view_row.distance,

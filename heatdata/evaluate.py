@@ -69,6 +69,14 @@ def accuracy_table(predictions: pd.DataFrame) -> pd.DataFrame:
     return per
 
 
+def _save(fig, path: str | Path) -> None:
+    """Sign the figure as rendered data, save it and free it."""
+    fig.text(0.01, 0.005, RENDERED_NOTE, fontsize=6, color="grey")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def plot_confusion(predictions: pd.DataFrame, path: str | Path, title: str) -> None:
     """Object confusion matrix, rows true, columns predicted, with per-object accuracy."""
     objects = sorted(set(predictions["object"]) | set(predictions["predicted_object"]))
@@ -83,14 +91,11 @@ def plot_confusion(predictions: pd.DataFrame, path: str | Path, title: str) -> N
                     color="white" if fraction[i, j] > 0.5 else "black")
     accuracy = np.diag(fraction)
     ax.set_xticks(range(len(objects)), objects, rotation=60, ha="right", fontsize=8)
-    ax.set_yticks(range(len(objects)), [f"{o} ({a:.0%})" for o, a in zip(objects, accuracy)], fontsize=8)
+    ax.set_yticks(range(len(objects)), [f"{o} ({a:.0%})" for o, a in zip(objects, accuracy, strict=True)], fontsize=8)
     ax.set_xlabel("predicted object (nearest library view)")
     ax.set_ylabel("true object (accuracy)")
     ax.set_title(f"{title}\noverall accuracy {predictions['correct'].mean():.1%}", fontsize=9)
-    fig.text(0.01, 0.005, RENDERED_NOTE, fontsize=6, color="grey")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path)
 
 
 def plot_view_confusion(predictions: pd.DataFrame, path: str | Path, title: str) -> None:
@@ -112,10 +117,7 @@ def plot_view_confusion(predictions: pd.DataFrame, path: str | Path, title: str)
     ax.set_xlabel("true object, azimuth 0-360 deg within each cell")
     ax.set_ylabel("nearest library view: object and azimuth")
     ax.set_title(f"{title}: view-angle confusion (red: wrong object)", fontsize=9)
-    fig.text(0.01, 0.005, RENDERED_NOTE, fontsize=6, color="grey")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path)
 
 
 def plot_views(views: list, temperatures: list, sources: list, path: str | Path, titles: list[str]) -> None:
@@ -125,7 +127,7 @@ def plot_views(views: list, temperatures: list, sources: list, path: str | Path,
     cols = min(4, len(views))
     rows = int(np.ceil(len(views) / cols))
     fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 3.2 * rows), squeeze=False)
-    for ax, view, temp, source, title in zip(axes.ravel(), views, temperatures, sources, titles):
+    for ax, view, temp, source, title in zip(axes.ravel(), views, temperatures, sources, titles, strict=False):
         p = view.pixels
         collection = ax.tripcolor(p[:, 0], p[:, 1], view.faces, temp, shading="gouraud", cmap="inferno")
         b = np.append(view.boundary, view.boundary[0])

@@ -7,7 +7,7 @@ import pytest
 import scipy.sparse.linalg as sla
 
 import heatdata as hd
-from conftest import disc_view, grid_mesh
+from conftest import grid_mesh
 
 
 @pytest.mark.parametrize("sampling", ["arclength", "polar"])
@@ -125,7 +125,7 @@ def test_describe_shares_work_and_matches_single_calls(mug):
     specs = [hd.DescriptorSpec("pvhk", 64, s, p) for s in ("closest", "center") for p in ("arclength", "polar")]
     specs.append(hd.DescriptorSpec("c-pvhk", 64, "center", "polar", "c3"))
     together = hd.describe(view, specs)
-    for spec, d in zip(specs, together):
+    for spec, d in zip(specs, together, strict=True):
         if spec.kind == "pvhk":
             alone = hd.pvhk(view, 64, spec.source, sampling=spec.sampling)
         else:

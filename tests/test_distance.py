@@ -44,12 +44,12 @@ def test_matches_definition_on_a_hand_example():
 def test_matrix_equals_pairwise_and_chunks_do_not_matter():
     rng = np.random.default_rng(1)
     queries, library = rng.random((7, 16)), rng.random((23, 16))
-    pairwise = np.array([[hd.mhd(q, l) for l in library] for q in queries])
+    pairwise = np.array([[hd.mhd(q, x) for x in library] for q in queries])
     assert np.allclose(hd.mhd_matrix(queries, library, dtype=np.float64), pairwise)
     assert np.allclose(hd.mhd_matrix(queries, library, chunk_elements=300), pairwise, atol=1e-5)
     longer = rng.random((5, 24))  # different lengths take the full-tensor path
     assert np.allclose(hd.mhd_matrix(queries, longer, dtype=np.float64),
-                       [[hd.mhd(q, l) for l in longer] for q in queries])
+                       [[hd.mhd(q, x) for x in longer] for q in queries])
 
 
 def test_matrix_on_descriptor_like_curves():

@@ -61,17 +61,16 @@ def test_missing_file(tmp_path):
         hd.load_model(tmp_path / "nothing.obj")
 
 
-def test_unsupported_type(tmp_path):
-    path = tmp_path / "model.fbx"
-    path.write_text("x")
-    with pytest.raises(hd.ModelError, match="unsupported"):
-        hd.load_model(path)
-
-
-def test_empty_file(tmp_path):
-    path = tmp_path / "empty.ply"
-    path.write_bytes(b"")
-    with pytest.raises(hd.ModelError, match="empty"):
+@pytest.mark.parametrize("name, content, message", [
+    ("model.fbx", b"x", "unsupported"),
+    ("empty.ply", b"", "empty"),
+    ("points.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no triangle faces"),
+    ("nan.obj", b"v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "NaN"),
+])
+def test_bad_files(tmp_path, name, content, message):
+    path = tmp_path / name
+    path.write_bytes(content)
+    with pytest.raises(hd.ModelError, match=message):
         hd.load_model(path)
 
 
@@ -80,18 +79,4 @@ def test_corrupt_file(tmp_path, suffix):
     path = tmp_path / f"corrupt.{suffix}"
     path.write_bytes(bytes(np.random.default_rng(0).integers(0, 256, 500, dtype=np.uint8)))
     with pytest.raises(hd.ModelError, match=str(path.name)):
-        hd.load_model(path)
-
-
-def test_no_faces(tmp_path):
-    path = tmp_path / "points.obj"
-    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n")
-    with pytest.raises(hd.ModelError, match="no triangle faces"):
-        hd.load_model(path)
-
-
-def test_nan_coordinates(tmp_path):
-    path = tmp_path / "nan.obj"
-    path.write_text("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n")
-    with pytest.raises(hd.ModelError, match="NaN"):
         hd.load_model(path)

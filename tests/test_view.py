@@ -69,7 +69,7 @@ def test_closed_surface_has_no_boundary():
     sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.1)
     view = hd.View.from_arrays(sphere.vertices + [0, 0, 1.0], sphere.faces)
     with pytest.raises(hd.ViewError, match="no boundary"):
-        view.boundary
+        _ = view.boundary
     with pytest.raises(hd.ViewError, match="no boundary"):
         hd.pvhk(view)
 
