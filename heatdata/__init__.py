@@ -6,7 +6,7 @@
 >>> d = hd.pvhk(view, samples=64, source="closest")
 """
 
-from .catalog import import_sh3f, load_catalog_model, read_catalog
+from .catalog import catalog_from_folder, import_sh3f, load_catalog_model, read_catalog
 from .descriptors import (COLOR_MAPS, Descriptor, DescriptorSpec, c_pvhk, describe, heat_kernel, pvhk,
                           sample_boundary, source_vertex)
 from .distance import mhd, mhd_matrix
@@ -23,6 +23,6 @@ __all__ = [
     "COLOR_MAPS", "Descriptor", "DescriptorSpec", "HeatOperator", "HeatdataError", "Model", "ModelError", "RenderError",
     "Spectrum", "SpectrumError", "View", "ViewError", "accuracy_by", "c_pvhk", "camera_pose",
     "confusion_matrix", "describe", "eigen_spectrum", "heat_kernel", "import_sh3f", "krylov_heat", "lambda2",
-    "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "nearest_neighbours", "pvhk",
+    "catalog_from_folder", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "nearest_neighbours", "pvhk",
     "read_catalog", "render_view", "sample_boundary", "source_vertex", "__version__",
 ]

@@ -14,6 +14,7 @@ width         real size along the model's x axis, metres (empty: file units are 
 height        real size along y (up), metres
 depth         real size along z, metres
 rotation      optional 9 numbers (row-major 3x3) applied before scaling
+scale         optional factor from file units to metres when no size is given
 name          human-readable name
 source        where the model came from (library and creator)
 licence       licence of the model
@@ -33,11 +34,12 @@ import numpy as np
 import pandas as pd
 
 from .errors import ModelError
-from .models import Model, load_model
+from .models import SUPPORTED_SUFFIXES, Model, load_model
 
 log = logging.getLogger(__name__)
 
-CATALOG_COLUMNS = ["object", "label", "file", "width", "height", "depth", "rotation", "name", "source", "licence"]
+CATALOG_COLUMNS = ["object", "label", "file", "width", "height", "depth", "rotation", "name", "source", "licence",
+                   "scale"]
 SH3F_LICENCES = {"blendswap-cc-0": "CC0-1.0"}
 
 
@@ -67,15 +69,55 @@ def read_catalog(path: str | Path) -> pd.DataFrame:
     return table
 
 
+def catalog_from_folder(models_dir: str | Path, scale: float = 1.0) -> pd.DataFrame:
+    """A catalogue of a folder of meshes: one file per object, the class is the subfolder name.
+
+    ``models_dir/mugs/red.obj`` becomes object ``mugs-red`` of class ``mugs``; files
+    directly in ``models_dir`` get the class ``unlabelled``. File units times ``scale``
+    are metres.
+
+    Raises
+    ------
+    ModelError
+        The folder does not exist or holds no supported mesh file.
+    """
+    root = Path(models_dir)
+    if not root.is_dir():
+        raise ModelError(f"{root}: no such models folder")
+    files = sorted(p for p in root.rglob("*") if p.suffix.lower() in SUPPORTED_SUFFIXES and p.is_file())
+    if not files:
+        raise ModelError(f"{root}: no mesh files ({', '.join(SUPPORTED_SUFFIXES)}) in the models folder")
+    rows = []
+    for path in files:
+        relative = path.relative_to(root)
+        label = relative.parts[0] if len(relative.parts) > 1 else "unlabelled"
+        rows.append({"object": f"{label}-{path.stem}" if label != "unlabelled" else path.stem, "label": label,
+                     "file": str(relative), "width": "", "height": "", "depth": "", "rotation": "",
+                     "name": path.stem, "source": str(path), "licence": "", "scale": scale})
+    table = pd.DataFrame(rows)
+    duplicated = table["object"][table["object"].duplicated()].tolist()
+    if duplicated:
+        raise ModelError(f"{root}: object names repeat ({duplicated}); give the files distinct names")
+    table["path"] = [str(root / f) for f in table["file"]]
+    return table
+
+
+def _number(value, default: float | None = None) -> float | None:
+    """A catalogue cell as a float; empty or NaN cells give ``default``."""
+    if value is None or str(value).strip() in ("", "nan", "NaN"):
+        return default
+    return float(value)
+
+
 def load_catalog_model(row: pd.Series | dict) -> Model:
     """Load the model of one catalogue row, scaled to its real size."""
-    size = None
-    if str(row.get("width", "")) not in ("", "nan"):
-        size = (float(row["width"]), float(row["height"]), float(row["depth"]))
+    width = _number(row.get("width"))
+    size = None if width is None else (width, float(row["height"]), float(row["depth"]))
     rotation = None
     if str(row.get("rotation", "")).strip():
         rotation = np.array([float(x) for x in str(row["rotation"]).split()]).reshape(3, 3)
-    return load_model(row["path"], size=size, rotation=rotation, name=row["object"], label=row["label"])
+    return load_model(row["path"], size=size, scale=_number(row.get("scale"), 1.0), rotation=rotation,
+                      name=row["object"], label=row["label"])
 
 
 def parse_properties(text: str) -> dict[str, str]:

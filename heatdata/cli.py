@@ -21,9 +21,10 @@ import pandas as pd
 from . import __version__
 from .catalog import import_sh3f, load_catalog_model, read_catalog
 from .dataset import describe_object, view_plan
-from .descriptors import DescriptorSpec, describe, heat_kernel
+from .descriptors import DescriptorSpec, describe
 from .errors import HeatdataError
-from .evaluate import RENDERED_NOTE, accuracy_table, classify, plot_confusion, plot_view_confusion, plot_views
+from .evaluate import (RENDERED_NOTE, accuracy_table, classify, draw_example_views, plot_confusion,
+                       plot_view_confusion)
 from .models import load_model
 from .render import render_view
 from .tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, read_table, write_table
@@ -37,9 +38,20 @@ DEMO_SPECS = [DescriptorSpec("pvhk", 64, source, sampling)
 DEMO_SPECS.append(DescriptorSpec("c-pvhk", 64, "center", "polar", "c3"))
 
 
-def _setup_logging(verbose: bool) -> None:
-    logging.basicConfig(level=logging.DEBUG if verbose else logging.INFO,
+def setup_logging(verbose: bool = False, path: str | None = None) -> None:
+    """Log heatdata's progress to stderr, or to ``path`` (a Snakemake job's log file).
+
+    With a ``path``, an uncaught error is written to that log too, so a failed job's
+    log names the file or view that failed.
+    """
+    logging.basicConfig(level=logging.DEBUG if verbose else logging.INFO, filename=path, force=path is not None,
                         format="%(asctime)s %(levelname)s %(name)s: %(message)s", datefmt="%H:%M:%S")
+    if path is not None:
+        def log_and_raise(kind, value, traceback):
+            log.critical("%s: %s", kind.__name__, value, exc_info=(kind, value, traceback))
+            sys.__excepthook__(kind, value, traceback)
+
+        sys.excepthook = log_and_raise
     logging.getLogger("trimesh").setLevel(logging.WARNING)
     if not verbose:  # per-view repairs are summarized per object and recorded in the tables
         logging.getLogger("heatdata.view").setLevel(logging.WARNING)
@@ -50,7 +62,7 @@ def _one_thread() -> None:
     from threadpoolctl import threadpool_limits
 
     threadpool_limits(1)
-    _setup_logging(verbose=False)
+    setup_logging(verbose=False)
 
 
 def _describe_catalog_object(job: tuple) -> pd.DataFrame:
@@ -95,23 +107,11 @@ def cmd_demo(args: argparse.Namespace) -> None:
         subset = predictions[predictions["descriptor"] == spec.name]
         plot_confusion(subset, out / f"confusion_objects_{_safe(spec.name)}.png", spec.name)
         plot_view_confusion(subset, out / f"confusion_views_{_safe(spec.name)}.png", spec.name)
-    _draw_example_views(catalog, args, out / "views.png")
+    draw_example_views(catalog, out / "views.png", elevation=args.elevation, distance=args.distance,
+                       noise=not args.no_noise, seed=args.seed)
     summary = _summary_markdown(accuracy, descriptors, args, time.perf_counter() - start)
     (out / "summary.md").write_text(summary)
     print(summary)
-
-
-def _draw_example_views(catalog: pd.DataFrame, args: argparse.Namespace, path: Path) -> None:
-    views, temps, sources, titles = [], [], [], []
-    for _, row in catalog.head(8).iterrows():
-        view = render_view(load_catalog_model(row), 30.0, args.elevation, args.distance, noise=not args.no_noise,
-                           seed=args.seed)
-        d = describe(view, [DescriptorSpec("pvhk", 64, "closest")])[0]
-        views.append(view)
-        temps.append(heat_kernel(view, d.source, [d.time])[0])
-        sources.append(d.source)
-        titles.append(f"{row['object']} ({view.n_vertices} vertices)")
-    plot_views(views, temps, sources, path, titles)
 
 
 def _summary_markdown(accuracy: pd.DataFrame, descriptors: pd.DataFrame, args: argparse.Namespace,
@@ -127,7 +127,7 @@ def _summary_markdown(accuracy: pd.DataFrame, descriptors: pd.DataFrame, args: a
         f"noise {'off' if args.no_noise else 'on (tau = 1.42e-3 1/m)'}; seed {args.seed}",
         f"- views: {descriptors['view_id'].nunique()}, mean {descriptors['n_vertices'].mean():.0f} vertices "
         f"(max {descriptors['n_vertices'].max()})",
-        f"- time per view (render + {len(DEMO_SPECS)} descriptors, one core): "
+        f"- description time per view ({len(DEMO_SPECS)} descriptors, one core): "
         f"{descriptors.groupby('view_id')['seconds'].sum().mean() * 1e3:.0f} ms",
         f"- heatdata {__version__}; wall time {seconds:.0f} s with {args.jobs} processes",
         "",
@@ -191,7 +191,7 @@ def build_parser() -> argparse.ArgumentParser:
                           description=cmd_demo.__doc__)
     demo.add_argument("--catalog", type=Path, default=DEFAULT_CATALOG, help="catalogue CSV (default: embedded)")
     demo.add_argument("--objects", help="comma-separated object ids (default: all in the catalogue)")
-    demo.add_argument("--out", default="results", help="output folder (default: results)")
+    demo.add_argument("--out", default="results/demo", help="output folder (default: results/demo)")
     demo.add_argument("--train", type=int, default=40, help="library views per object (default 40)")
     demo.add_argument("--test", type=int, default=120, help="test views per object (default 120)")
     demo.add_argument("--elevation", type=float, default=30.0, help="view elevation, degrees (default 30)")
@@ -242,7 +242,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    _setup_logging(args.verbose)
+    setup_logging(args.verbose)
     try:
         args.func(args)
     except HeatdataError as exc:

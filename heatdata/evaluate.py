@@ -8,6 +8,7 @@ temperature with the source marked (Fig. 2.3/2.4).
 from __future__ import annotations
 
 import logging
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import matplotlib
@@ -18,6 +19,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from .errors import HeatdataError  # noqa: E402
+from .distance import mhd_matrix  # noqa: E402
 from .recognition import nearest_neighbours  # noqa: E402
 
 log = logging.getLogger(__name__)
@@ -59,7 +61,108 @@ def classify(descriptors: pd.DataFrame, descriptor: str, *, library: str = "trai
         "predicted_object": match["object"].to_numpy(), "predicted_label": match["label"].to_numpy(),
         "predicted_view_id": match["view_id"].to_numpy(), "predicted_azimuth": match["azimuth"].to_numpy(),
         "distance": nn.distance, "correct": query["object"].to_numpy() == match["object"].to_numpy(),
+        "library_size": int(lib.groupby("object").size().max()),
     })
+
+
+def library_subset(descriptors: pd.DataFrame, size: int, split: str = "train") -> pd.DataFrame:
+    """The ``size`` library views per object evenly spaced in azimuth among the ``split`` views (3.4.1).
+
+    Raises
+    ------
+    HeatdataError
+        An object has fewer library views than ``size``.
+    """
+    library = descriptors[descriptors["split"] == split]
+    chosen = []
+    for obj, views in library.groupby("object")["azimuth"]:
+        angles = np.sort(views.unique())
+        if size > len(angles):
+            raise HeatdataError(f"library size {size} is larger than the {len(angles)} {split} views of {obj!r}")
+        keep = angles[np.floor(np.arange(size) * len(angles) / size).astype(int)]
+        chosen.append(library[(library["object"] == obj) & library["azimuth"].isin(keep)])
+    return pd.concat(chosen)
+
+
+def evaluate_library_sizes(descriptors: pd.DataFrame, descriptor: str, sizes: list[int]) -> pd.DataFrame:
+    """Nearest-neighbour predictions of the test views for libraries of several sizes.
+
+    Returns the rows of :func:`classify` with a ``library_size`` column.
+    """
+    rows = descriptors[descriptors["descriptor"] == descriptor]
+    tests = rows[rows["split"] == "test"]
+    results = []
+    for size in sizes:
+        subset = pd.concat([library_subset(rows, size), tests])
+        results.append(classify(subset, descriptor).assign(library_size=size))
+    return pd.concat(results, ignore_index=True)
+
+
+def precision_table(predictions: pd.DataFrame) -> pd.DataFrame:
+    """Precision per descriptor, library size and object, and per class (Fig. 3.7, 3.8, 5.13).
+
+    Object precision: the fraction of an object's test views whose nearest library view
+    is of that object. Class precision: the fraction whose nearest view has its class.
+    Rows with ``group = "all"`` aggregate every test view.
+    """
+    frames = []
+    keys = ["descriptor", "library_size"]
+    for level, column, truth in (("object", "object", "predicted_object"), ("class", "label", "predicted_label")):
+        hit = predictions[column] == predictions[truth]
+        per = hit.groupby([predictions[k] for k in keys] + [predictions[column]]).mean().rename("precision")
+        per = per.reset_index().rename(columns={column: "group"})
+        overall = hit.groupby([predictions[k] for k in keys]).mean().rename("precision").reset_index()
+        frames += [per.assign(level=level), overall.assign(group="all", level=level)]
+    return pd.concat(frames, ignore_index=True)[["level", "group", "descriptor", "library_size", "precision"]]
+
+
+def plot_precision(precision: pd.DataFrame, path: str | Path) -> None:
+    """Precision against library size: all views per descriptor, and per object (Fig. 3.7, 5.13)."""
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
+    overall = precision[(precision["group"] == "all") & (precision["level"] == "object")]
+    for name, rows in overall.groupby("descriptor"):
+        rows = rows.sort_values("library_size")
+        left.plot(rows["library_size"], rows["precision"], "o-", label=name)
+    left.set_xlabel("library views per object")
+    left.set_ylabel("precision (all test views)")
+    left.legend(fontsize=7)
+    left.grid(alpha=0.3)
+    best = overall.sort_values("precision").iloc[-1]["descriptor"]
+    objects = precision[(precision["level"] == "object") & (precision["group"] != "all")
+                        & (precision["descriptor"] == best)]
+    right.set_prop_cycle(color=plt.cm.tab20.colors)
+    for name, rows in objects.groupby("group"):
+        rows = rows.sort_values("library_size")
+        right.plot(rows["library_size"], rows["precision"], ".-", label=name)
+    right.set_xlabel("library views per object")
+    right.set_ylabel(f"precision per object ({best})")
+    right.legend(fontsize=6, ncol=2)
+    right.grid(alpha=0.3)
+    _save(fig, path)
+
+
+def plot_isomap(descriptors: pd.DataFrame, descriptor: str, path: str | Path, n_neighbors: int = 8) -> None:
+    """2D Isomap of the library descriptors under eq. 3.1, neighbouring view angles joined (Fig. 2.11)."""
+    from sklearn.manifold import Isomap
+
+    rows = descriptors[(descriptors["descriptor"] == descriptor) & (descriptors["split"] == "train")]
+    rows = rows.sort_values(["object", "azimuth"])
+    if len(rows) <= n_neighbors:
+        raise HeatdataError(f"Isomap needs more than {n_neighbors} library views, got {len(rows)}")
+    values = np.stack(rows["values"].to_numpy())
+    distances = mhd_matrix(values, values)
+    distances = np.minimum(distances, distances.T)  # exact symmetry for the neighbour graph
+    embedding = Isomap(n_neighbors=n_neighbors, n_components=2, metric="precomputed").fit_transform(distances)
+    fig, ax = plt.subplots(figsize=(7, 6))
+    ax.set_prop_cycle(color=plt.cm.tab20.colors)
+    for obj in rows["object"].unique():
+        mask = (rows["object"] == obj).to_numpy()
+        closed = np.vstack([embedding[mask], embedding[mask][:1]])  # azimuth wraps around
+        ax.plot(closed[:, 0], closed[:, 1], "o-", ms=3, lw=0.8, label=obj)
+    ax.set_title(f"Isomap (modified Hausdorff distance) of {descriptor} library descriptors;\n"
+                 "lines join neighbouring view angles", fontsize=9)
+    ax.legend(fontsize=6, ncol=2)
+    _save(fig, path)
 
 
 def accuracy_table(predictions: pd.DataFrame) -> pd.DataFrame:
@@ -146,3 +249,66 @@ def plot_views(views: list, temperatures: list, sources: list, path: str | Path,
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def evaluate_run(descriptors: pd.DataFrame, sizes: list[int], jobs: int = 1) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Workflow step: predictions for every descriptor and library size, and their precision table."""
+    names = sorted(descriptors["descriptor"].unique())
+    tasks = [(descriptors[descriptors["descriptor"] == name], name, sizes) for name in names]
+    # threads suffice: the distance kernel spends its time in numpy, which releases the GIL
+    with ThreadPoolExecutor(max(1, min(jobs, len(tasks)))) as pool:
+        parts = list(pool.map(lambda task: evaluate_library_sizes(*task), tasks))
+    predictions = pd.concat(parts, ignore_index=True)
+    return predictions, precision_table(predictions)
+
+
+def draw_example_views(catalog: pd.DataFrame, path: str | Path, *, elevation: float = 30.0, distance: float = 1.0,
+                       noise: bool = True, seed: int = 0, count: int = 8) -> None:
+    """Render up to ``count`` catalogue objects at azimuth 30 deg and draw their PVHK temperatures."""
+    from .catalog import load_catalog_model
+    from .descriptors import heat_kernel, pvhk
+    from .render import render_view
+
+    views, temps, sources, titles = [], [], [], []
+    for _, row in catalog.head(count).iterrows():
+        view = render_view(load_catalog_model(row), 30.0, elevation, distance, noise=noise, seed=seed)
+        d = pvhk(view, 64, "closest")
+        views.append(view)
+        temps.append(heat_kernel(view, d.source, [d.time])[0])
+        sources.append(d.source)
+        titles.append(f"{row['object']} ({view.n_vertices} vertices)")
+    plot_views(views, temps, sources, path, titles)
+
+
+def draw_report(descriptors_path, predictions_path, precision_path, catalog_path, output, *, primary: str,
+                config: dict) -> None:
+    """Workflow step: the report's figures and summary (``output``: precision, confusion, isomap, views, summary)."""
+    from . import __version__
+    from .catalog import read_catalog
+    from .tables import read_table
+
+    descriptors, _ = read_table(descriptors_path)
+    predictions, _ = read_table(predictions_path)
+    precision = pd.read_csv(precision_path)
+    plot_precision(precision, output.precision)
+    Path(output.confusion).mkdir(parents=True, exist_ok=True)
+    chosen = predictions[predictions["descriptor"] == primary]
+    for size, rows in chosen.groupby("library_size"):
+        plot_confusion(rows, Path(output.confusion) / f"objects_{size:03d}_views.png",
+                       f"{primary}, {size} library views per object")
+    largest = chosen[chosen["library_size"] == chosen["library_size"].max()]
+    plot_view_confusion(largest, Path(output.confusion) / "view_angles.png", primary)
+    plot_isomap(descriptors, primary, output.isomap)
+    views = config["views"]
+    draw_example_views(read_catalog(catalog_path), output.views, elevation=views["elevation"],
+                       distance=views["distance"], noise=views["noise"], seed=views["seed"])
+    table = precision[(precision["group"] == "all")].pivot_table(
+        index=["level", "descriptor"], columns="library_size", values="precision")
+    Path(output.summary).write_text("\n".join([
+        "# heatdata run", "", RENDERED_NOTE, "",
+        f"- heatdata {__version__}; {descriptors['object'].nunique()} objects, "
+        f"{descriptors['view_id'].nunique()} views (mean {descriptors['n_vertices'].mean():.0f} vertices)",
+        f"- views: {views}",
+        "", "## Precision (columns: library views per object)", "",
+        table.map(lambda v: f"{v:.1%}").to_markdown(), "",
+    ]))

@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
@@ -42,6 +43,24 @@ DESCRIPTOR_SCHEMA = pa.schema([
     ("seconds", pa.float64()),
 ])
 
+VIEW_SCHEMA = pa.schema([
+    ("view_id", pa.string()),
+    ("object", pa.string()),
+    ("label", pa.string()),
+    ("split", pa.string()),
+    ("seed", pa.int64()),
+    ("azimuth", pa.float64()),
+    ("elevation", pa.float64()),
+    ("distance", pa.float64()),
+    ("n_vertices", pa.int64()),
+    ("vertices", pa.list_(pa.float64())),
+    ("faces", pa.list_(pa.int32())),
+    ("colors", pa.list_(pa.float32())),
+    ("pose", pa.list_(pa.float64())),
+    ("intrinsics", pa.string()),
+    ("repairs", pa.list_(pa.string())),
+])
+
 PREDICTION_SCHEMA = pa.schema([
     ("descriptor", pa.string()),
     ("object", pa.string()),
@@ -54,7 +73,31 @@ PREDICTION_SCHEMA = pa.schema([
     ("predicted_azimuth", pa.float64()),
     ("distance", pa.float64()),
     ("correct", pa.bool_()),
+    ("library_size", pa.int64()),
 ])
+
+
+def views_to_frame(views: list, plan: pd.DataFrame) -> pd.DataFrame:
+    """Views as rows of :data:`VIEW_SCHEMA` (flattened arrays); ``plan`` gives split and seed in order."""
+    return pd.DataFrame([{
+        "view_id": v.view_id, "object": v.object_id, "label": v.label, "split": p.split, "seed": p.seed,
+        "azimuth": v.azimuth, "elevation": v.elevation, "distance": v.distance, "n_vertices": v.n_vertices,
+        "vertices": v.vertices.ravel(), "faces": v.faces.ravel().astype(np.int32),
+        "colors": v.colors.ravel().astype(np.float32), "pose": v.pose.ravel(),
+        "intrinsics": json.dumps(v.intrinsics), "repairs": list(v.repairs),
+    } for v, p in zip(views, plan.itertuples(), strict=True)])
+
+
+def frame_to_views(frame: pd.DataFrame) -> list:
+    """The views of a :data:`VIEW_SCHEMA` table, in row order."""
+    from .view import View
+
+    return [View(vertices=np.asarray(r.vertices, np.float64).reshape(-1, 3),
+                 faces=np.asarray(r.faces, np.int64).reshape(-1, 3),
+                 colors=np.asarray(r.colors, np.float64).reshape(-1, 3), intrinsics=json.loads(r.intrinsics),
+                 view_id=r.view_id, object_id=r.object, label=r.label, azimuth=r.azimuth,
+                 elevation=r.elevation, distance=r.distance, pose=np.asarray(r.pose).reshape(4, 4),
+                 repairs=list(r.repairs)) for r in frame.itertuples()]
 
 
 def write_table(frame: pd.DataFrame, path: str | Path, schema: pa.Schema, metadata: dict | None = None) -> None:

@@ -4,12 +4,14 @@
 #   2. a virtual environment at .venv/ with the exact pins of requirements.txt;
 #   3. heatdata itself, editable, with its `heatdata` command.
 # Safe to run again: steps already done are skipped.
+#   --tests   also install Debian's slurm-wlm and munge, for the test that runs the workflow on a real Slurm
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # libusb for `import open3d`; libgl1/libegl1/libgomp1 for its renderer core; SuiteSparse headers to build
 # scikit-sparse (CHOLMOD).
 packages=(libusb-1.0-0 libgl1 libegl1 libgomp1 libsuitesparse-dev)
+[ "${1:-}" = "--tests" ] && packages+=(slurm-wlm munge)
 missing=()
 for p in "${packages[@]}"; do
     dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

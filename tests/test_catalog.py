@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 import heatdata as hd
-from heatdata.catalog import parse_properties, sh3f_entries
+from heatdata.catalog import catalog_from_folder, parse_properties, sh3f_entries
 from test_models import write_textured_quad
 
 SH3F_DIR = Path("/usr/share/sweethome3d/furniture")
@@ -100,3 +100,23 @@ def test_real_sweet_home_library(tmp_path):
     model = hd.load_catalog_model(hd.read_catalog(tmp_path / "catalog.csv").iloc[0])
     assert table.iloc[0]["licence"] == "CC0-1.0"
     assert np.allclose(model.extents, [0.079, 0.10, 0.079])
+
+
+def test_catalog_from_folder(tmp_path):
+    import trimesh
+
+    for cls, name in (("mugs", "red"), ("mugs", "blue"), ("boxes", "tea")):
+        (tmp_path / cls).mkdir(exist_ok=True)
+        trimesh.creation.box(extents=(100.0, 80.0, 60.0)).export(tmp_path / cls / f"{name}.stl")
+    table = catalog_from_folder(tmp_path, scale=0.001)
+    assert sorted(table["object"]) == ["boxes-tea", "mugs-blue", "mugs-red"]
+    assert table.set_index("object").loc["mugs-red", "label"] == "mugs"
+    model = hd.load_catalog_model(table.iloc[0])
+    assert np.allclose(sorted(model.extents), [0.06, 0.08, 0.1])
+
+
+def test_empty_models_folder(tmp_path):
+    with pytest.raises(hd.ModelError, match="no mesh files"):
+        catalog_from_folder(tmp_path)
+    with pytest.raises(hd.ModelError, match="no such models folder"):
+        catalog_from_folder(tmp_path / "absent")

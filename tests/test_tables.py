@@ -1,5 +1,6 @@
 """Parquet tables: schema, metadata, errors."""
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -11,7 +12,7 @@ def prediction_rows():
     return pd.DataFrame({
         "descriptor": ["pvhk"], "object": ["a"], "label": ["cup"], "view_id": ["a/test/000"], "azimuth": [1.5],
         "predicted_object": ["a"], "predicted_label": ["cup"], "predicted_view_id": ["a/train/000"],
-        "predicted_azimuth": [0.0], "distance": [0.25], "correct": [True],
+        "predicted_azimuth": [0.0], "distance": [0.25], "correct": [True], "library_size": [40],
     })
 
 
@@ -31,3 +32,18 @@ def test_missing_column_and_bad_files(tmp_path):
     (tmp_path / "bad.parquet").write_text("nope")
     with pytest.raises(hd.HeatdataError, match="not a readable Parquet"):
         read_table(tmp_path / "bad.parquet")
+
+
+def test_views_round_trip(tmp_path, mug):
+    from heatdata.dataset import view_plan
+    from heatdata.tables import VIEW_SCHEMA, frame_to_views, views_to_frame
+
+    plan = view_plan(["beer-mug"], 2, 1, distance=1.4)
+    views = [hd.render_view(mug, r.azimuth, r.elevation, r.distance, seed=r.seed) for r in plan.itertuples()]
+    write_table(views_to_frame(views, plan), tmp_path / "v.parquet", VIEW_SCHEMA)
+    frame, _ = read_table(tmp_path / "v.parquet")
+    back = frame_to_views(frame)
+    assert frame["split"].tolist() == ["train", "train", "test"]
+    for a, b in zip(views, back, strict=True):
+        assert np.array_equal(a.vertices, b.vertices) and np.array_equal(a.faces, b.faces)
+        assert np.array_equal(hd.pvhk(a).values, hd.pvhk(b).values)

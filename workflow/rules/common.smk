@@ -1,0 +1,66 @@
+# Shared helpers: the catalogue of objects, descriptor specs and config checks made before any job runs.
+import json
+from pathlib import Path
+
+import heatdata
+from heatdata.catalog import catalog_from_folder, read_catalog
+from heatdata.descriptors import DescriptorSpec
+from heatdata.errors import HeatdataError
+from snakemake.exceptions import WorkflowError
+
+RESULTS = config["results"]
+VERSION = heatdata.__version__
+
+
+def _config_error(message):
+    raise WorkflowError(f"config error: {message}")
+
+
+def load_objects():
+    """The catalogue rows of the objects this run uses, indexed by object id."""
+    try:
+        if config["models_dir"]:
+            table = catalog_from_folder(config["models_dir"], scale=config["models_scale"])
+            sizes = table["label"].value_counts()
+            lonely = sorted(sizes[sizes < 2].index)
+            if lonely:
+                _config_error(f"models_dir: class(es) {lonely} have a single object; a class needs two or "
+                              "more objects to be told apart from object identity (add models or merge classes)")
+        else:
+            table = read_catalog(config["catalog"])
+    except HeatdataError as exc:
+        _config_error(str(exc))
+    if config["objects"]:
+        unknown = sorted(set(config["objects"]) - set(table["object"]))
+        if unknown:
+            _config_error(f"objects: {unknown} are not in the catalogue")
+        table = table[table["object"].isin(config["objects"])]
+    if table.empty:
+        _config_error("no objects to process")
+    return table.set_index("object", drop=False)
+
+
+def descriptor_specs():
+    specs = [DescriptorSpec(d["kind"], d.get("samples", 64), d.get("source", "closest"),
+                            d.get("sampling", "arclength"), d.get("color_map"))
+             for d in config["descriptors"]]
+    names = [s.name for s in specs]
+    if config["primary_descriptor"] not in names:
+        _config_error(f"primary_descriptor {config['primary_descriptor']!r} is not one of descriptors {names}")
+    return specs
+
+
+try:
+    SPECS = descriptor_specs()
+except HeatdataError as exc:
+    _config_error(f"descriptors: {exc}")
+CATALOG = load_objects()
+OBJECTS = CATALOG.index.tolist()
+too_large = [s for s in config["library_sizes"] if s > config["views"]["train"]]
+if too_large:
+    _config_error(f"library_sizes {too_large} exceed views.train = {config['views']['train']} rendered views")
+
+
+def catalog_row(wildcards):
+    """The object's catalogue row as JSON: a params value, so editing one row reruns one object."""
+    return json.dumps(CATALOG.loc[wildcards.object].to_dict(), sort_keys=True, default=str)

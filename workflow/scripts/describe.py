@@ -1,0 +1,14 @@
+"""Describe one object's views (rule describe)."""
+from threadpoolctl import threadpool_limits
+
+from heatdata.cli import setup_logging
+from heatdata.dataset import describe_view_table
+from heatdata.descriptors import DescriptorSpec
+from heatdata.tables import DESCRIPTOR_SCHEMA, read_table, write_table
+
+setup_logging(path=snakemake.log[0])
+views, meta = read_table(snakemake.input[0])
+specs = [DescriptorSpec(**d) for d in snakemake.params.descriptors]
+with threadpool_limits(snakemake.threads):
+    table = describe_view_table(views, specs)
+write_table(table, snakemake.output[0], DESCRIPTOR_SCHEMA, {**meta, "descriptors": snakemake.params.descriptors})
