@@ -20,9 +20,10 @@ from .view import View
 __version__ = "0.1.0"
 
 __all__ = [
-    "COLOR_MAPS", "Descriptor", "DescriptorSpec", "HeatOperator", "HeatdataError", "Model", "ModelError", "RenderError",
-    "Spectrum", "SpectrumError", "View", "ViewError", "accuracy_by", "c_pvhk", "camera_pose",
-    "confusion_matrix", "describe", "eigen_spectrum", "heat_kernel", "import_sh3f", "krylov_heat", "lambda2",
-    "catalog_from_folder", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "nearest_neighbours", "pvhk",
-    "read_catalog", "render_view", "sample_boundary", "source_vertex", "__version__",
+    "COLOR_MAPS", "Descriptor", "DescriptorSpec", "HeatOperator", "HeatdataError", "Model", "ModelError",
+    "RenderError", "Spectrum", "SpectrumError", "View", "ViewError", "accuracy_by", "c_pvhk", "camera_pose",
+    "catalog_from_folder", "confusion_matrix", "describe", "eigen_spectrum", "heat_kernel", "import_sh3f",
+    "krylov_heat", "lambda2", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix",
+    "nearest_neighbours", "pvhk", "read_catalog", "render_view", "sample_boundary", "source_vertex",
+    "__version__",
 ]

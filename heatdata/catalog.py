@@ -171,6 +171,45 @@ def sh3f_entries(sh3f_path: str | Path) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def sh3f_catalog(sh3f_path: str | Path, *, name_pattern: str | None = None, label: str | None = None
+                 ) -> pd.DataFrame:
+    """Catalogue rows of a Sweet Home 3D library's furniture, without extracting anything.
+
+    ``file`` is the model's path inside the archive (and inside a folder it is extracted
+    to with :func:`extract_sh3f_model`). Object ids are ``<library>-<index>-<model>``.
+    """
+    sh3f_path = Path(sh3f_path)
+    entries = sh3f_entries(sh3f_path)
+    if name_pattern:
+        entries = entries[entries["name"].str.contains(name_pattern, case=False, regex=True)]
+    if entries.empty:
+        raise ModelError(f"{sh3f_path}: no furniture matches {name_pattern!r}")
+    library = sh3f_path.stem
+    rows = [{
+        "object": f"{library}-{entry.index:03d}-{Path(entry.model).stem}",
+        "label": label or entry.name.lower(), "file": entry.model,
+        "width": entry.width, "height": entry.height, "depth": entry.depth, "rotation": entry.rotation,
+        "name": entry.name, "source": f"Sweet Home 3D {library}, {entry.creator}",
+        "licence": SH3F_LICENCES.get(library.lower(), "CC-BY-3.0"), "scale": 1.0,
+    } for entry in entries.itertuples()]
+    return pd.DataFrame(rows, columns=CATALOG_COLUMNS)
+
+
+def extract_sh3f_model(sh3f_path: str | Path, model: str, out_dir: str | Path) -> Path:
+    """Extract one model's folder (OBJ, MTL, textures, licence) from a ``.sh3f``; return the OBJ path."""
+    folder = str(Path(model).parent) + "/"
+    try:
+        with zipfile.ZipFile(sh3f_path) as archive:
+            members = [n for n in archive.namelist() if n.startswith(folder) and not n.endswith("/")]
+            if model not in members:
+                raise ModelError(f"{sh3f_path}: no model {model!r} in the library")
+            for member in members:
+                archive.extract(member, out_dir)
+    except (OSError, zipfile.BadZipFile) as exc:
+        raise ModelError(f"{sh3f_path}: cannot extract {model!r} ({exc})") from exc
+    return Path(out_dir) / model
+
+
 def import_sh3f(
     sh3f_path: str | Path,
     out_dir: str | Path,
@@ -197,40 +236,15 @@ def import_sh3f(
     pandas.DataFrame
         The catalogue rows written for this library.
     """
-    sh3f_path, out_dir = Path(sh3f_path), Path(out_dir)
-    entries = sh3f_entries(sh3f_path)
-    if name_pattern:
-        entries = entries[entries["name"].str.contains(name_pattern, case=False, regex=True)]
-    if entries.empty:
-        raise ModelError(f"{sh3f_path}: no furniture matches {name_pattern!r}")
-    library = sh3f_path.stem
+    out_dir = Path(out_dir)
+    table = sh3f_catalog(sh3f_path, name_pattern=name_pattern, label=label)
     out_dir.mkdir(parents=True, exist_ok=True)
-    rows = []
-    with zipfile.ZipFile(sh3f_path) as archive:
-        names = archive.namelist()
-        for entry in entries.itertuples():
-            folder = str(Path(entry.model).parent) + "/"
-            members = [n for n in names if n.startswith(folder) and not n.endswith("/")]
-            for member in members:
-                archive.extract(member, out_dir)
-            object_id = f"{library}-{entry.index:03d}-{Path(entry.model).stem}"
-            rows.append({
-                "object": object_id,
-                "label": label or entry.name.lower(),
-                "file": entry.model,
-                "width": entry.width,
-                "height": entry.height,
-                "depth": entry.depth,
-                "rotation": entry.rotation,
-                "name": entry.name,
-                "source": f"Sweet Home 3D {library}, {entry.creator}",
-                "licence": SH3F_LICENCES.get(library.lower(), "CC-BY-3.0"),
-            })
-    table = pd.DataFrame(rows, columns=CATALOG_COLUMNS)
+    for model in table["file"]:
+        extract_sh3f_model(sh3f_path, model, out_dir)
     catalog_path = out_dir / "catalog.csv"
     if catalog_path.exists():
         old = pd.read_csv(catalog_path, dtype=str, keep_default_na=False)
         table = pd.concat([old[~old["object"].isin(table["object"])], table.astype(str)])
     table.to_csv(catalog_path, index=False, quoting=csv.QUOTE_MINIMAL)
-    log.info("imported %d models from %s into %s", len(rows), sh3f_path, out_dir)
+    log.info("imported %d models from %s into %s", len(table), sh3f_path, out_dir)
     return table

@@ -8,7 +8,6 @@ temperature with the source marked (Fig. 2.3/2.4).
 from __future__ import annotations
 
 import logging
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import matplotlib
@@ -147,8 +146,9 @@ def plot_isomap(descriptors: pd.DataFrame, descriptor: str, path: str | Path, n_
 
     rows = descriptors[(descriptors["descriptor"] == descriptor) & (descriptors["split"] == "train")]
     rows = rows.sort_values(["object", "azimuth"])
-    if len(rows) <= n_neighbors:
-        raise HeatdataError(f"Isomap needs more than {n_neighbors} library views, got {len(rows)}")
+    if len(rows) < 4:
+        raise HeatdataError(f"Isomap needs at least 4 library views, got {len(rows)}")
+    n_neighbors = min(n_neighbors, len(rows) - 2)
     values = np.stack(rows["values"].to_numpy())
     distances = mhd_matrix(values, values)
     distances = np.minimum(distances, distances.T)  # exact symmetry for the neighbour graph
@@ -251,17 +251,6 @@ def plot_views(views: list, temperatures: list, sources: list, path: str | Path,
     plt.close(fig)
 
 
-def evaluate_run(descriptors: pd.DataFrame, sizes: list[int], jobs: int = 1) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Workflow step: predictions for every descriptor and library size, and their precision table."""
-    names = sorted(descriptors["descriptor"].unique())
-    tasks = [(descriptors[descriptors["descriptor"] == name], name, sizes) for name in names]
-    # threads suffice: the distance kernel spends its time in numpy, which releases the GIL
-    with ThreadPoolExecutor(max(1, min(jobs, len(tasks)))) as pool:
-        parts = list(pool.map(lambda task: evaluate_library_sizes(*task), tasks))
-    predictions = pd.concat(parts, ignore_index=True)
-    return predictions, precision_table(predictions)
-
-
 def draw_example_views(catalog: pd.DataFrame, path: str | Path, *, elevation: float = 30.0, distance: float = 1.0,
                        noise: bool = True, seed: int = 0, count: int = 8) -> None:
     """Render up to ``count`` catalogue objects at azimuth 30 deg and draw their PVHK temperatures."""
@@ -283,6 +272,8 @@ def draw_example_views(catalog: pd.DataFrame, path: str | Path, *, elevation: fl
 def draw_report(descriptors_path, predictions_path, precision_path, catalog_path, output, *, primary: str,
                 config: dict) -> None:
     """Workflow step: the report's figures and summary (``output``: precision, confusion, isomap, views, summary)."""
+    import yaml
+
     from . import __version__
     from .catalog import read_catalog
     from .tables import read_table
@@ -311,4 +302,5 @@ def draw_report(descriptors_path, predictions_path, precision_path, catalog_path
         f"- views: {views}",
         "", "## Precision (columns: library views per object)", "",
         table.map(lambda v: f"{v:.1%}").to_markdown(), "",
+        "## Run parameters", "", "```yaml", yaml.safe_dump(dict(config), sort_keys=False).strip(), "```", "",
     ]))

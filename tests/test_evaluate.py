@@ -6,7 +6,7 @@ import pytest
 
 import heatdata as hd
 from heatdata.dataset import describe_view_table, render_object_views, view_plan
-from heatdata.evaluate import evaluate_library_sizes, evaluate_run, library_subset, precision_table
+from heatdata.evaluate import evaluate_library_sizes, library_subset, precision_table
 
 
 def fake_descriptors(objects=("a", "b"), n_train=8, n_test=4):
@@ -38,14 +38,6 @@ def test_precision_per_object_and_class():
     wrong = predictions.assign(predicted_object="a", predicted_label="box")
     table = precision_table(wrong).set_index(["level", "group", "library_size"])["precision"]
     assert table["object", "a", 8] == 1.0 and table["object", "b", 8] == 0.0 and table["object", "all", 8] == 0.5
-
-
-def test_evaluate_run_with_threads_matches_serial():
-    descriptors = pd.concat([fake_descriptors(), fake_descriptors().assign(descriptor="e")])
-    serial, _ = evaluate_run(descriptors, [4], jobs=1)
-    threaded, precision = evaluate_run(descriptors, [4], jobs=2)
-    pd.testing.assert_frame_equal(serial, threaded)
-    assert set(precision["descriptor"]) == {"d", "e"}
 
 
 def test_render_and_describe_steps(catalog):

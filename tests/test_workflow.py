@@ -142,3 +142,24 @@ def test_profile_files_are_present():
     slurm = yaml.safe_load((ROOT / "workflow/profiles/slurm/config.yaml").read_text())
     assert slurm["executor"] == "slurm" and slurm["slurm-status-command"] == "squeue"
     assert shutil.which("snakemake") or SNAKEMAKE.exists()
+
+
+SH3F = Path("/usr/share/sweethome3d/furniture/BlendSwap-CC-0.sh3f")
+
+
+def test_missing_sweet_home_library_is_a_config_error(tmp_path):
+    config = tiny_config(objects=[], sh3f={"file": str(tmp_path / "none.sh3f")})
+    result = snakemake(tmp_path, config, "--dry-run")
+    assert result.returncode != 0 and "apt-get install sweethome3d-furniture" in result.stdout + result.stderr
+
+
+@pytest.mark.skipif(not SH3F.exists(), reason="Debian's sweethome3d-furniture is not installed")
+def test_objects_from_a_sweet_home_library(tmp_path):
+    config = tiny_config(objects=[], sh3f={"file": str(SH3F), "names": "^(Plastic cup|Coffee cup)$"},
+                         views={"train": 4, "test": 2}, library_sizes=[4])
+    result = snakemake(tmp_path, config)
+    assert result.returncode == 0, result.stderr[-3000:]
+    catalog = pd.read_csv(tmp_path / "results" / "catalog.csv")
+    assert sorted(catalog["label"]) == ["coffee cup", "plastic cup"]
+    assert set(catalog["licence"]) == {"CC0-1.0"}
+    assert (tmp_path / "results" / "models" / catalog["object"][0]).is_dir()

@@ -3,7 +3,7 @@ import json
 from pathlib import Path
 
 import heatdata
-from heatdata.catalog import catalog_from_folder, read_catalog
+from heatdata.catalog import catalog_from_folder, read_catalog, sh3f_catalog
 from heatdata.descriptors import DescriptorSpec
 from heatdata.errors import HeatdataError
 from snakemake.exceptions import WorkflowError
@@ -18,8 +18,18 @@ def _config_error(message):
 
 def load_objects():
     """The catalogue rows of the objects this run uses, indexed by object id."""
+    sh3f = config["sh3f"]
+    if sh3f["file"] and config["models_dir"]:
+        _config_error("set models_dir or sh3f.file, not both")
     try:
-        if config["models_dir"]:
+        if sh3f["file"]:
+            if not Path(sh3f["file"]).is_file():
+                _config_error(f"sh3f.file: {sh3f['file']} does not exist "
+                              "(apt-get install sweethome3d-furniture puts the libraries in "
+                              "/usr/share/sweethome3d/furniture/)")
+            table = sh3f_catalog(sh3f["file"], name_pattern=sh3f["names"] or None, label=sh3f["label"] or None)
+            table["path"] = [f"{RESULTS}/models/{o}/{f}" for o, f in zip(table["object"], table["file"])]
+        elif config["models_dir"]:
             table = catalog_from_folder(config["models_dir"], scale=config["models_scale"])
             sizes = table["label"].value_counts()
             lonely = sorted(sizes[sizes < 2].index)
@@ -59,6 +69,13 @@ OBJECTS = CATALOG.index.tolist()
 too_large = [s for s in config["library_sizes"] if s > config["views"]["train"]]
 if too_large:
     _config_error(f"library_sizes {too_large} exceed views.train = {config['views']['train']} rendered views")
+
+
+def model_input(obj):
+    """What an object's render job needs: its model file, or its extracted Sweet Home 3D folder."""
+    if config["sh3f"]["file"]:
+        return f"{RESULTS}/models/{obj}"
+    return CATALOG.loc[obj, "path"]
 
 
 def catalog_row(wildcards):

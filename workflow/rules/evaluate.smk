@@ -1,24 +1,47 @@
-# Libraries and evaluation: nearest-neighbour precision per library size, figures for the report.
+# Libraries and evaluation: nearest-neighbour predictions, one job per descriptor x library size,
+# precision tables and the report's figures.
+
+
+rule classify:
+    input:
+        f"{RESULTS}/descriptors.parquet",
+    output:
+        temp(f"{RESULTS}/evaluation/parts/{{descriptor}}-{{size}}.parquet"),
+    params:
+        descriptor=lambda wildcards: SPECS[int(wildcards.descriptor)].name,
+        version=VERSION,
+    wildcard_constraints:
+        descriptor=r"\d+",
+        size=r"\d+",
+    log:
+        f"{RESULTS}/logs/classify/{{descriptor}}-{{size}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/classify/{{descriptor}}-{{size}}.tsv"
+    threads: 1
+    resources:
+        mem_mb=lambda wildcards, attempt: 2000 * attempt,
+        runtime=lambda wildcards, attempt: 20 * attempt,
+    script:
+        "../scripts/classify.py"
 
 
 rule evaluate:
     input:
-        f"{RESULTS}/descriptors.parquet",
+        expand(f"{RESULTS}/evaluation/parts/{{descriptor}}-{{size}}.parquet",
+               descriptor=range(len(SPECS)), size=config["library_sizes"]),
     output:
         predictions=f"{RESULTS}/evaluation/predictions.parquet",
         precision=report(f"{RESULTS}/evaluation/precision.csv", caption="../report/precision_table.rst",
                          category="Precision"),
     params:
-        library_sizes=config["library_sizes"],
         version=VERSION,
     log:
         f"{RESULTS}/logs/evaluate.log",
     benchmark:
         f"{RESULTS}/benchmarks/evaluate.tsv"
-    threads: 2
     resources:
-        mem_mb=lambda wildcards, attempt: 3000 * attempt,
-        runtime=lambda wildcards, attempt: 30 * attempt,
+        mem_mb=lambda wildcards, attempt: 1000 * attempt,
+        runtime=10,
     script:
         "../scripts/evaluate.py"
 
@@ -29,6 +52,7 @@ rule report_figures:
         predictions=f"{RESULTS}/evaluation/predictions.parquet",
         precision=f"{RESULTS}/evaluation/precision.csv",
         catalog=f"{RESULTS}/catalog.csv",
+        models=[model_input(obj) for obj in OBJECTS[:8]],  # the objects drawn in views.png
     output:
         precision=report(f"{RESULTS}/figures/precision.png", caption="../report/precision.rst",
                          category="Precision"),

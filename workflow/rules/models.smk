@@ -1,4 +1,5 @@
-# Models: the catalogue the run uses (embedded set, an imported Sweet Home 3D library or a user folder).
+# Models: the catalogue the run uses (embedded set, a Sweet Home 3D library or a user folder),
+# and the extraction of Sweet Home 3D models, one job per object.
 
 
 rule catalog:
@@ -16,3 +17,22 @@ rule catalog:
         runtime=5,
     script:
         "../scripts/catalog.py"
+
+
+rule extract_model:
+    input:
+        config["sh3f"]["file"] or [],
+    output:
+        directory(f"{RESULTS}/models/{{object}}"),
+    params:
+        model=lambda wildcards: CATALOG.loc[wildcards.object, "file"],
+        version=VERSION,
+    log:
+        f"{RESULTS}/logs/extract_model/{{object}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/extract_model/{{object}}.tsv"
+    resources:
+        mem_mb=500,
+        runtime=5,
+    script:
+        "../scripts/extract_model.py"

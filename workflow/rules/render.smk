@@ -3,7 +3,7 @@
 
 rule render:
     input:
-        model=lambda wildcards: CATALOG.loc[wildcards.object, "path"],
+        model=lambda wildcards: model_input(wildcards.object),
     output:
         f"{RESULTS}/views/{{object}}.parquet",
     params:

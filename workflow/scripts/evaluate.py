@@ -1,10 +1,12 @@
-"""Nearest-neighbour precision for every descriptor and library size (rule evaluate)."""
+"""All predictions of the run and their precision table (rule evaluate)."""
+import pandas as pd
+
 from heatdata.cli import setup_logging
-from heatdata.evaluate import evaluate_run
+from heatdata.evaluate import precision_table
 from heatdata.tables import PREDICTION_SCHEMA, read_table, write_table
 
 setup_logging(path=snakemake.log[0])
-descriptors, meta = read_table(snakemake.input[0])
-predictions, precision = evaluate_run(descriptors, list(snakemake.params.library_sizes), jobs=snakemake.threads)
-write_table(predictions, snakemake.output.predictions, PREDICTION_SCHEMA, meta)
-precision.to_csv(snakemake.output.precision, index=False)
+parts = [read_table(path) for path in snakemake.input]
+predictions = pd.concat([frame for frame, _ in parts], ignore_index=True)
+write_table(predictions, snakemake.output.predictions, PREDICTION_SCHEMA, parts[0][1])
+precision_table(predictions).to_csv(snakemake.output.precision, index=False)

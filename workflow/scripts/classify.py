@@ -1,0 +1,9 @@
+"""Nearest-neighbour predictions of one descriptor for one library size (rule classify)."""
+from heatdata.cli import setup_logging
+from heatdata.evaluate import evaluate_library_sizes
+from heatdata.tables import PREDICTION_SCHEMA, read_table, write_table
+
+setup_logging(path=snakemake.log[0])
+descriptors, meta = read_table(snakemake.input[0])
+predictions = evaluate_library_sizes(descriptors, snakemake.params.descriptor, [int(snakemake.wildcards.size)])
+write_table(predictions, snakemake.output[0], PREDICTION_SCHEMA, meta)
