@@ -97,6 +97,8 @@ def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
         capture_output=True, text=True, timeout=900)
     assert result.returncode == 0, (result.stdout + result.stderr)[-4000:]
     submitted = (result.stdout + result.stderr).count("has been submitted with SLURM jobid")
-    assert submitted == 8  # catalog, 2 render, 2 describe, collect, evaluate, figures: every job but `all`
+    # every job but `all`: catalog, 2 render, 2 describe, collect, 4 classify (2 descriptors x 2 sizes),
+    # evaluate and report_figures
+    assert submitted == 12
     predictions, _ = read_table(workdir / "results" / "evaluation" / "predictions.parquet")
     assert predictions["correct"].mean() > 0.8

@@ -25,8 +25,8 @@ def load_objects():
         if sh3f["file"]:
             if not Path(sh3f["file"]).is_file():
                 _config_error(f"sh3f.file: {sh3f['file']} does not exist "
-                              "(apt-get install sweethome3d-furniture puts the libraries in "
-                              "/usr/share/sweethome3d/furniture/)")
+                              "(apt-get install sweethome3d-furniture installs the libraries; "
+                              "dpkg -L sweethome3d-furniture lists their .sh3f files)")
             table = sh3f_catalog(sh3f["file"], name_pattern=sh3f["names"] or None, label=sh3f["label"] or None)
             table["path"] = [f"{RESULTS}/models/{o}/{f}" for o, f in zip(table["object"], table["file"])]
         elif config["models_dir"]:
