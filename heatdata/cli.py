@@ -182,12 +182,15 @@ def cmd_import_sh3f(args: argparse.Namespace) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="heatdata", description="Heat-diffusion descriptors of partial 3D views.")
+    parser = argparse.ArgumentParser(
+        prog="heatdata", description="Heat-diffusion descriptors of partial 3D views.",
+        epilog="Exit codes: 0 success; 1 bad input (the message names the file or view); 2 wrong usage. "
+               "The full experiment with a report is the Snakemake workflow: snakemake --cores 2")
     parser.add_argument("--version", action="version", version=f"heatdata {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
     sub = parser.add_subparsers(dest="command", required=True)
 
-    demo = sub.add_parser("demo", help="the main job: render, describe and classify the embedded objects",
+    demo = sub.add_parser("demo", help="render, describe and classify the embedded objects without Snakemake",
                           description=cmd_demo.__doc__)
     demo.add_argument("--catalog", type=Path, default=DEFAULT_CATALOG, help="catalogue CSV (default: embedded)")
     demo.add_argument("--objects", help="comma-separated object ids (default: all in the catalogue)")
