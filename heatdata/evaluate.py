@@ -19,7 +19,7 @@ import pandas as pd  # noqa: E402
 
 from .errors import HeatdataError  # noqa: E402
 from .distance import mhd_matrix  # noqa: E402
-from .recognition import nearest_neighbours  # noqa: E402
+from .recognition import confusion_matrix, nearest_neighbours  # noqa: E402
 
 log = logging.getLogger(__name__)
 
@@ -183,8 +183,7 @@ def _save(fig, path: str | Path) -> None:
 def plot_confusion(predictions: pd.DataFrame, path: str | Path, title: str) -> None:
     """Object confusion matrix, rows true, columns predicted, with per-object accuracy."""
     objects = sorted(set(predictions["object"]) | set(predictions["predicted_object"]))
-    counts = pd.crosstab(pd.Categorical(predictions["object"], objects),
-                         pd.Categorical(predictions["predicted_object"], objects), dropna=False).to_numpy()
+    counts = confusion_matrix(predictions["object"], predictions["predicted_object"], objects).to_numpy()
     fraction = counts / np.maximum(counts.sum(axis=1, keepdims=True), 1)
     fig, ax = plt.subplots(figsize=(max(5.0, 1.0 + 0.55 * len(objects)), max(4.5, 0.8 + 0.5 * len(objects))))
     ax.imshow(fraction, cmap="Blues", vmin=0, vmax=1)
