@@ -7,23 +7,26 @@
 """
 
 from .catalog import catalog_from_folder, import_sh3f, load_catalog_model, read_catalog
-from .descriptors import (COLOR_MAPS, Descriptor, DescriptorSpec, c_pvhk, describe, heat_kernel, pvhk,
-                          sample_boundary, source_vertex)
-from .distance import mhd, mhd_matrix
+from .descriptors import (COLOR_MAPS, Descriptor, DescriptorSpec, c_pvhk, describe, ft_pvhk, global_derivative,
+                          heat_kernel, object_time_scale, part_weights, pvhk, pvst, sample_boundary, source_vertex,
+                          view_time_scale)
+from .distance import mhd, mhd_matrix, weighted_mhd
 from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
 from .models import Model, load_model
 from .recognition import accuracy_by, confusion_matrix, nearest_neighbours
 from .render import camera_pose, render_view
-from .spectrum import HeatOperator, Spectrum, eigen_spectrum, krylov_heat, lambda2, laplacian
+from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat,
+                       lambda2, laplacian)
 from .view import View
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "COLOR_MAPS", "Descriptor", "DescriptorSpec", "HeatOperator", "HeatdataError", "Model", "ModelError",
-    "RenderError", "Spectrum", "SpectrumError", "View", "ViewError", "accuracy_by", "c_pvhk", "camera_pose",
-    "catalog_from_folder", "confusion_matrix", "describe", "eigen_spectrum", "heat_kernel", "import_sh3f",
-    "krylov_heat", "lambda2", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix",
-    "nearest_neighbours", "pvhk", "read_catalog", "render_view", "sample_boundary", "source_vertex",
-    "__version__",
+    "COLOR_MAPS", "Descriptor", "DescriptorSpec", "HeatModel", "HeatOperator", "HeatdataError", "Model",
+    "ModelError", "RenderError", "Spectrum", "SpectrumError", "View", "ViewError", "accuracy_by", "c_pvhk",
+    "camera_pose", "catalog_from_folder", "confusion_matrix", "describe", "eigen_spectrum", "first_crossings",
+    "ft_pvhk", "global_derivative", "heat_kernel", "heat_model", "import_sh3f", "krylov_heat", "lambda2",
+    "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "nearest_neighbours",
+    "object_time_scale", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "sample_boundary",
+    "source_vertex", "view_time_scale", "weighted_mhd", "__version__",
 ]

@@ -1,8 +1,11 @@
-"""PVHK and C-PVHK descriptors of partial views (thesis 2.3, 2.4, Alg. 2.1).
+"""Boundary descriptors of partial views: PVHK, C-PVHK, FT-PVHK and PVST (thesis 2.3-2.4, ch. 5).
 
 The PVHK is the temperature on the outer boundary of a view at the stopping time
 ``t_s = 1/lambda_2`` after a unit heat pulse at a source vertex (eq. 2.9). C-PVHK does
-the same with colour-dependent diffusion rates (eq. 2.10-2.11).
+the same with colour-dependent diffusion rates (eq. 2.10-2.11). For complex objects
+(ch. 5) the FT-PVHK takes the temperature at a fixed, per-object time (Alg. 5.1) and
+comes with part weights for the weighted distance of eq. 5.14; the PVST records, per
+boundary point, the first time its temperature reaches a threshold (Alg. 5.3).
 
 Source rules (2.3.2): ``"closest"`` to the observer (eq. 2.7) or ``"center"`` of the
 segmented depth image (eq. 2.8), or any vertex index.
@@ -24,13 +27,19 @@ from dataclasses import dataclass, field
 import numpy as np
 from matplotlib.colors import rgb_to_hsv
 
-from .errors import ViewError
-from .spectrum import HeatOperator, eigen_spectrum, krylov_heat, lambda2, laplacian
+from .errors import SpectrumError, ViewError
+from .spectrum import (HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat, lambda2,
+                       laplacian)
 from .view import View
 
 log = logging.getLogger(__name__)
 
 SAMPLINGS = ("arclength", "polar")
+KINDS = ("pvhk", "c-pvhk", "ft-pvhk", "pvst")
+PVST_THRESHOLD = 0.75  # T_a of Alg. 5.3, a fraction of the equilibrium temperature
+PVST_WINDOW = 10.0  # t_final = PVST_WINDOW / lambda_2 (Alg. 5.3)
+WEIGHT_MODES = 16  # eigenpairs for the global derivative; doubled while the truncation shows
+MIN_MAIN_SHARE = 0.25  # below this share of boundary samples on the main part, part weights are unit
 
 
 def _hue(rgb: np.ndarray) -> np.ndarray:
@@ -54,22 +63,27 @@ class Descriptor:
     Attributes
     ----------
     kind : str
-        ``"pvhk"`` or ``"c-pvhk"``.
+        One of :data:`KINDS`.
     values : (M,) float64
-        Normalized temperatures (equilibrium = 1) along the boundary.
+        Normalized temperatures (equilibrium = 1) along the boundary; for ``"pvst"``
+        the first times they reach the threshold (NaN where they do not, logged).
     positions : (M,) float64
         Where each value was taken: fraction of the boundary length (arclength, and
         per-vertex descriptors) or polar angle / 2 pi (polar).
     source : int
         Source vertex, indexed in the view passed in.
     time : float
-        Stopping time t_s.
+        Stopping time: t_s = 1/lambda_2 (PVHK), the fixed time (FT-PVHK), or the end
+        of the search window (PVST).
     lambda2 : float
-        First non-zero eigenvalue of the (coloured) view.
+        First non-zero eigenvalue of the (coloured) view; NaN when it was not needed
+        (an FT-PVHK without part weights).
     sampling : str
     color_map : str or None
     repairs : tuple of str
         Repairs made to the view for this descriptor (e.g. a component kept).
+    weights : (M,) float64 or None
+        Part weights rho of eq. 5.13 at the same samples (FT-PVHK), else None.
     """
 
     kind: str
@@ -81,6 +95,7 @@ class Descriptor:
     sampling: str
     color_map: str | None = None
     repairs: tuple = field(default_factory=tuple)
+    weights: np.ndarray | None = None
 
 
 def source_vertex(view: View, rule: str | int = "closest") -> int:
@@ -203,71 +218,221 @@ def sample_boundary(view: View, boundary: np.ndarray, temps: np.ndarray, samples
     return values, theta / (2.0 * np.pi)
 
 
+
+
 @dataclass(frozen=True)
 class DescriptorSpec:
-    """What to compute for a view: kind, samples, source rule, sampling and colour map."""
+    """What to compute for a view: kind, samples, source rule, sampling, colour map, threshold.
+
+    ``threshold`` is the PVST's T_a (default 0.75, Alg. 5.3) and is only taken by a pvst.
+    """
 
     kind: str = "pvhk"
     samples: int | None = 64
     source: str | int = "closest"
     sampling: str = "arclength"
     color_map: str | None = None
+    threshold: float | None = None
 
     @property
     def name(self) -> str:
-        """Stable identifier, e.g. ``pvhk/polar/center/64`` or ``c-pvhk/arclength/closest/64/c3``."""
+        """Stable identifier, e.g. ``pvhk/polar/center/64``, ``c-pvhk/arclength/closest/64/c3``,
+        ``pvst/polar/center/64/T0.75``."""
         parts = [self.kind, self.sampling, str(self.source), str(self.samples or "all")]
-        return "/".join(parts + ([str(self.color_map)] if self.color_map else []))
+        if self.color_map:
+            parts.append(str(self.color_map))
+        if self.kind == "pvst":
+            parts.append(f"T{self.threshold:g}")
+        return "/".join(parts)
 
     def __post_init__(self):
-        if self.kind not in ("pvhk", "c-pvhk"):
-            raise ViewError(f"unknown descriptor kind {self.kind!r} (use 'pvhk' or 'c-pvhk')")
+        if self.kind not in KINDS:
+            raise ViewError(f"unknown descriptor kind {self.kind!r} (use one of {', '.join(KINDS)})")
         if (self.kind == "c-pvhk") != (self.color_map is not None):
-            raise ViewError("a c-pvhk needs a color_map and a pvhk takes none")
+            raise ViewError(f"a c-pvhk needs a color_map and a {self.kind} takes none")
         if self.sampling not in SAMPLINGS:
             raise ViewError(f"unknown sampling {self.sampling!r} (use one of {', '.join(SAMPLINGS)})")
+        if self.kind == "pvst":
+            threshold = PVST_THRESHOLD if self.threshold is None else float(self.threshold)
+            if not 0.0 < threshold < 1.0:
+                raise ViewError(f"the PVST threshold is a fraction of the equilibrium in (0, 1), got {threshold}")
+            object.__setattr__(self, "threshold", threshold)
+        elif self.threshold is not None:
+            raise ViewError(f"a {self.kind} takes no threshold (only a pvst does)")
+
+
+class _ViewWork:
+    """The expensive pieces of one view, each computed once: factorization, lambda_2, spectra, heat."""
+
+    def __init__(self, view: View, method: str, modes: int):
+        if method not in ("krylov", "eigen"):
+            raise ViewError(f"unknown method {method!r} (use 'krylov' or 'eigen')")
+        self.view, self.method, self.modes = view, method, modes
+        self.cache: dict = {}
+
+    def _get(self, key, compute):
+        if key not in self.cache:
+            self.cache[key] = compute()
+        return self.cache[key]
+
+    def component(self, source_rule) -> tuple[View, int, int]:
+        """(connected component, source index in it, source index in the view)."""
+        s = source_vertex(self.view, source_rule)
+        label = int(self.view.component_labels[s])
+        connected = self._get(("component", label), lambda: self.view.component_of(s)[0])
+        s_local = s if connected is self.view else int(np.sum(self.view.component_labels[:s] == label))
+        return connected, s_local, s
+
+    def operator(self, connected: View, color_map) -> HeatOperator:
+        color = color_map if isinstance(color_map, (str, type(None))) else id(color_map)
+        return self._get(("op", id(connected), color), lambda: heat_operator(
+            connected, None if color_map is None else color_rates(connected, color_map)))
+
+    def spectrum(self, op: HeatOperator, modes: int) -> Spectrum:
+        return self._get(("spectrum", id(op), modes), lambda: eigen_spectrum(op, modes))
+
+    def lambda2(self, op: HeatOperator) -> float:
+        def compute():
+            for key, value in self.cache.items():  # a spectrum already computed gives it for free
+                if key[0] == "spectrum" and key[1] == id(op):
+                    return value.lambda2
+            return self.spectrum(op, self.modes).lambda2 if self.method == "eigen" else lambda2(op)
+        return self._get(("lambda2", id(op)), compute)
+
+    def heat(self, op: HeatOperator, source: int, times: tuple, boundary: np.ndarray) -> np.ndarray:
+        """(len(times), b) normalized boundary temperatures."""
+        def compute():
+            if self.method == "eigen":
+                spectrum = self.spectrum(op, self.modes)
+                return np.stack([spectrum.heat([source], t, at=boundary)[0] for t in times])
+            return krylov_heat(op, source, np.asarray(times), at=boundary)
+        return self._get(("heat", id(op), source, times), compute)
+
+    def global_derivative(self, op: HeatOperator, at: np.ndarray, time: float | None = None) -> np.ndarray:
+        """Eq. 5.12 at vertices ``at``, at ``time`` (default t_global = 1/lambda_2), with enough modes."""
+        def compute():
+            modes = WEIGHT_MODES
+            while True:
+                spectrum = self.spectrum(op, modes)
+                try:
+                    return spectrum.global_derivative(1.0 / spectrum.lambda2 if time is None else time, at=at)
+                except SpectrumError:
+                    if modes >= op.n - 2:
+                        raise
+                    log.info("%s: the global derivative needs more than %d modes; trying %d",
+                             op.name, modes, 2 * modes)
+                    modes = min(2 * modes, op.n - 2)
+        return self._get(("derivative", id(op), id(at), time), compute)
+
+
+def _part_weights(work: _ViewWork, connected: View, op: HeatOperator, samples, sampling: str
+                  ) -> tuple[np.ndarray, tuple]:
+    """rho of eq. 5.13 at the descriptor's samples, and the repair made (if any)."""
+    boundary = connected.boundary
+    delta, _ = sample_boundary(connected, boundary, work.global_derivative(op, boundary), samples, sampling)
+    mean_square = float(np.mean(delta ** 2))
+    rho = np.exp(-delta ** 2 / mean_square) if mean_square > 0 else np.ones_like(delta)
+    share = float(np.mean(rho >= 0.5))
+    if share < MIN_MAIN_SHARE:
+        note = (f"part weights: only {share:.0%} of the boundary is on the main part (rho >= 0.5); "
+                "unit weights used (eq. 3.1)")
+        log.warning("%s: %s", connected.name, note)
+        return np.ones_like(rho), (note,)
+    return rho, ()
+
+
+def _pvst_times(work: _ViewWork, connected: View, op: HeatOperator, source: int, threshold: float,
+                t_final: float | None) -> tuple[np.ndarray, float, tuple]:
+    """First crossing times of the threshold at the boundary vertices (Alg. 5.3, see :func:`pvst`)."""
+    boundary = connected.boundary
+    if np.any(boundary == source):
+        raise ViewError(f"{connected.name}: the source vertex {source} is on the outer boundary; the PVST needs "
+                        "an interior source (Lemma 1, 5.4.2) - choose another source rule or vertex")
+    t_end = PVST_WINDOW / work.lambda2(op) if t_final is None else float(t_final)
+    gap = np.min(np.linalg.norm(connected.vertices[boundary] - connected.vertices[source], axis=1))
+    t_start = gap ** 2 / 16.0  # the front has not yet reached the nearest boundary point (checked below)
+    if not t_end > t_start:
+        raise ViewError(f"{connected.name}: the PVST window ends at t = {t_end:.3g}, before it starts "
+                        f"({t_start:.3g})")
+    for _ in range(4):  # start earlier while a boundary point is already above the threshold
+        model = heat_model(op, source, np.geomspace(t_start, t_end, 16), at=boundary)
+        early = model(np.array([t_start]))[0] >= threshold
+        if not early.any():
+            break
+        t_start /= 16.0
+    times = first_crossings(model, threshold, t_start, t_end)
+    notes = []
+    late = model(np.array([t_end]))[0] < threshold
+    if early.any():
+        notes.append(f"pvst: {int(early.sum())} boundary vertices are above T = {threshold:g} already at "
+                     f"t = {t_start:.3g}: NaN")
+    if late.any():
+        notes.append(f"pvst: {int(late.sum())} boundary vertices do not reach T = {threshold:g} by "
+                     f"t = {t_end:.3g}: NaN")
+    for note in notes:
+        log.warning("%s: %s", connected.name, note)
+    return times, t_end, tuple(notes)
 
 
 def describe(view: View, specs: list[DescriptorSpec], *, method: str = "krylov", modes: int = 30,
-             time: float | None = None) -> list[Descriptor]:
+             times=None, part_weights: bool = True, t_final: float | None = None) -> list[Descriptor]:
     """Several descriptors of one view, sharing the expensive work.
 
     Descriptors with the same colour map share one factorization and lambda_2; those
     with the same source share one heat solve; samplings of one solve cost nothing
-    more. ``method`` and ``modes`` as in :func:`pvhk`; ``time`` overrides t_s.
+    more.
+
+    Parameters
+    ----------
+    view : View
+    specs : list of DescriptorSpec
+    method, modes
+        As in :func:`pvhk`.
+    times : sequence of float, optional
+        The fixed times of every ``ft-pvhk`` spec (needed if there is one): each such
+        spec gives one descriptor per time, all from one Krylov solve.
+    part_weights : bool
+        Give ``ft-pvhk`` descriptors their part weights (eq. 5.13), at the cost of a few
+        eigenpairs per view.
+    t_final : float, optional
+        End of the PVST search window (default ``10 / lambda_2``, Alg. 5.3).
+
+    Returns
+    -------
+    list of Descriptor
+        In spec order; an ``ft-pvhk`` spec contributes ``len(times)`` descriptors.
     """
-    if method not in ("krylov", "eigen"):
-        raise ViewError(f"unknown method {method!r} (use 'krylov' or 'eigen')")
-    operators: dict = {}
-    heats: dict = {}
+    work = _ViewWork(view, method, modes)
     results = []
     for spec in specs:
-        s = source_vertex(view, spec.source)
-        connected, s_local = view.component_of(s)
-        component = int(view.component_labels[s])
-        key = (component, spec.color_map if isinstance(spec.color_map, (str, type(None))) else id(spec.color_map))
-        if key not in operators:
-            rates = None if spec.color_map is None else color_rates(connected, spec.color_map)
-            op = heat_operator(connected, rates)
-            if method == "eigen":
-                spectrum = eigen_spectrum(op, modes)
-                operators[key] = (op, spectrum.lambda2, spectrum)
-            else:
-                operators[key] = (op, lambda2(op), None)
-        op, lam2, spectrum = operators[key]
-        t = 1.0 / lam2 if time is None else float(time)
+        connected, s_local, s = work.component(spec.source)
+        op = work.operator(connected, spec.color_map)
         boundary = connected.boundary
-        if (key, s) not in heats:
-            if spectrum is not None:
-                heats[key, s] = spectrum.heat([s_local], t, at=boundary)[0]
-            else:
-                heats[key, s] = krylov_heat(op, s_local, [t], at=boundary)[0]
-        values, positions = sample_boundary(connected, boundary, heats[key, s], spec.samples, spec.sampling)
+        repairs = tuple(connected.repairs[len(view.repairs):])
         color = spec.color_map if isinstance(spec.color_map, (str, type(None))) else \
             getattr(spec.color_map, "__name__", "custom")
-        results.append(Descriptor(kind=spec.kind, values=values, positions=positions, source=s, time=t,
-                                  lambda2=lam2, sampling=spec.sampling, color_map=color,
-                                  repairs=tuple(connected.repairs[len(view.repairs):])))
+        common = dict(kind=spec.kind, source=s, sampling=spec.sampling, color_map=color)
+        if spec.kind == "pvst":
+            crossing, t_end, notes = _pvst_times(work, connected, op, s_local, spec.threshold, t_final)
+            values, positions = sample_boundary(connected, boundary, crossing, spec.samples, spec.sampling)
+            results.append(Descriptor(values=values, positions=positions, time=t_end, lambda2=work.lambda2(op),
+                                      repairs=repairs + notes, **common))
+            continue
+        if spec.kind == "ft-pvhk":
+            if times is None:
+                raise ViewError(f"{view.name}: an ft-pvhk needs times= (the object's time scale, Alg. 5.1)")
+            spec_times = tuple(float(t) for t in np.atleast_1d(times))
+            weights, notes = _part_weights(work, connected, op, spec.samples, spec.sampling) if part_weights \
+                else (None, ())
+            lam2 = work.lambda2(op) if part_weights else float("nan")
+        else:
+            lam2 = work.lambda2(op)
+            spec_times, weights, notes = (1.0 / lam2,), None, ()
+        temps = work.heat(op, s_local, spec_times, boundary)
+        for t, row in zip(spec_times, temps, strict=True):
+            values, positions = sample_boundary(connected, boundary, row, spec.samples, spec.sampling)
+            results.append(Descriptor(values=values, positions=positions, time=t, lambda2=lam2,
+                                      repairs=repairs + notes, weights=weights, **common))
     return results
 
 
@@ -307,3 +472,106 @@ def c_pvhk(view: View, samples: int | None = 64, color_map: str | Callable = "c3
     """
     spec = DescriptorSpec("c-pvhk", samples, source, sampling, color_map)
     return describe(view, [spec], method=method, modes=modes)[0]
+
+
+def ft_pvhk(view: View, time: float, samples: int | None = 64, source: str | int = "closest", *,
+            sampling: str = "arclength", method: str = "krylov", modes: int = 30) -> Descriptor:
+    """Fixed-time PVHK (5.4.1): the PVHK at a given time, e.g. :func:`object_time_scale`.
+
+    Costs one heat solve and no lambda_2 (``Descriptor.lambda2`` is NaN); its part weights
+    come from :func:`part_weights`. Other parameters as :func:`pvhk`.
+    """
+    spec = DescriptorSpec("ft-pvhk", samples, source, sampling)
+    return describe(view, [spec], method=method, modes=modes, times=[time], part_weights=False)[0]
+
+
+def pvst(view: View, samples: int | None = 64, threshold: float = PVST_THRESHOLD, source: str | int = "closest",
+         *, sampling: str = "arclength", t_final: float | None = None) -> Descriptor:
+    """Partial View Stochastic Time (Alg. 5.3, 5.4.2): when each boundary point reaches ``threshold``.
+
+    ``values`` are the first times the normalized temperature (equilibrium = 1) reaches
+    ``threshold`` after a unit pulse at the source, in the view's time units
+    (metres^2 with the 1/d^2 weights of eq. 2.3). Instead of ~1200 eigenpairs, the heat
+    is one shift-invert Krylov projection on the PVHK's factorization, checked to
+    1e-7 at 16 times in the window; it is an explicit sum of exponentials in t, which
+    is bracketed on 256 log-spaced times (the thesis's log search) and bisected to
+    1e-9 relative. Non-monotone temperatures give their first crossing.
+
+    Parameters
+    ----------
+    view : View
+    samples : int or None
+        M; None: one value per boundary vertex.
+    threshold : float
+        T_a in (0, 1).
+    source : {"closest", "center"} or int
+        Must not be on the outer boundary (Lemma 1): a :class:`ViewError` otherwise.
+    sampling : {"arclength", "polar"}
+    t_final : float, optional
+        End of the search window, default ``10 / lambda_2``. Boundary points that do not
+        reach the threshold by then are NaN, logged and listed in ``repairs``.
+
+    Returns
+    -------
+    Descriptor
+        ``time`` is the end of the window.
+    """
+    spec = DescriptorSpec("pvst", samples, source, sampling, threshold=threshold)
+    return describe(view, [spec], t_final=t_final)[0]
+
+
+def part_weights(view: View, samples: int | None = 64, *, sampling: str = "arclength",
+                 source: str | int = "closest") -> np.ndarray:
+    """Part weights rho of eq. 5.13, at the samples of a descriptor with the same arguments.
+
+    ``rho_i = exp(-Delta_i^2 / mean(Delta^2))`` with ``Delta`` the source-position global
+    derivative (eq. 5.12) at t_global = 1/lambda_2, sampled along the boundary like the
+    descriptor: close to 1 on the main part, small on loosely connected parts. The
+    source only chooses the connected component. If fewer than 25% of the samples
+    have rho >= 0.5 - the boundary runs mostly along small parts, and the weights
+    would rest the distance on a few points - unit weights are returned instead,
+    with a logged warning.
+
+    Returns
+    -------
+    (M,) float64
+    """
+    work = _ViewWork(view, "krylov", 30)
+    connected, _, _ = work.component(source)
+    weights, _ = _part_weights(work, connected, work.operator(connected, None), samples, sampling)
+    return weights
+
+
+def global_derivative(view: View, source: str | int = "closest", time: float | None = None) -> np.ndarray:
+    """Source-position global derivative (eq. 5.12) at every vertex of the source's component (Fig. 5.7).
+
+    ``time`` defaults to t_global = 1/lambda_2. Returns (n_component,) float64.
+    """
+    work = _ViewWork(view, "eigen", WEIGHT_MODES)
+    connected, _, _ = work.component(source)
+    return work.global_derivative(work.operator(connected, None), np.arange(connected.n_vertices),
+                                  None if time is None else float(time))
+
+
+def view_time_scale(view: View, source: str | int = "closest") -> float:
+    """t_global = 1/lambda_2 of the component holding the source (2.3.1)."""
+    work = _ViewWork(view, "krylov", 30)
+    connected, _, _ = work.component(source)
+    return 1.0 / work.lambda2(work.operator(connected, None))
+
+
+def object_time_scale(views, source: str | int = "closest") -> float:
+    """Main-part time scale of an object (Alg. 5.1): the smallest 1/lambda_2 over its views.
+
+    Parameters
+    ----------
+    views : iterable of View
+        Partial views of one object from several view angles.
+    """
+    scales = {view.name: view_time_scale(view, source) for view in views}
+    if not scales:
+        raise ViewError("object_time_scale needs at least one view")
+    name = min(scales, key=scales.get)
+    log.info("time scale %.4g from %s (min of %d views; max %.4g)", scales[name], name, len(scales),
+             max(scales.values()))
+    return scales[name]

@@ -8,6 +8,11 @@ parameterization costs little (Fig. 3.2):
 
 :func:`mhd_matrix` evaluates it between many queries and a whole library in chunks,
 in float32 by default (the distances need no more; memory and time halve).
+
+The weighted version of eq. 5.14 (Alg. 5.2) multiplies each point's distance to the
+other curve by its part weight rho. heatdata rescales each descriptor's weights to mean
+1 before summing, so unit weights give eq. 3.1 exactly and a view cannot come closer
+to everything just by having small weights (eq. 5.14 as printed sums raw weights).
 """
 
 from __future__ import annotations
@@ -21,6 +26,22 @@ def _curve_x(m: int, dtype) -> np.ndarray:
     return (np.arange(1, m + 1) / m).astype(dtype)
 
 
+def _check_finite(array: np.ndarray, what: str) -> None:
+    bad = ~np.isfinite(array)
+    if bad.any():
+        rows = int(np.any(bad.reshape(len(array), -1), axis=1).sum()) if array.ndim > 1 else 1
+        raise HeatdataError(f"{what}: {rows} descriptor(s) hold NaN or infinite values (e.g. a PVST whose "
+                            "threshold was not reached: see the repairs column); drop or recompute them")
+
+
+def _unit_mean(weights: np.ndarray, what: str) -> np.ndarray:
+    weights = np.atleast_2d(np.asarray(weights, dtype=np.float64))
+    _check_finite(weights, what)
+    if np.any(weights < 0) or np.any(weights.sum(axis=1) <= 0):
+        raise HeatdataError(f"{what}: part weights must be non-negative and not all zero")
+    return weights / weights.mean(axis=1, keepdims=True)
+
+
 def mhd(z1: np.ndarray, z2: np.ndarray) -> float:
     """Modified Hausdorff distance of eq. 3.1 between two descriptors.
 
@@ -30,22 +51,49 @@ def mhd(z1: np.ndarray, z2: np.ndarray) -> float:
     z2 : (M',) float
         Descriptors; the lengths may differ (each is parameterized on (0, 1]).
     """
+    return weighted_mhd(z1, z2, np.ones(len(z1)), np.ones(len(z2)))
+
+
+def weighted_mhd(z1: np.ndarray, z2: np.ndarray, w1: np.ndarray, w2: np.ndarray) -> float:
+    """Part-weighted modified Hausdorff distance of eq. 5.14 (Alg. 5.2).
+
+    ``min(sum_i w1_i min_j ||eta_i - eta'_j||, sum_j w2_j min_i ||eta_i - eta'_j||)`` with
+    each weight vector rescaled to mean 1; unit weights give :func:`mhd`.
+
+    Parameters
+    ----------
+    z1 : (M,) float
+    z2 : (M',) float
+    w1 : (M,) float
+    w2 : (M',) float
+        Non-negative part weights (:func:`heatdata.part_weights`).
+    """
     z1, z2 = np.asarray(z1, float), np.asarray(z2, float)
     if z1.ndim != 1 or z2.ndim != 1 or len(z1) == 0 or len(z2) == 0:
         raise HeatdataError("mhd takes two non-empty 1-D descriptors")
+    if np.shape(w1) != z1.shape or np.shape(w2) != z2.shape:
+        raise HeatdataError(f"weights of shapes {np.shape(w1)}, {np.shape(w2)} do not match descriptors of "
+                            f"shapes {z1.shape}, {z2.shape}")
+    for z in (z1, z2):
+        _check_finite(z, "mhd")
+    w1, w2 = _unit_mean(w1, "weighted_mhd")[0], _unit_mean(w2, "weighted_mhd")[0]
     dx = _curve_x(len(z1), float)[:, None] - _curve_x(len(z2), float)[None, :]
     d = np.sqrt(dx ** 2 + (z1[:, None] - z2[None, :]) ** 2)
-    return float(min(d.min(axis=1).sum(), d.min(axis=0).sum()))
+    return float(min(d.min(axis=1) @ w1, d.min(axis=0) @ w2))
 
 
-def mhd_matrix(queries: np.ndarray, library: np.ndarray, *, chunk_elements: int = 2 ** 16,
+def mhd_matrix(queries: np.ndarray, library: np.ndarray, *, query_weights: np.ndarray | None = None,
+               library_weights: np.ndarray | None = None, chunk_elements: int = 2 ** 16,
                dtype=np.float32) -> np.ndarray:
-    """Eq. 3.1 between every query and every library descriptor.
+    """Eq. 3.1 (or, with weights, eq. 5.14) between every query and every library descriptor.
 
     Parameters
     ----------
     queries : (Q, M) float
     library : (N, M') float
+    query_weights : (Q, M) float, optional
+    library_weights : (N, M') float, optional
+        Part weights; both or neither.
     chunk_elements : int
         Size of the work arrays (about 4 bytes each); small enough to stay in cache.
 
@@ -63,6 +111,18 @@ def mhd_matrix(queries: np.ndarray, library: np.ndarray, *, chunk_elements: int 
     """
     queries = np.atleast_2d(np.asarray(queries, dtype))
     library = np.atleast_2d(np.asarray(library, dtype))
+    _check_finite(queries, "queries")
+    _check_finite(library, "library")
+    if (query_weights is None) != (library_weights is None):
+        raise HeatdataError("give part weights for both the queries and the library, or for neither")
+    if query_weights is None:
+        wq, wl = np.ones(queries.shape, dtype), np.ones(library.shape, dtype)
+    else:
+        wq = _unit_mean(query_weights, "query weights").astype(dtype)
+        wl = _unit_mean(library_weights, "library weights").astype(dtype)
+        if wq.shape != queries.shape or wl.shape != library.shape:
+            raise HeatdataError(f"weights of shapes {wq.shape}, {wl.shape} do not match descriptors of shapes "
+                                f"{queries.shape}, {library.shape}")
     m, m2 = queries.shape[1], library.shape[1]
     kernel = _mhd_offsets if m == m2 else _mhd_tensor
     out = np.empty((len(queries), len(library)))
@@ -70,13 +130,13 @@ def mhd_matrix(queries: np.ndarray, library: np.ndarray, *, chunk_elements: int 
     q_block = max(1, chunk_elements // ((m * m2 if kernel is _mhd_tensor else m) * n_block))
     for q0 in range(0, len(queries), q_block):
         for n0 in range(0, len(library), n_block):
-            out[q0:q0 + q_block, n0:n0 + n_block] = kernel(queries[q0:q0 + q_block, None, :],
-                                                           library[None, n0:n0 + n_block, :])
+            q, n = slice(q0, q0 + q_block), slice(n0, n0 + n_block)
+            out[q, n] = kernel(queries[q, None, :], library[None, n, :], wq[q, None, :], wl[None, n, :])
     return out
 
 
-def _mhd_offsets(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """(q, 1, M) and (1, n, M) descriptors of equal length -> (q, n) distances."""
+def _mhd_offsets(a: np.ndarray, b: np.ndarray, wa: np.ndarray, wb: np.ndarray) -> np.ndarray:
+    """(q, 1, M) and (1, n, M) descriptors of equal length, and their weights -> (q, n) distances."""
     m = a.shape[-1]
     forward = a - b
     forward *= forward
@@ -92,11 +152,11 @@ def _mhd_offsets(a: np.ndarray, b: np.ndarray) -> np.ndarray:
             term += step
             np.minimum(forward[..., fi], term, out=forward[..., fi])
             np.minimum(backward[..., bk], term, out=backward[..., bk])
-    return np.minimum(np.sqrt(forward).sum(axis=-1), np.sqrt(backward).sum(axis=-1))
+    return np.minimum((np.sqrt(forward) * wa).sum(axis=-1), (np.sqrt(backward) * wb).sum(axis=-1))
 
 
-def _mhd_tensor(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """(q, 1, M) and (1, n, M') descriptors -> (q, n) distances via the full tensor."""
+def _mhd_tensor(a: np.ndarray, b: np.ndarray, wa: np.ndarray, wb: np.ndarray) -> np.ndarray:
+    """(q, 1, M) and (1, n, M') descriptors and weights -> (q, n) distances via the full tensor."""
     dx2 = (_curve_x(a.shape[-1], a.dtype)[:, None] - _curve_x(b.shape[-1], a.dtype)[None, :]) ** 2
     d2 = (a[..., :, None] - b[..., None, :]) ** 2 + dx2  # (q, n, M, M')
-    return np.minimum(np.sqrt(d2.min(axis=3)).sum(axis=2), np.sqrt(d2.min(axis=2)).sum(axis=2))
+    return np.minimum((np.sqrt(d2.min(axis=3)) * wa).sum(axis=2), (np.sqrt(d2.min(axis=2)) * wb).sum(axis=2))

@@ -188,7 +188,37 @@ def lambda2(op: HeatOperator, *, rtol: float = 1e-8, max_steps: int = 60, seed: 
     return value
 
 
-def krylov_heat(
+@dataclass
+class HeatModel:
+    """Temperatures at chosen vertices as an explicit sum of exponentials in time.
+
+    The Krylov projection of :func:`heat_model` gives, for each reported vertex ``j``,
+    ``T_j(t) = scale_j (steady_j + sum_m G_mj exp(-theta_m t))``: cheap to evaluate at
+    any number of times, and what :func:`first_crossings` brackets and refines.
+
+    Attributes
+    ----------
+    theta : (m,) float64
+        Ritz values (approximate eigenvalues of ``S``); ``theta[0]`` approaches lambda_2.
+    weights : (m, b) float64
+        ``G`` above.
+    steady : (b,) float64
+    scale : (b,) float64
+        Converts to temperatures divided by the equilibrium temperature.
+    """
+
+    theta: np.ndarray
+    weights: np.ndarray
+    steady: np.ndarray
+    scale: np.ndarray
+
+    def __call__(self, times: np.ndarray) -> np.ndarray:
+        """(k,) times -> (k, b) normalized temperatures."""
+        decay = np.exp(-np.outer(np.atleast_1d(times), self.theta))
+        return (self.steady + decay @ self.weights) * self.scale
+
+
+def heat_model(
     op: HeatOperator,
     source: int,
     times: np.ndarray,
@@ -196,28 +226,23 @@ def krylov_heat(
     *,
     tol: float = 1e-7,
     max_steps: int = 120,
-) -> np.ndarray:
-    """Normalized temperatures ``T(t)`` after a unit pulse at ``source``.
+) -> HeatModel:
+    """Project ``exp(-t S)`` onto the shift-invert Krylov space of a unit pulse at ``source``.
 
-    Projects ``exp(-t S)`` onto the shift-invert Krylov space of the pulse, adding
-    vectors until the temperatures at ``at`` change by less than ``tol`` between
-    steps.
+    Vectors are added until the normalized temperatures at ``at`` and at every time of
+    ``times`` change by less than ``tol`` between steps; the model is then accurate at
+    those times (and between them, the approximation being smooth in ``t``).
 
     Parameters
     ----------
     op : HeatOperator
     source : int
     times : (k,) float
-        Positive diffusion times.
+        Positive diffusion times at which convergence is checked.
     at : (b,) int, optional
         Vertices to report (default: all).
     tol : float
         Stopping tolerance on the normalized temperatures.
-
-    Returns
-    -------
-    (k, b) float64
-        Temperatures divided by the equilibrium temperature.
     """
     times = np.atleast_1d(np.asarray(times, dtype=np.float64))
     if np.any(times <= 0) or not np.all(np.isfinite(times)):
@@ -229,22 +254,82 @@ def krylov_heat(
     beta = np.linalg.norm(r)
     equilibrium = op.c[source] / op.c.sum()
     scale = 1.0 / (op.sqrt_c[at] * equilibrium)
+
+    def project(Q, H) -> HeatModel:
+        theta, U = np.linalg.eigh(H)
+        return HeatModel(theta, beta * (U[0][:, None] * (U.T @ Q[:, at])), steady[at], scale)
+
     previous: list[np.ndarray] = []
 
-    def evaluate(Q, H):
-        theta, U = np.linalg.eigh(H)
-        coef = (U * np.exp(-np.outer(times, theta))[:, None, :]) @ U[0]  # (k, m): exp(-tH) e_1
-        return (steady[at] + beta * coef @ Q[:, at]) * scale
-
     def done(Q, H):
-        previous.append(evaluate(Q, H))
+        previous.append(project(Q, H)(times))
         return len(previous) > 1 and np.max(np.abs(previous[-1] - previous[-2])) <= tol
 
     Q, H, status = _lanczos(op, r, max_steps, done)
     if status == "max_steps":
         raise SpectrumError(f"{op.name}: heat did not converge to {tol:g} in {max_steps} Krylov steps "
                             f"(times {times.min():.3g}..{times.max():.3g})")
-    return evaluate(Q, H)
+    return project(Q, H)
+
+
+def krylov_heat(
+    op: HeatOperator,
+    source: int,
+    times: np.ndarray,
+    at: np.ndarray | None = None,
+    *,
+    tol: float = 1e-7,
+    max_steps: int = 120,
+) -> np.ndarray:
+    """Normalized temperatures ``T(t)`` after a unit pulse at ``source``.
+
+    Parameters as :func:`heat_model`.
+
+    Returns
+    -------
+    (k, b) float64
+        Temperatures divided by the equilibrium temperature.
+    """
+    return heat_model(op, source, times, at, tol=tol, max_steps=max_steps)(np.asarray(times, dtype=np.float64))
+
+
+def first_crossings(model: HeatModel, threshold: float, t_start: float, t_end: float, *,
+                    grid: int = 256, rtol: float = 1e-9) -> np.ndarray:
+    """First time each reported temperature reaches ``threshold`` (Alg. 5.3, ch. 5.4.2).
+
+    The model is evaluated on ``grid`` log-spaced times in ``[t_start, t_end]`` (the
+    thesis's search on a logarithmic scale); the first grid interval where a
+    temperature reaches the threshold brackets its first crossing, which bisection in
+    ``log t`` then refines to ``rtol`` relative. A temperature that rises above the
+    threshold and falls back within one grid step (a factor ``(t_end/t_start)^(1/grid)``)
+    is not seen.
+
+    Returns
+    -------
+    (b,) float64
+        Crossing times; NaN where the threshold is not reached by ``t_end``, or is
+        already reached at ``t_start`` (no crossing from below in the window).
+    """
+    times = np.geomspace(t_start, t_end, grid)
+    above = model(times) >= threshold  # (grid, b)
+    first = np.argmax(above, axis=0)
+    found = above.any(axis=0) & (first > 0)
+    columns = np.flatnonzero(found)
+    lo = np.log(times[first[columns] - 1])
+    hi = np.log(times[first[columns]])
+    sub = HeatModel(model.theta, model.weights[:, columns], model.steady[columns], model.scale[columns])
+    steps = int(np.ceil(np.log2(max(np.log(times[1] / times[0]) / rtol, 2.0))))
+    for _ in range(steps):
+        mid = 0.5 * (lo + hi)
+        t = np.exp(mid)
+        decay = np.exp(-t[:, None] * sub.theta[None, :])  # (c, m)
+        value = (sub.steady + np.einsum("cm,mc->c", decay, sub.weights)) * sub.scale
+        reached = value >= threshold
+        hi = np.where(reached, mid, hi)
+        lo = np.where(reached, lo, mid)
+    out = np.full(model.steady.shape, np.nan)
+    out[columns] = np.exp(hi)
+    return out
 
 
 @dataclass
@@ -286,6 +371,34 @@ class Spectrum:
         phi_at = self.vectors[at] * np.exp(-self.values * time)
         kernel = self.vectors[sources] @ phi_at.T  # (s, b)
         return kernel * self.rates.sum()
+
+    def global_derivative(self, time: float, at: np.ndarray | None = None) -> np.ndarray:
+        """Source-position global derivative of eq. 5.10-5.12 (thesis 5.3.1).
+
+        ``Delta_s[T_s(t)]_i = sum_{k >= 2} lambda_k [phi_k]_i^2 exp(-2 lambda_k t) / 2``: how much
+        the temperature at vertex ``i`` changes when the source moves along an edge, summed
+        over all sources - one pass over the eigenpairs, no loop over sources. Temperatures
+        are normalized (equilibrium = 1), which scales eq. 5.12 by ``sum(c)^2``.
+
+        Returns
+        -------
+        (b,) float64
+            At the vertices ``at`` (default all).
+
+        Raises
+        ------
+        SpectrumError
+            The modes left out could change the result by more than 1e-6 relative (the
+            largest kept mode's term ``lambda_k exp(-2 lambda_k t)`` is not negligible);
+            compute more modes.
+        """
+        at = slice(None) if at is None else at
+        decay = self.values[1:] * np.exp(-2.0 * self.values[1:] * time)
+        if decay[-1] > 1e-6 * decay.max():
+            raise SpectrumError(f"the global derivative at t = {time:.3g} needs more than {len(self.values)} "
+                                f"modes (the last kept mode still weighs {decay[-1] / decay.max():.1e})")
+        phi = self.vectors[at, 1:]
+        return 0.5 * (phi ** 2 @ decay) * self.rates.sum() ** 2
 
 
 def eigen_spectrum(op: HeatOperator, k: int = 30, *, tol: float = 1e-10) -> Spectrum:

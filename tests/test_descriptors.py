@@ -136,7 +136,7 @@ def test_describe_shares_work_and_matches_single_calls(mug):
 
 def test_descriptor_spec_validation():
     with pytest.raises(hd.ViewError, match="kind"):
-        hd.DescriptorSpec("pvst")
+        hd.DescriptorSpec("shot")
     with pytest.raises(hd.ViewError, match="color_map"):
         hd.DescriptorSpec("c-pvhk")
     with pytest.raises(hd.ViewError, match="sampling"):

@@ -1,0 +1,189 @@
+"""Complex objects (thesis ch. 5): time scales, part weights, FT-PVHK, weighted MHD and PVST."""
+
+import logging
+
+import numpy as np
+import pytest
+import scipy.linalg
+from scipy.optimize import brentq
+
+import heatdata as hd
+import heatdata.descriptors as descriptors
+from heatdata.descriptors import heat_operator
+from heatdata.spectrum import lambda2
+
+from conftest import square_view
+
+
+def lattice_view(mask: np.ndarray, spacing: float = 0.002, name: str = "lattice") -> hd.View:
+    """A flat grid mesh over the True cells of a (rows, cols) mask (a cell needs all 4 corners)."""
+    ny, nx = mask.shape
+    index = -np.ones(mask.shape, int)
+    index[mask] = np.arange(mask.sum())
+    ys, xs = np.nonzero(mask)
+    vertices = np.column_stack([(xs - nx / 2) * spacing, (ys - ny / 2) * spacing, np.ones(len(xs))])
+    a, b, c, d = index[:-1, :-1], index[:-1, 1:], index[1:, :-1], index[1:, 1:]
+    keep = (a >= 0) & (b >= 0) & (c >= 0) & (d >= 0)
+    faces = np.concatenate([np.column_stack([a[keep], b[keep], c[keep]]), np.column_stack([b[keep], d[keep], c[keep]])])
+    return hd.View.from_arrays(vertices, faces, view_id=name)
+
+
+def squares(bottleneck: bool) -> np.ndarray:
+    """Fig. 5.4: a 21x21 square, alone or joined to a 9x9 square by a one-cell-wide bottleneck."""
+    mask = np.zeros((21, 42), bool)
+    mask[:, :21] = True
+    if bottleneck:
+        mask[9:11, 21:33] = True
+        mask[6:15, 33:42] = True
+    return mask
+
+
+def test_bottleneck_drops_lambda2_about_tenfold():
+    alone = lambda2(heat_operator(lattice_view(squares(False))))
+    joined = lambda2(heat_operator(lattice_view(squares(True))))
+    assert 5 < alone / joined < 30  # the thesis's example: 9e-3 -> 8.4e-4, a factor 10.7
+
+
+def test_global_derivative_is_largest_on_the_small_part():
+    view = lattice_view(squares(True))
+    delta = hd.global_derivative(view, source=0)
+    small = view.vertices[:, 0] > 12 * 0.002  # right of the bottleneck's middle
+    assert delta[small].mean() > 10 * delta[~small].mean()
+
+
+def test_global_derivative_matches_eq_5_11_by_dense_heat():
+    view = square_view(9)
+    L = heat_operator(view).L.toarray()
+    n = len(L)
+    t = 1.0 / np.sort(np.linalg.eigvalsh(L))[1]
+    heat = scipy.linalg.expm(-t * L) * n  # column i: normalized temperatures with the source at i
+    expected = 0.5 * np.einsum("ji,jk,ki->i", heat, L, heat)  # T_i^T L T_i / 2
+    np.testing.assert_allclose(hd.global_derivative(view, source=0), expected, rtol=1e-6)
+
+
+def test_part_weights_follow_the_samples_and_lie_in_0_1():
+    view = lattice_view(squares(True))
+    w = hd.part_weights(view, samples=64, source=0)
+    assert w.shape == (64,) and np.all((w > 0) & (w <= 1))
+    assert w.min() < 0.2 and np.median(w) > 0.9  # low on the small square, ~1 on the main one
+
+
+def test_mostly_small_part_boundary_gets_unit_weights_and_a_warning(monkeypatch, caplog):
+    view = lattice_view(squares(True))
+    monkeypatch.setattr(descriptors, "MIN_MAIN_SHARE", 0.99)
+    with caplog.at_level(logging.WARNING):
+        w = hd.part_weights(view, samples=64, source=0)
+    assert np.all(w == 1.0)
+    assert "unit weights" in caplog.text
+
+
+def test_object_time_scale_is_the_smallest_view_time_scale():
+    views = [lattice_view(squares(True), name="joined"), lattice_view(squares(False), name="alone")]
+    scales = [hd.view_time_scale(v, source=0) for v in views]
+    assert hd.object_time_scale(views, source=0) == min(scales) == scales[1]
+    with pytest.raises(hd.ViewError):
+        hd.object_time_scale([])
+
+
+def test_ft_pvhk_at_t_global_is_the_pvhk(mug):
+    view = hd.render_view(mug, 30.0, 30.0, 1.0, seed=0)
+    p = hd.pvhk(view, source="center")
+    f = hd.ft_pvhk(view, time=p.time, source="center")
+    np.testing.assert_allclose(f.values, p.values, atol=1e-6)
+    assert f.kind == "ft-pvhk" and np.isnan(f.lambda2)
+    many = hd.describe(view, [hd.DescriptorSpec("ft-pvhk", 64, "center")], times=[p.time / 4, p.time])
+    assert len(many) == 2 and many[0].weights is not None
+    np.testing.assert_allclose(many[1].values, p.values, atol=1e-6)
+
+
+def test_weighted_mhd_reduces_to_mhd_and_ignores_zero_weight_points():
+    rng = np.random.default_rng(0)
+    z1, z2 = rng.random(32), rng.random(32)
+    ones = np.ones(32)
+    assert hd.weighted_mhd(z1, z2, ones, ones) == pytest.approx(hd.mhd(z1, z2))
+    spike = z1.copy()
+    spike[10] += 5.0
+    w = ones.copy()
+    w[10] = 0.0
+    assert hd.weighted_mhd(spike, z1, w, w) < 1e-12 < hd.mhd(spike, z1)
+    weights = rng.random((3, 32)) + 0.1
+    queries, library = rng.random((3, 32)), rng.random((4, 32))
+    lib_w = rng.random((4, 32)) + 0.1
+    matrix = hd.mhd_matrix(queries, library, query_weights=weights, library_weights=lib_w, dtype=np.float64)
+    for i in range(3):
+        for j in range(4):
+            assert matrix[i, j] == pytest.approx(hd.weighted_mhd(queries[i], library[j], weights[i], lib_w[j]))
+
+
+def test_distances_refuse_nan_and_bad_weights():
+    z = np.ones(8)
+    with pytest.raises(hd.HeatdataError, match="NaN"):
+        hd.mhd_matrix(np.array([[np.nan] * 8]), z[None])
+    with pytest.raises(hd.HeatdataError, match="non-negative"):
+        hd.weighted_mhd(z, z, -z, z)
+    with pytest.raises(hd.HeatdataError, match="both"):
+        hd.mhd_matrix(z[None], z[None], query_weights=z[None])
+
+
+def test_pvst_of_a_disc_with_central_source_is_constant(disc):
+    d = hd.pvst(disc, samples=64, source="center")
+    assert np.all(np.isfinite(d.values))
+    spread = np.std(d.values) / np.mean(d.values)
+    assert spread < 0.05  # measured 3.5%: the outer ring of 120 vertices is a polygon, and times are sensitive
+    off = hd.pvst(disc, samples=64, source=int(np.argmin(np.abs(disc.vertices[:, 0] - 0.02))))
+    assert np.std(off.values) / np.mean(off.values) > 5 * spread
+
+
+def test_pvst_grows_with_distance_along_a_strip():
+    mask = np.ones((5, 61), bool)
+    view = lattice_view(mask)
+    source = int(np.argmin(np.abs(view.vertices[:, 0] - view.vertices[:, 0].min() - 0.004)
+                           + np.abs(view.vertices[:, 1] - np.median(view.vertices[:, 1]))))
+    d = hd.pvst(view, samples=None, source=source)
+    bottom = view.vertices[view.boundary, 1] == view.vertices[:, 1].min()
+    x = view.vertices[view.boundary, 0][bottom]
+    times = d.values[bottom][np.argsort(x)]
+    far = np.sort(x) > view.vertices[source, 0]
+    assert np.all(np.diff(times[far]) > 0)
+
+
+def test_pvst_matches_a_dense_reference_to_1e_3():
+    view = square_view(15)
+    source = 7 * 15 + 7
+    d = hd.pvst(view, samples=None, source=source)
+    L = heat_operator(view).L.toarray()
+    values, vectors = np.linalg.eigh(L)
+    n = len(L)
+
+    def temperature(t, i):
+        return n * vectors[i] @ (np.exp(-values * t) * vectors[source])
+
+    for k, i in enumerate(view.boundary):
+        # first crossing from a fine log grid, refined by brentq
+        grid = np.geomspace(1e-9, d.time, 4000)
+        first = np.argmax([temperature(t, i) >= 0.75 for t in grid])
+        reference = brentq(lambda t, i=i: temperature(t, i) - 0.75, grid[first - 1], grid[first], xtol=1e-14)
+        assert d.values[k] == pytest.approx(reference, rel=1e-3)
+
+
+def test_pvst_unreached_threshold_is_nan_with_a_logged_reason(caplog):
+    view = square_view(15)
+    with caplog.at_level(logging.WARNING):
+        d = hd.pvst(view, samples=None, source=7 * 15 + 7, t_final=3e-5)
+    assert np.isnan(d.values).any()
+    assert any("do not reach" in r for r in d.repairs) and "do not reach" in caplog.text
+
+
+def test_pvst_source_on_the_boundary_is_an_error(square):
+    with pytest.raises(hd.ViewError, match="interior source"):
+        hd.pvst(square, source=int(square.boundary[3]))
+
+
+def test_specs_check_kinds_and_thresholds(square):
+    assert hd.DescriptorSpec("pvst", 64, "center", "polar").name == "pvst/polar/center/64/T0.75"
+    with pytest.raises(hd.ViewError, match="threshold"):
+        hd.DescriptorSpec("pvst", threshold=1.5)
+    with pytest.raises(hd.ViewError, match="no threshold"):
+        hd.DescriptorSpec("pvhk", threshold=0.5)
+    with pytest.raises(hd.ViewError, match="times="):
+        hd.describe(square, [hd.DescriptorSpec("ft-pvhk")])
