@@ -21,11 +21,13 @@ outside the shape). ``samples=None`` returns one value per boundary vertex.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 from matplotlib.colors import rgb_to_hsv
+from scipy.optimize import brentq
+from scipy.spatial import cKDTree
 
 from .errors import SpectrumError, ViewError
 from .spectrum import (HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat, lambda2,
@@ -99,7 +101,13 @@ class Descriptor:
 
 
 def source_vertex(view: View, rule: str | int = "closest") -> int:
-    """The heat source of a view: eq. 2.7 (``"closest"``), eq. 2.8 (``"center"``) or an index."""
+    """The heat source of a view: eq. 2.7 (``"closest"``), eq. 2.8 (``"center"``), ``"interior"`` or an index.
+
+    ``"interior"`` (not in the thesis) is the vertex farthest from the outer boundary: never
+    on it, as the PVST needs (Lemma 1), and on the view's largest part. On a chair, the
+    image centre often falls between the legs or the back's slats, and ``"center"`` then
+    picks a vertex of the outline.
+    """
     if isinstance(rule, (int, np.integer)):
         if not 0 <= rule < view.n_vertices:
             raise ViewError(f"{view.name}: source vertex {rule} is not in 0..{view.n_vertices - 1}")
@@ -109,7 +117,10 @@ def source_vertex(view: View, rule: str | int = "closest") -> int:
         return int(np.argmin(np.einsum("ij,ij->i", x, x)))
     if rule == "center":
         return int(np.argmin(x[:, 0] ** 2 + x[:, 1] ** 2))
-    raise ViewError(f"unknown source rule {rule!r} (use 'closest', 'center' or a vertex index)")
+    if rule == "interior":
+        depth, _ = cKDTree(x[view.boundary]).query(x)
+        return int(np.argmax(depth))
+    raise ViewError(f"unknown source rule {rule!r} (use 'closest', 'center', 'interior' or a vertex index)")
 
 
 def color_rates(view: View, color_map: str | Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
@@ -341,6 +352,40 @@ def _part_weights(work: _ViewWork, connected: View, op: HeatOperator, samples, s
     return rho, ()
 
 
+# Widest time ratios one heat model covers: the last chunk, on the PVHK's factorization, and
+# earlier ones, each on a factorization shifted to its start (both converge in ~30-70 Krylov steps).
+PVST_CHUNK = 1024.0
+PVST_EARLY_CHUNK = 256.0
+# Convergence tolerance of the PVST's heat models on normalized temperatures: the crossing times
+# come out within ~1e-6 relative of a dense reference (benchmarks/bench_pvst.py), the target being 1e-3.
+PVST_TOL = 1e-4
+
+
+def _chunk_model(op: HeatOperator, source: int, boundary: np.ndarray, t0: float, t1: float, late: bool):
+    """Heat model converged on ``[t0, t1]``: on the PVHK's factorization for the latest chunk,
+    else on one shifted to ``1/t0`` (cheap: the shifted matrix is diagonally dominant)."""
+    chunk_op = op if late else op.shifted(1.0 / t0)
+    return heat_model(chunk_op, source, np.geomspace(t0, t1, 16), at=boundary, tol=PVST_TOL, check_every=4)
+
+
+def _pvst_start(connected: View, source: int, threshold: float) -> float:
+    """Half the time at which the nearest boundary point would reach the threshold on a plane.
+
+    A pulse on a plane of the view's area A gives, at distance r (the gap to the boundary),
+    ``T / T_eq = A / (4 pi t) exp(-r^2 / 4t)`` (time in m^2, eq. 2.3's weights); with
+    ``x = r^2 / 4t`` the crossing solves ``k x exp(-x) = T_a`` with ``k = A / (pi r^2)``.
+    Curved or irregular views differ, so :func:`_pvst_times` checks the start and moves it
+    earlier when needed.
+    """
+    x = connected.vertices
+    gap2 = float(np.min(np.sum((x[connected.boundary] - x[source]) ** 2, axis=1)))
+    f = connected.faces
+    area = 0.5 * float(np.linalg.norm(np.cross(x[f[:, 1]] - x[f[:, 0]], x[f[:, 2]] - x[f[:, 0]]), axis=1).sum())
+    target = threshold * np.pi * gap2 / area  # x exp(-x) = target, on the root x > 1
+    root = brentq(lambda u: u * np.exp(-u) - target, 1.0, 60.0) if target < np.exp(-1.0) else 1.0
+    return gap2 / (4.0 * root) / 2.0
+
+
 def _pvst_times(work: _ViewWork, connected: View, op: HeatOperator, source: int, threshold: float,
                 t_final: float | None) -> tuple[np.ndarray, float, tuple]:
     """First crossing times of the threshold at the boundary vertices (Alg. 5.3, see :func:`pvst`)."""
@@ -349,23 +394,32 @@ def _pvst_times(work: _ViewWork, connected: View, op: HeatOperator, source: int,
         raise ViewError(f"{connected.name}: the source vertex {source} is on the outer boundary; the PVST needs "
                         "an interior source (Lemma 1, 5.4.2) - choose another source rule or vertex")
     t_end = PVST_WINDOW / work.lambda2(op) if t_final is None else float(t_final)
-    gap = np.min(np.linalg.norm(connected.vertices[boundary] - connected.vertices[source], axis=1))
-    t_start = gap ** 2 / 16.0  # the front has not yet reached the nearest boundary point (checked below)
+    t_start = _pvst_start(connected, source, threshold)
     if not t_end > t_start:
         raise ViewError(f"{connected.name}: the PVST window ends at t = {t_end:.3g}, before it starts "
                         f"({t_start:.3g})")
+    edges = [t_end]  # chunk edges from the end; a leftover of less than 4x joins its neighbour
+    while edges[-1] > t_start:
+        ratio = PVST_CHUNK if len(edges) == 1 else PVST_EARLY_CHUNK
+        edges.append(edges[-1] / ratio if edges[-1] / ratio > 4.0 * t_start else t_start)
+    chunks = [(t0, t1, _chunk_model(op, source, boundary, t0, t1, late=t1 == t_end))
+              for t1, t0 in zip(edges[:-1], edges[1:], strict=True)][::-1]
     for _ in range(4):  # start earlier while a boundary point is already above the threshold
-        model = heat_model(op, source, np.geomspace(t_start, t_end, 16), at=boundary)
-        early = model(np.array([t_start]))[0] >= threshold
+        t0 = chunks[0][0]
+        early = chunks[0][2](np.array([t0]))[0] >= threshold
         if not early.any():
             break
-        t_start /= 16.0
-    times = first_crossings(model, threshold, t_start, t_end)
+        chunks.insert(0, (t0 / 16.0, t0, _chunk_model(op, source, boundary, t0 / 16.0, t0, late=False)))
+    times = np.full(len(boundary), np.nan)
+    for t0, t1, model in chunks:  # the first crossing is in the earliest chunk that has one
+        found = first_crossings(model, threshold, t0, t1)
+        times = np.where(np.isnan(times), found, times)
+    times[early] = np.nan  # no crossing from below in the window
     notes = []
-    late = model(np.array([t_end]))[0] < threshold
+    late = np.isnan(times) & ~early
     if early.any():
         notes.append(f"pvst: {int(early.sum())} boundary vertices are above T = {threshold:g} already at "
-                     f"t = {t_start:.3g}: NaN")
+                     f"t = {chunks[0][0]:.3g}: NaN")
     if late.any():
         notes.append(f"pvst: {int(late.sum())} boundary vertices do not reach T = {threshold:g} by "
                      f"t = {t_end:.3g}: NaN")
@@ -388,9 +442,10 @@ def describe(view: View, specs: list[DescriptorSpec], *, method: str = "krylov",
     specs : list of DescriptorSpec
     method, modes
         As in :func:`pvhk`.
-    times : sequence of float, optional
-        The fixed times of every ``ft-pvhk`` spec (needed if there is one): each such
-        spec gives one descriptor per time, all from one Krylov solve.
+    times : sequence of float, or dict from spec name to sequence, optional
+        The fixed times of the ``ft-pvhk`` specs (needed if there is one): each such
+        spec gives one descriptor per time, all from one Krylov solve. A dict gives
+        each ft-pvhk spec its own times (e.g. time scales found with its source rule).
     part_weights : bool
         Give ``ft-pvhk`` descriptors their part weights (eq. 5.13), at the cost of a few
         eigenpairs per view.
@@ -419,9 +474,11 @@ def describe(view: View, specs: list[DescriptorSpec], *, method: str = "krylov",
                                       repairs=repairs + notes, **common))
             continue
         if spec.kind == "ft-pvhk":
-            if times is None:
-                raise ViewError(f"{view.name}: an ft-pvhk needs times= (the object's time scale, Alg. 5.1)")
-            spec_times = tuple(float(t) for t in np.atleast_1d(times))
+            chosen = times.get(spec.name) if isinstance(times, Mapping) else times
+            if chosen is None:
+                raise ViewError(f"{view.name}: the ft-pvhk {spec.name} needs times= (the object's time scale, "
+                                "Alg. 5.1)")
+            spec_times = tuple(float(t) for t in np.atleast_1d(chosen))
             weights, notes = _part_weights(work, connected, op, spec.samples, spec.sampling) if part_weights \
                 else (None, ())
             lam2 = work.lambda2(op) if part_weights else float("nan")
@@ -447,7 +504,7 @@ def pvhk(view: View, samples: int | None = 64, source: str | int = "closest", *,
         source is used (logged, and recorded in ``Descriptor.repairs``).
     samples : int or None
         Number of boundary samples M; None: one value per vertex of ``view.boundary``.
-    source : {"closest", "center"} or int
+    source : {"closest", "center", "interior"} or int
         Source rule (eq. 2.7, 2.8) or vertex index.
     sampling : {"arclength", "polar"}
     method : {"krylov", "eigen"}
@@ -492,10 +549,17 @@ def pvst(view: View, samples: int | None = 64, threshold: float = PVST_THRESHOLD
     ``values`` are the first times the normalized temperature (equilibrium = 1) reaches
     ``threshold`` after a unit pulse at the source, in the view's time units
     (metres^2 with the 1/d^2 weights of eq. 2.3). Instead of ~1200 eigenpairs, the heat
-    is one shift-invert Krylov projection on the PVHK's factorization, checked to
-    1e-7 at 16 times in the window; it is an explicit sum of exponentials in t, which
-    is bracketed on 256 log-spaced times (the thesis's log search) and bisected to
-    1e-9 relative. Non-monotone temperatures give their first crossing.
+    over the window is a shift-invert Krylov projection, an explicit sum of exponentials
+    in t, converged to 1e-4 at 16 times of the window; it is bracketed on 256
+    log-spaced times (the thesis's log search) and bisected to 1e-9 relative.
+    Non-monotone temperatures give their first crossing.
+
+    The window runs from half the time the nearest boundary point would need on a
+    plane (moved earlier, by 16x up to 4 times, while a boundary point is already above
+    the threshold) to ``t_final``. One model on the PVHK's factorization covers its last
+    1024x; earlier times, which such a model resolves slowly (a source near the outline),
+    get models of 256x each on factorizations shifted to their start. Against a dense
+    reference the crossing times agree to ~1e-6 relative (``benchmarks/bench_pvst.py``).
 
     Parameters
     ----------
@@ -504,7 +568,7 @@ def pvst(view: View, samples: int | None = 64, threshold: float = PVST_THRESHOLD
         M; None: one value per boundary vertex.
     threshold : float
         T_a in (0, 1).
-    source : {"closest", "center"} or int
+    source : {"closest", "center", "interior"} or int
         Must not be on the outer boundary (Lemma 1): a :class:`ViewError` otherwise.
     sampling : {"arclength", "polar"}
     t_final : float, optional

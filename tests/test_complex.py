@@ -147,23 +147,35 @@ def test_pvst_grows_with_distance_along_a_strip():
     assert np.all(np.diff(times[far]) > 0)
 
 
-def test_pvst_matches_a_dense_reference_to_1e_3():
-    view = square_view(15)
-    source = 7 * 15 + 7
+@pytest.mark.parametrize("n, row", [(15, 7), (15, 1), (31, 1)])
+def test_pvst_matches_a_dense_reference_to_1e_3(n, row):
+    """Central source: one heat model. A source one cell from the edge: the window spans 10^4 or
+    more in t, and the early chunks use shifted factorizations."""
+    view = square_view(n)
+    source = row * n + n // 2
     d = hd.pvst(view, samples=None, source=source)
     L = heat_operator(view).L.toarray()
     values, vectors = np.linalg.eigh(L)
-    n = len(L)
+    grid = np.geomspace(1e-10, d.time, 4000)
+    decay = np.exp(-np.outer(grid, values))  # (grid, n)
 
     def temperature(t, i):
-        return n * vectors[i] @ (np.exp(-values * t) * vectors[source])
+        return n * n * vectors[i] @ (np.exp(-values * t) * vectors[source])
 
+    assert np.all(np.isfinite(d.values))
     for k, i in enumerate(view.boundary):
-        # first crossing from a fine log grid, refined by brentq
-        grid = np.geomspace(1e-9, d.time, 4000)
-        first = np.argmax([temperature(t, i) >= 0.75 for t in grid])
-        reference = brentq(lambda t, i=i: temperature(t, i) - 0.75, grid[first - 1], grid[first], xtol=1e-14)
+        # first crossing on a fine log grid, refined by brentq
+        first = np.argmax(n * n * decay @ (vectors[i] * vectors[source]) >= 0.75)
+        reference = brentq(lambda t, i=i: temperature(t, i) - 0.75, grid[first - 1], grid[first], xtol=1e-16)
         assert d.values[k] == pytest.approx(reference, rel=1e-3)
+
+
+def test_a_shifted_factorization_gives_the_same_heat():
+    op = heat_operator(square_view(15))
+    times = np.array([1e-6, 1e-5, 1e-4])
+    base = hd.heat_model(op, 112, times, max_steps=200)(times)
+    early = hd.heat_model(op.shifted(1e6), 112, times)(times)
+    assert np.allclose(base, early, atol=1e-6)
 
 
 def test_pvst_unreached_threshold_is_nan_with_a_logged_reason(caplog):

@@ -149,3 +149,10 @@ def test_heat_kernel_public_api(disc):
     centre = hd.source_vertex(disc, "center")
     assert temps[0, centre] > temps[1, centre] > 1.0  # cooling at the source
     assert np.allclose(temps.mean(axis=1), 1.0, atol=1e-9)  # heat conserved (c = 1)
+
+
+def test_interior_source_is_farthest_from_the_outline(square, disc):
+    assert hd.source_vertex(disc, "interior") == 0  # the disc's centre
+    s = hd.source_vertex(square, "interior")
+    assert np.allclose(square.vertices[s, :2], 0.0)  # the square's centre
+    assert s not in set(square.boundary)
