@@ -171,19 +171,24 @@ def sh3f_entries(sh3f_path: str | Path) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def sh3f_catalog(sh3f_path: str | Path, *, name_pattern: str | None = None, label: str | None = None
-                 ) -> pd.DataFrame:
+def sh3f_catalog(sh3f_path: str | Path, *, name_pattern: str | None = None, label: str | None = None,
+                 exclude_pattern: str | None = None, allow_empty: bool = False) -> pd.DataFrame:
     """Catalogue rows of a Sweet Home 3D library's furniture, without extracting anything.
 
     ``file`` is the model's path inside the archive (and inside a folder it is extracted
     to with :func:`extract_sh3f_model`). Object ids are ``<library>-<index>-<model>``.
+    ``name_pattern`` keeps and ``exclude_pattern`` drops furniture by name (case-insensitive
+    regular expressions). No match is an error unless ``allow_empty``.
     """
     sh3f_path = Path(sh3f_path)
     entries = sh3f_entries(sh3f_path)
     if name_pattern:
         entries = entries[entries["name"].str.contains(name_pattern, case=False, regex=True)]
-    if entries.empty:
-        raise ModelError(f"{sh3f_path}: no furniture matches {name_pattern!r}")
+    if exclude_pattern:
+        entries = entries[~entries["name"].str.contains(exclude_pattern, case=False, regex=True)]
+    if entries.empty and not allow_empty:
+        raise ModelError(f"{sh3f_path}: no furniture matches {name_pattern!r}"
+                         + (f" without {exclude_pattern!r}" if exclude_pattern else ""))
     library = sh3f_path.stem
     rows = [{
         "object": f"{library}-{entry.index:03d}-{Path(entry.model).stem}",
@@ -193,6 +198,22 @@ def sh3f_catalog(sh3f_path: str | Path, *, name_pattern: str | None = None, labe
         "licence": SH3F_LICENCES.get(library.lower(), "CC-BY-3.0"), "scale": 1.0,
     } for entry in entries.itertuples()]
     return pd.DataFrame(rows, columns=CATALOG_COLUMNS)
+
+
+def sh3f_catalogs(sh3f_paths: list[str | Path], *, name_pattern: str | None = None, label: str | None = None,
+                  exclude_pattern: str | None = None) -> pd.DataFrame:
+    """:func:`sh3f_catalog` of several libraries, with each row's library in an ``archive`` column.
+
+    A library without matching furniture contributes nothing; none at all is an error.
+    """
+    tables = [sh3f_catalog(path, name_pattern=name_pattern, label=label, exclude_pattern=exclude_pattern,
+                           allow_empty=True).assign(archive=str(path)) for path in sh3f_paths]
+    table = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame()
+    if table.empty:
+        raise ModelError(f"{', '.join(map(str, sh3f_paths)) or 'no library given'}: no furniture matches "
+                         f"{name_pattern!r}" + (f" without {exclude_pattern!r}" if exclude_pattern else ""))
+    log.info("%d models from %d Sweet Home 3D libraries", len(table), len(sh3f_paths))
+    return table
 
 
 def extract_sh3f_model(sh3f_path: str | Path, model: str, out_dir: str | Path) -> Path:

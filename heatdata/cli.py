@@ -21,7 +21,7 @@ import pandas as pd
 from . import __version__
 from .catalog import import_sh3f, load_catalog_model, read_catalog
 from .dataset import describe_object, view_plan
-from .descriptors import DescriptorSpec, describe
+from .descriptors import KINDS, DescriptorSpec, describe
 from .errors import HeatdataError
 from .evaluate import (RENDERED_NOTE, accuracy_table, classify, draw_example_views, plot_confusion,
                        plot_view_confusion)
@@ -154,11 +154,15 @@ def cmd_describe(args: argparse.Namespace) -> None:
     """Describe a saved view; print the descriptor as JSON."""
     view = View.load(args.view)
     source = int(args.source) if args.source.isdigit() else args.source
-    kind = "c-pvhk" if args.color_map else "pvhk"
-    spec = DescriptorSpec(kind, None if args.samples == 0 else args.samples, source, args.sampling, args.color_map)
-    d = describe(view, [spec])[0]
-    print(json.dumps({"descriptor": spec.name, "source": d.source, "time": d.time, "lambda2": d.lambda2,
-                      "repairs": list(view.repairs) + list(d.repairs), "values": np.round(d.values, 8).tolist()}))
+    kind = args.kind or ("c-pvhk" if args.color_map else "pvhk")
+    spec = DescriptorSpec(kind, None if args.samples == 0 else args.samples, source, args.sampling, args.color_map,
+                          args.threshold)
+    d = describe(view, [spec], times=None if args.time is None else [args.time])[0]
+    out = {"descriptor": spec.name, "source": d.source, "time": d.time, "lambda2": d.lambda2,
+           "repairs": list(view.repairs) + list(d.repairs), "values": np.round(d.values, 8).tolist()}
+    if d.weights is not None:
+        out["weights"] = np.round(d.weights, 8).tolist()
+    print(json.dumps(out))
 
 
 def cmd_classify(args: argparse.Namespace) -> None:
@@ -216,12 +220,16 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--no-noise", action="store_true")
     render.set_defaults(func=cmd_render)
 
-    desc = sub.add_parser("describe", help="PVHK or C-PVHK of a saved view", description=cmd_describe.__doc__)
+    desc = sub.add_parser("describe", help="PVHK, C-PVHK, FT-PVHK or PVST of a saved view",
+                          description=cmd_describe.__doc__)
     desc.add_argument("view", type=Path, help=".npz view written by 'heatdata render'")
     desc.add_argument("--samples", type=int, default=64, help="boundary samples; 0: one per boundary vertex")
-    desc.add_argument("--source", default="closest", help="closest, center or a vertex index")
+    desc.add_argument("--source", default="closest", help="closest, center, interior or a vertex index")
     desc.add_argument("--sampling", default="arclength", choices=["arclength", "polar"])
     desc.add_argument("--color-map", default=None, help="c1, c2, c3, c4 or hue: compute a C-PVHK")
+    desc.add_argument("--kind", choices=KINDS, help="default pvhk, or c-pvhk with --color-map")
+    desc.add_argument("--time", type=float, help="the fixed time of an ft-pvhk (the object's time scale, Alg. 5.1)")
+    desc.add_argument("--threshold", type=float, help="the pvst's threshold T_a (default 0.75 of equilibrium)")
     desc.set_defaults(func=cmd_describe)
 
     cls = sub.add_parser("classify", help="nearest-neighbour accuracy of a descriptor table",

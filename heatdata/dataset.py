@@ -15,11 +15,11 @@ import zlib
 import numpy as np
 import pandas as pd
 
-from .descriptors import DescriptorSpec, describe
-from .errors import HeatdataError
+from .descriptors import Descriptor, DescriptorSpec, describe, object_time_scale
+from .errors import HeatdataError, ViewError
 from .models import Model
 from .render import render_view
-from .view import View
+from .view import View, kinect_intrinsics
 
 log = logging.getLogger(__name__)
 
@@ -44,13 +44,17 @@ def view_plan(objects: list[str], n_train: int = 40, n_test: int = 120, *, eleva
     return pd.DataFrame(rows)
 
 
-def render_views(model: Model, plan: pd.DataFrame, *, noise: bool = True, progress_every: int = 40) -> list[View]:
-    """Render every planned view of ``model`` (rows of :func:`view_plan` for this object)."""
+def render_views(model: Model, plan: pd.DataFrame, *, noise: bool = True, intrinsics: dict | None = None,
+                 progress_every: int = 40) -> list[View]:
+    """Render every planned view of ``model`` (rows of :func:`view_plan` for this object).
+
+    ``intrinsics``: the camera's (default the Kinect's, :func:`heatdata.view.kinect_intrinsics`).
+    """
     views = []
     start = time.perf_counter()
     for count, row in enumerate(plan.itertuples(), 1):
         views.append(render_view(model, row.azimuth, row.elevation, row.distance, noise=noise, seed=row.seed,
-                                 view_id=f"{model.name}/{row.split}/{row.index:03d}"))
+                                 intrinsics=intrinsics, view_id=f"{model.name}/{row.split}/{row.index:03d}"))
         if count % progress_every == 0 or count == len(plan):
             log.info("%s: %d/%d views rendered (%.1f s)", model.name, count, len(plan), time.perf_counter() - start)
     repaired = [v for v in views if v.repairs]
@@ -60,14 +64,67 @@ def render_views(model: Model, plan: pd.DataFrame, *, noise: bool = True, progre
     return views
 
 
+def _ft_times(view: View, split: str, specs: list[DescriptorSpec], time_scales: pd.DataFrame | None
+              ) -> dict[str, pd.Series]:
+    """Per ft-pvhk spec, the times to describe ``view`` at, indexed by the object they belong to.
+
+    A library view is described at its own object's time scale; a test view, whose object
+    is unknown, at every object's (Alg. 5.2 compares it with each object's library at
+    that object's time).
+    """
+    names = [s.name for s in specs if s.kind == "ft-pvhk"]
+    if not names:
+        return {}
+    if time_scales is None:
+        raise HeatdataError("ft-pvhk descriptors need the objects' time scales (Alg. 5.1, time_scale_table)")
+    times = {}
+    for name in names:
+        scales = time_scales[time_scales["descriptor"] == name].set_index("object")["time_scale"]
+        if split == "train":
+            if view.object_id not in scales.index:
+                raise HeatdataError(f"{view.name}: no time scale of object {view.object_id!r} for {name}")
+            scales = scales.loc[[view.object_id]]
+        if scales.empty:
+            raise HeatdataError(f"no time scales for {name}")
+        times[name] = scales
+    return times
+
+
+def _describe_each(view: View, specs: list[DescriptorSpec], times: dict) -> list[Descriptor]:
+    """:func:`describe`, but a spec that fails on this view (e.g. a PVST whose source lies on the
+    boundary) gives NaN descriptors with the reason in ``repairs`` instead of stopping a batch."""
+    try:
+        return describe(view, specs, times=times)
+    except ViewError:
+        pass
+    results = []
+    for spec in specs:
+        try:
+            results += describe(view, [spec], times=times)
+        except ViewError as exc:
+            log.warning("%s: %s failed: %s", view.name, spec.name, exc)
+            count = spec.samples or len(view.boundary)
+            nan = np.full(count, np.nan)
+            results += [Descriptor(kind=spec.kind, values=nan, positions=nan, source=-1, time=float(t),
+                                   lambda2=np.nan, sampling=spec.sampling, color_map=spec.color_map,
+                                   repairs=(f"{spec.name} failed: {exc}",))
+                        for t in np.atleast_1d(times.get(spec.name, np.nan))]
+    return results
+
+
 def descriptor_rows(views: list[View], plan: pd.DataFrame, specs: list[DescriptorSpec], *,
-                    progress_every: int = 40) -> pd.DataFrame:
+                    time_scales: pd.DataFrame | None = None, progress_every: int = 40) -> pd.DataFrame:
     """Descriptors of ``specs`` for each view; ``plan`` gives each view's split and seed, in order.
+
+    ``time_scales`` (rows of :func:`time_scale_table` for every object) is needed for
+    ``ft-pvhk`` specs: a library view gets one row at its object's time scale, a test
+    view one row per object (column ``time_object``).
 
     Returns
     -------
     pandas.DataFrame
-        One row per view x descriptor, columns of :data:`heatdata.tables.DESCRIPTOR_SCHEMA`.
+        One row per view x descriptor (x time object), columns of
+        :data:`heatdata.tables.DESCRIPTOR_SCHEMA`.
     """
     if len(views) != len(plan):
         raise HeatdataError(f"{len(views)} views but {len(plan)} plan rows")
@@ -75,23 +132,53 @@ def descriptor_rows(views: list[View], plan: pd.DataFrame, specs: list[Descripto
     start = time.perf_counter()
     for count, (view, planned) in enumerate(zip(views, plan.itertuples(), strict=True), 1):
         tic = time.perf_counter()
-        descriptors = describe(view, specs)
-        seconds = (time.perf_counter() - tic) / len(specs)
-        for spec, d in zip(specs, descriptors, strict=True):
+        ft_times = _ft_times(view, planned.split, specs, time_scales)
+        descriptors = _describe_each(view, specs, {name: t.to_numpy() for name, t in ft_times.items()})
+        seconds = (time.perf_counter() - tic) / len(descriptors)
+        labelled = [(spec, obj) for spec in specs
+                    for obj in (ft_times[spec.name].index if spec.kind == "ft-pvhk" else [""])]
+        for (spec, time_object), d in zip(labelled, descriptors, strict=True):
             rows.append({
                 "object": view.object_id, "label": view.label, "view_id": view.view_id, "split": planned.split,
                 "azimuth": view.azimuth, "elevation": view.elevation, "distance": view.distance,
                 "seed": planned.seed, "n_vertices": view.n_vertices, "n_boundary": len(view.boundary),
                 "descriptor": spec.name, "kind": spec.kind, "sampling": spec.sampling,
                 "source_rule": str(spec.source), "color_map": d.color_map or "", "source": d.source,
-                "time": d.time, "lambda2": d.lambda2, "values": d.values.tolist(),
-                "positions": d.positions.tolist(), "repairs": list(view.repairs) + list(d.repairs),
-                "seconds": seconds,
+                "time": d.time, "time_object": time_object, "lambda2": d.lambda2, "t_global": 1.0 / d.lambda2,
+                "values": d.values.tolist(), "positions": d.positions.tolist(),
+                "weights": None if d.weights is None else d.weights.tolist(),
+                "repairs": list(view.repairs) + list(d.repairs), "seconds": seconds,
             })
         if count % progress_every == 0 or count == len(views):
             log.info("%s: %d/%d views described (%.1f s)", view.object_id, count, len(views),
                      time.perf_counter() - start)
     return pd.DataFrame(rows)
+
+
+def time_scale_table(views: list[View], plan: pd.DataFrame, specs: list[DescriptorSpec]) -> pd.DataFrame:
+    """The time scale of each object for each ``ft-pvhk`` spec (Alg. 5.1, from the library views).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``object, descriptor, source_rule, time_scale, n_views``; no rows without
+        an ft-pvhk spec.
+    """
+    library: dict[str, list[View]] = {}
+    for view, planned in zip(views, plan.itertuples(), strict=True):
+        if planned.split == "train":
+            library.setdefault(view.object_id, []).append(view)
+    rows, scales = [], {}
+    for spec in specs:
+        if spec.kind != "ft-pvhk":
+            continue
+        for obj, object_views in library.items():
+            key = (obj, str(spec.source))
+            if key not in scales:
+                scales[key] = object_time_scale(object_views, spec.source)
+            rows.append({"object": obj, "descriptor": spec.name, "source_rule": str(spec.source),
+                         "time_scale": scales[key], "n_views": len(object_views)})
+    return pd.DataFrame(rows, columns=["object", "descriptor", "source_rule", "time_scale", "n_views"])
 
 
 def describe_object(model: Model, plan: pd.DataFrame, specs: list[DescriptorSpec], *, noise: bool = True
@@ -103,7 +190,8 @@ def describe_object(model: Model, plan: pd.DataFrame, specs: list[DescriptorSpec
 def render_object_views(row: dict, views: dict) -> pd.DataFrame:
     """Workflow step: the planned views of one catalogue object as a :data:`VIEW_SCHEMA` frame.
 
-    ``views`` holds ``train, test, elevation, distance, noise, seed`` (config ``views``).
+    ``views`` holds ``train, test, elevation, distance, noise, seed`` and optionally
+    ``image_scale`` (config ``views``).
     """
     from .catalog import load_catalog_model
     from .tables import views_to_frame
@@ -111,11 +199,21 @@ def render_object_views(row: dict, views: dict) -> pd.DataFrame:
     model = load_catalog_model(row)
     plan = view_plan([model.name], views["train"], views["test"], elevation=views["elevation"],
                      distance=views["distance"], seed=views["seed"])
-    return views_to_frame(render_views(model, plan, noise=views["noise"]), plan)
+    intrinsics = kinect_intrinsics(views.get("image_scale", 1.0))
+    return views_to_frame(render_views(model, plan, noise=views["noise"], intrinsics=intrinsics), plan)
 
 
-def describe_view_table(frame: pd.DataFrame, specs: list[DescriptorSpec]) -> pd.DataFrame:
+def describe_view_table(frame: pd.DataFrame, specs: list[DescriptorSpec], time_scales: pd.DataFrame | None = None
+                        ) -> pd.DataFrame:
     """Workflow step: descriptor rows of the views of a :data:`VIEW_SCHEMA` frame."""
     from .tables import frame_to_views
 
-    return descriptor_rows(frame_to_views(frame), frame[["split", "seed"]], specs)
+    return descriptor_rows(frame_to_views(frame), frame[["split", "seed"]], specs, time_scales=time_scales)
+
+
+def view_table_time_scales(frame: pd.DataFrame, specs: list[DescriptorSpec]) -> pd.DataFrame:
+    """Workflow step: :func:`time_scale_table` of the library views of a :data:`VIEW_SCHEMA` frame."""
+    from .tables import frame_to_views
+
+    library = frame[frame["split"] == "train"]
+    return time_scale_table(frame_to_views(library), library[["split"]], specs)

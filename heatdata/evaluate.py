@@ -28,7 +28,11 @@ RENDERED_NOTE = "Views are rendered from 3D models with simulated Kinect noise, 
 
 def classify(descriptors: pd.DataFrame, descriptor: str, *, library: str = "train", queries: str = "test"
              ) -> pd.DataFrame:
-    """Nearest-neighbour class of each query view among the library views (eq. 3.1).
+    """Nearest-neighbour class of each query view among the library views (eq. 3.1, Alg. 5.2).
+
+    An ``ft-pvhk`` descriptor is compared object by object (Alg. 5.2): the query's row at
+    object o's time scale (``time_object``) against o's library views, with the weighted
+    distance of eq. 5.14; the nearest view over all objects wins.
 
     Parameters
     ----------
@@ -42,7 +46,7 @@ def classify(descriptors: pd.DataFrame, descriptor: str, *, library: str = "trai
     Returns
     -------
     DataFrame
-        One row per query, columns of :data:`heatdata.tables.PREDICTION_SCHEMA`.
+        One row per query view, columns of :data:`heatdata.tables.PREDICTION_SCHEMA`.
     """
     rows = descriptors[descriptors["descriptor"] == descriptor]
     lib, query = rows[rows["split"] == library], rows[rows["split"] == queries]
@@ -51,17 +55,85 @@ def classify(descriptors: pd.DataFrame, descriptor: str, *, library: str = "trai
     lengths = {len(v) for v in rows["values"]}
     if len(lengths) > 1:
         raise HeatdataError(f"descriptor {descriptor!r}: descriptors of different lengths {sorted(lengths)}")
-    nn = nearest_neighbours(np.stack(query["values"].to_numpy()), np.stack(lib["values"].to_numpy()))
-    match = lib.iloc[nn.index]
-    return pd.DataFrame({
+    lib, query, unusable = _usable(lib, query, descriptor)
+    if (rows["kind"] == "ft-pvhk").all():
+        query, index, distance = _fixed_time_neighbours(query, lib, descriptor)
+    else:
+        nn = nearest_neighbours(np.stack(query["values"].to_numpy()), np.stack(lib["values"].to_numpy()))
+        index, distance = nn.index, nn.distance
+    match = lib.iloc[index]
+    predictions = pd.DataFrame({
         "descriptor": descriptor,
         "object": query["object"].to_numpy(), "label": query["label"].to_numpy(),
         "view_id": query["view_id"].to_numpy(), "azimuth": query["azimuth"].to_numpy(),
         "predicted_object": match["object"].to_numpy(), "predicted_label": match["label"].to_numpy(),
         "predicted_view_id": match["view_id"].to_numpy(), "predicted_azimuth": match["azimuth"].to_numpy(),
-        "distance": nn.distance, "correct": query["object"].to_numpy() == match["object"].to_numpy(),
+        "distance": distance, "correct": query["object"].to_numpy() == match["object"].to_numpy(),
         "library_size": int(lib.groupby("object").size().max()),
     })
+    if not unusable.empty:  # no prediction: counted as wrong
+        failed = unusable.drop_duplicates("view_id")
+        predictions = pd.concat([predictions, pd.DataFrame({
+            "descriptor": descriptor, "object": failed["object"].to_numpy(), "label": failed["label"].to_numpy(),
+            "view_id": failed["view_id"].to_numpy(), "azimuth": failed["azimuth"].to_numpy(),
+            "predicted_object": "", "predicted_label": "", "predicted_view_id": "", "predicted_azimuth": np.nan,
+            "distance": np.nan, "correct": False, "library_size": predictions["library_size"].iloc[0]})],
+            ignore_index=True)
+    return predictions
+
+
+def _usable(lib: pd.DataFrame, query: pd.DataFrame, descriptor: str
+            ) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame]:
+    """Library and query rows without NaN values, and the query rows with some (logged).
+
+    A PVST sample that never reaches its threshold, or a descriptor that failed on a view,
+    is NaN. Such library views are left out; such test views get no prediction.
+    """
+    def bad_views(rows):
+        return set(rows.loc[~rows["values"].map(lambda v: bool(np.isfinite(v).all())), "view_id"])
+
+    bad_lib, bad_query = bad_views(lib), bad_views(query)
+    if bad_lib or bad_query:
+        log.warning("%s: %d library and %d test views have NaN values (see their repairs); the library views "
+                    "are left out and the test views count as wrong", descriptor, len(bad_lib), len(bad_query))
+    unusable = query["view_id"].isin(bad_query)
+    return lib[~lib["view_id"].isin(bad_lib)], query[~unusable], query[unusable]
+
+
+def _stack(column: pd.Series) -> np.ndarray | None:
+    """(rows, M) array of a list column; None if any row is null (no part weights)."""
+    if column.isna().any():
+        return None
+    return np.stack(column.to_numpy())
+
+
+def _fixed_time_neighbours(query: pd.DataFrame, lib: pd.DataFrame, descriptor: str
+                           ) -> tuple[pd.DataFrame, np.ndarray, np.ndarray]:
+    """Alg. 5.2: per query view, the nearest library view over objects, each at its own time scale.
+
+    Returns the query views (one row each), the positional index of each one's nearest
+    library row in ``lib``, and the weighted distance (eq. 5.14).
+    """
+    views = query.drop_duplicates("view_id")
+    best = np.full(len(views), np.inf)
+    index = np.zeros(len(views), dtype=np.int64)
+    for obj, positions in lib.groupby("object").indices.items():
+        at_time = query[query["time_object"] == obj].set_index("view_id").reindex(views["view_id"])
+        if at_time["values"].isna().any():
+            missing = at_time.index[at_time["values"].isna()][0]
+            raise HeatdataError(f"descriptor {descriptor!r}: test view {missing} has no row at the time scale "
+                                f"of object {obj!r} (time_object); describe test views with every object's")
+        candidates = lib.iloc[positions]
+        q_weights, l_weights = _stack(at_time["weights"]), _stack(candidates["weights"])
+        if (q_weights is None) != (l_weights is None):
+            raise HeatdataError(f"descriptor {descriptor!r}: part weights on the test or the library rows only")
+        d = mhd_matrix(np.stack(at_time["values"].to_numpy()), np.stack(candidates["values"].to_numpy()),
+                       query_weights=q_weights, library_weights=l_weights)
+        nearest = np.argmin(d, axis=1)
+        closer = d[np.arange(len(views)), nearest] < best
+        best[closer] = d[np.arange(len(views)), nearest][closer]
+        index[closer] = positions[nearest[closer]]
+    return views, index, best
 
 
 def library_subset(descriptors: pd.DataFrame, size: int, split: str = "train") -> pd.DataFrame:
@@ -222,16 +294,22 @@ def plot_view_confusion(predictions: pd.DataFrame, path: str | Path, title: str)
     _save(fig, path)
 
 
-def plot_views(views: list, temperatures: list, sources: list, path: str | Path, titles: list[str]) -> None:
-    """Partial views coloured by temperature at t_s, with the source and boundary marked."""
+TEMPERATURE_HEADING = "Temperature at t_s = 1/lambda_2 (equilibrium = 1); star: source, dot: boundary origin"
+DERIVATIVE_HEADING = ("Source-position global derivative (eq. 5.12) at t_global = 1/lambda_2: large where a source "
+                      "would heat a loosely connected part (Fig. 5.7); star: the PVHK source")
+
+
+def plot_views(views: list, values: list, sources: list, path: str | Path, titles: list[str], *,
+               heading: str = TEMPERATURE_HEADING, cmap: str = "inferno") -> None:
+    """Partial views coloured by per-vertex ``values`` (e.g. temperature at t_s), source and boundary marked."""
     if not views:
         raise HeatdataError("no views to draw")
     cols = min(4, len(views))
     rows = int(np.ceil(len(views) / cols))
     fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 3.2 * rows), squeeze=False)
-    for ax, view, temp, source, title in zip(axes.ravel(), views, temperatures, sources, titles, strict=False):
+    for ax, view, value, source, title in zip(axes.ravel(), views, values, sources, titles, strict=False):
         p = view.pixels
-        collection = ax.tripcolor(p[:, 0], p[:, 1], view.faces, temp, shading="gouraud", cmap="inferno")
+        collection = ax.tripcolor(p[:, 0], p[:, 1], view.faces, value, shading="gouraud", cmap=cmap)
         b = np.append(view.boundary, view.boundary[0])
         ax.plot(p[b, 0], p[b, 1], color="cyan", lw=0.8)
         ax.plot(*p[view.boundary[0]], "o", color="cyan", ms=4)
@@ -243,61 +321,83 @@ def plot_views(views: list, temperatures: list, sources: list, path: str | Path,
         fig.colorbar(collection, ax=ax, fraction=0.04, pad=0.02)
     for ax in axes.ravel()[len(views):]:
         ax.set_axis_off()
-    fig.suptitle("Temperature at t_s = 1/lambda_2 (equilibrium = 1); star: source, dot: boundary origin\n"
-                 + RENDERED_NOTE, fontsize=8)
+    fig.suptitle(f"{heading}\n{RENDERED_NOTE}", fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
 def draw_example_views(catalog: pd.DataFrame, path: str | Path, *, elevation: float = 30.0, distance: float = 1.0,
-                       noise: bool = True, seed: int = 0, count: int = 8) -> None:
-    """Render up to ``count`` catalogue objects at azimuth 30 deg and draw their PVHK temperatures."""
-    from .catalog import load_catalog_model
-    from .descriptors import heat_kernel, pvhk
-    from .render import render_view
+                       noise: bool = True, seed: int = 0, count: int = 8, image_scale: float = 1.0,
+                       derivative_path: str | Path | None = None) -> None:
+    """Render up to ``count`` catalogue objects at azimuth 30 deg and draw their PVHK temperatures.
 
-    views, temps, sources, titles = [], [], [], []
+    With ``derivative_path``, also draw the global derivative of the same views (Fig. 5.7)
+    on the component holding the source.
+    """
+    from .catalog import load_catalog_model
+    from .descriptors import global_derivative, heat_kernel, pvhk
+    from .render import render_view
+    from .view import kinect_intrinsics
+
+    views, temps, sources, titles, components, derivatives, local_sources = [], [], [], [], [], [], []
     for _, row in catalog.head(count).iterrows():
-        view = render_view(load_catalog_model(row), 30.0, elevation, distance, noise=noise, seed=seed)
+        view = render_view(load_catalog_model(row), 30.0, elevation, distance, noise=noise, seed=seed,
+                           intrinsics=kinect_intrinsics(image_scale))
         d = pvhk(view, 64, "closest")
         views.append(view)
         temps.append(heat_kernel(view, d.source, [d.time])[0])
         sources.append(d.source)
         titles.append(f"{row['object']} ({view.n_vertices} vertices)")
+        if derivative_path is not None:
+            component, local = view.component_of(d.source)
+            components.append(component)
+            local_sources.append(local)
+            derivatives.append(global_derivative(view, d.source))
     plot_views(views, temps, sources, path, titles)
+    if derivative_path is not None:
+        plot_views(components, derivatives, local_sources, derivative_path, titles, heading=DERIVATIVE_HEADING,
+                   cmap="viridis")
 
 
 def draw_report(descriptors_path, predictions_path, precision_path, catalog_path, output, *, primary: str,
                 config: dict) -> None:
-    """Workflow step: the report's figures and summary (``output``: precision, confusion, isomap, views, summary)."""
+    """Workflow step: the report's figures and summary.
+
+    ``output`` has ``precision, confusion, isomap, views, global_derivative, summary``. The
+    confusion folder holds one object confusion matrix per descriptor and library size.
+    """
     import yaml
 
     from . import __version__
     from .catalog import read_catalog
     from .tables import read_table
 
-    descriptors, _ = read_table(descriptors_path)
+    counts, _ = read_table(descriptors_path, columns=["object", "view_id", "n_vertices"])
     predictions, _ = read_table(predictions_path)
     precision = pd.read_csv(precision_path)
     plot_precision(precision, output.precision)
     Path(output.confusion).mkdir(parents=True, exist_ok=True)
+    for (name, size), rows in predictions.groupby(["descriptor", "library_size"]):
+        plot_confusion(rows, Path(output.confusion) / f"{name.replace('/', '_')}_{size:03d}_views.png",
+                       f"{name}, {size} library views per object")
     chosen = predictions[predictions["descriptor"] == primary]
-    for size, rows in chosen.groupby("library_size"):
-        plot_confusion(rows, Path(output.confusion) / f"objects_{size:03d}_views.png",
-                       f"{primary}, {size} library views per object")
     largest = chosen[chosen["library_size"] == chosen["library_size"].max()]
     plot_view_confusion(largest, Path(output.confusion) / "view_angles.png", primary)
-    plot_isomap(descriptors, primary, output.isomap)
+    library, _ = read_table(descriptors_path, columns=["descriptor", "object", "split", "azimuth", "values"],
+                            filters=[("descriptor", "==", primary), ("split", "==", "train")])
+    plot_isomap(library, primary, output.isomap)
     views = config["views"]
     draw_example_views(read_catalog(catalog_path), output.views, elevation=views["elevation"],
-                       distance=views["distance"], noise=views["noise"], seed=views["seed"])
+                       distance=views["distance"], noise=views["noise"], seed=views["seed"],
+                       image_scale=views.get("image_scale", 1.0), derivative_path=output.global_derivative)
     table = precision[(precision["group"] == "all")].pivot_table(
         index=["level", "descriptor"], columns="library_size", values="precision")
     Path(output.summary).write_text("\n".join([
         "# heatdata run", "", RENDERED_NOTE, "",
-        f"- heatdata {__version__}; {descriptors['object'].nunique()} objects, "
-        f"{descriptors['view_id'].nunique()} views (mean {descriptors['n_vertices'].mean():.0f} vertices)",
+        f"- heatdata {__version__}; {counts['object'].nunique()} objects, "
+        f"{counts['view_id'].nunique()} views (mean "
+        f"{counts.drop_duplicates('view_id')['n_vertices'].mean():.0f} vertices)",
         f"- views: {views}",
         "", "## Precision (columns: library views per object)", "",
         table.map(lambda v: f"{v:.1%}").to_markdown(), "",

@@ -36,9 +36,12 @@ DESCRIPTOR_SCHEMA = pa.schema([
     ("color_map", pa.string()),
     ("source", pa.int64()),
     ("time", pa.float64()),
+    ("time_object", pa.string()),
     ("lambda2", pa.float64()),
+    ("t_global", pa.float64()),
     ("values", pa.list_(pa.float64())),
     ("positions", pa.list_(pa.float64())),
+    ("weights", pa.list_(pa.float64())),
     ("repairs", pa.list_(pa.string())),
     ("seconds", pa.float64()),
 ])
@@ -115,16 +118,47 @@ def write_table(frame: pd.DataFrame, path: str | Path, schema: pa.Schema, metada
     pq.write_table(table, path)
 
 
-def read_table(path: str | Path) -> tuple[pd.DataFrame, dict]:
-    """Read a heatdata Parquet table and its run metadata."""
+TIME_SCALE_SCHEMA = pa.schema([
+    ("object", pa.string()),
+    ("descriptor", pa.string()),
+    ("source_rule", pa.string()),
+    ("time_scale", pa.float64()),
+    ("n_views", pa.int64()),
+])
+
+
+def read_table(path: str | Path, *, columns: list[str] | None = None, filters: list | None = None
+               ) -> tuple[pd.DataFrame, dict]:
+    """Read a heatdata Parquet table and its run metadata.
+
+    ``columns`` and ``filters`` (pyarrow's, e.g. ``[("descriptor", "==", name)]``) read
+    only part of a large table.
+    """
     path = Path(path)
     if not path.is_file():
         raise HeatdataError(f"{path}: no such table")
     try:
-        table = pq.read_table(path)
+        table = pq.read_table(path, columns=columns, filters=filters)
     except Exception as exc:
         raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
     raw = table.schema.metadata or {}
     meta = json.loads(raw.get(b"heatdata_run", b"{}"))
     meta["heatdata_version"] = raw.get(b"heatdata_version", b"").decode()
     return table.to_pandas(), meta
+
+
+def concat_tables(paths: list[str | Path], out: str | Path) -> None:
+    """Concatenate heatdata tables of one schema into ``out``, one input in memory at a time.
+
+    The output keeps the first table's metadata.
+    """
+    if not paths:
+        raise HeatdataError(f"{out}: no tables to concatenate")
+    Path(out).parent.mkdir(parents=True, exist_ok=True)
+    schema = pq.read_schema(paths[0])
+    with pq.ParquetWriter(out, schema) as writer:
+        for path in paths:
+            table = pq.read_table(path)
+            if not table.schema.equals(schema, check_metadata=False):
+                raise HeatdataError(f"{path}: its schema differs from {paths[0]}'s")
+            writer.write_table(table.replace_schema_metadata(schema.metadata))

@@ -31,6 +31,16 @@ MIN_VERTICES = 30
 KINECT_INTRINSICS = {"fx": 580.0, "fy": 580.0, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480}
 
 
+def kinect_intrinsics(image_scale: float = 1.0) -> dict:
+    """The Kinect's intrinsics for an image scaled by ``image_scale`` (0.5: its 320x240 mode)."""
+    if not image_scale > 0:
+        raise ViewError(f"image_scale must be positive, got {image_scale}")
+    k = KINECT_INTRINSICS
+    width, height = round(k["width"] * image_scale), round(k["height"] * image_scale)
+    return {"fx": k["fx"] * image_scale, "fy": k["fy"] * image_scale, "cx": (width - 1) / 2.0,
+            "cy": (height - 1) / 2.0, "width": width, "height": height}
+
+
 @dataclass
 class View:
     """A partial view.

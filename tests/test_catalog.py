@@ -120,3 +120,17 @@ def test_empty_models_folder(tmp_path):
         catalog_from_folder(tmp_path)
     with pytest.raises(hd.ModelError, match="no such models folder"):
         catalog_from_folder(tmp_path / "absent")
+
+
+def test_several_libraries_with_names_kept_and_left_out(tmp_path):
+    from heatdata.catalog import sh3f_catalog, sh3f_catalogs
+
+    (tmp_path / "one").mkdir()
+    (tmp_path / "two").mkdir()
+    first, second = make_sh3f(tmp_path / "one"), make_sh3f(tmp_path / "two")
+    table = sh3f_catalogs([first, second], name_pattern="mug|chair", exclude_pattern="caf")
+    assert table["name"].tolist() == ["Coffee mug", "Coffee mug"]
+    assert table["archive"].tolist() == [str(first), str(second)]
+    assert sh3f_catalog(first, name_pattern="piano", allow_empty=True).empty
+    with pytest.raises(hd.ModelError, match="no furniture matches 'mug' without 'mug'"):
+        sh3f_catalogs([first, second], name_pattern="mug", exclude_pattern="mug")

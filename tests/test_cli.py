@@ -59,6 +59,13 @@ def test_render_describe_classify(demo_run, tmp_path, capsys):
     assert len(described["values"]) == 16 and described["descriptor"] == "pvhk/polar/closest/16"
     assert main(["describe", str(tmp_path / "v.npz"), "--color-map", "c3", "--samples", "0"]) == 0
     assert json.loads(capsys.readouterr().out)["descriptor"].startswith("c-pvhk")
+    view = str(tmp_path / "v.npz")
+    assert main(["describe", view, "--kind", "ft-pvhk", "--time", "0.01", "--samples", "16"]) == 0
+    fixed = json.loads(capsys.readouterr().out)
+    assert fixed["time"] == 0.01 and len(fixed["weights"]) == 16
+    assert main(["describe", view, "--kind", "pvst", "--source", "center", "--threshold", "0.5"]) == 0
+    assert json.loads(capsys.readouterr().out)["descriptor"] == "pvst/arclength/center/64/T0.5"
+    assert main(["describe", view, "--kind", "ft-pvhk"]) == 1  # no --time: a clear error
     assert main(["classify", str(out / "descriptors.parquet"), "--descriptor", "pvhk/polar/center/64"]) == 0
     assert "pvhk/polar/center/64" in capsys.readouterr().out
 

@@ -1,5 +1,7 @@
 """Libraries, precision tables and the workflow's step functions."""
 
+import logging
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -17,7 +19,7 @@ def fake_descriptors(objects=("a", "b"), n_train=8, n_test=4):
             for i in range(count):
                 rows.append({"object": obj, "label": "box" if obj == "a" else "cup", "split": split,
                              "view_id": f"{obj}/{split}/{i:03d}", "azimuth": 360.0 * i / count,
-                             "descriptor": "d", "values": [float(k)] * 8})
+                             "descriptor": "d", "kind": "pvhk", "values": [float(k)] * 8})
     return pd.DataFrame(rows)
 
 
@@ -50,3 +52,88 @@ def test_render_and_describe_steps(catalog):
     assert len(table) == 5 and table["values"].map(len).eq(16).all()
     plan = view_plan(["cupcake"], 3, 2)
     assert np.array_equal(frame["seed"], plan["seed"])
+
+
+def fixed_time_rows():
+    """FT-PVHK rows of objects a and b: test view a/test/000 at both objects' times.
+
+    At b's time nothing of b's library is near it; but its row at a's time equals b's
+    library exactly - a classifier that ignored ``time_object`` would answer b.
+    """
+    base = np.linspace(0.0, 1.0, 8)
+    rows = [
+        ("a", "train", "a/train/000", "a", base),
+        ("b", "train", "b/train/000", "b", base + 0.5),
+        ("a", "test", "a/test/000", "a", base + 0.45),  # 0.05 from b's library, 0.45 from a's
+        ("a", "test", "a/test/000", "b", base + 3.0),  # 2.5 from b's library
+    ]
+    return pd.DataFrame([{
+        "object": obj, "label": obj, "split": split, "view_id": view, "azimuth": 0.0, "descriptor": "ft",
+        "kind": "ft-pvhk", "time_object": time_object, "values": values, "weights": np.ones(8)}
+        for obj, split, view, time_object, values in rows])
+
+
+def test_fixed_time_classification_compares_each_object_at_its_own_time():
+    from heatdata.evaluate import classify
+
+    rows = fixed_time_rows()
+    predicted = classify(rows, "ft")
+    assert len(predicted) == 1 and predicted["predicted_object"].item() == "a"
+    assert predicted["distance"].item() == pytest.approx(hd.mhd(rows["values"][2], rows["values"][0]))
+    ignoring_time = classify(rows.assign(kind="pvhk", time_object=""), "ft")
+    assert ignoring_time["predicted_object"].iloc[0] == "b"
+    # part weights enter as eq. 5.14: down-weighting where the test view differs most changes the distance
+    weights = np.where(np.arange(8) < 4, 1.0, 0.1)
+    weighted = rows.assign(weights=[weights] * 4)
+    expected = hd.weighted_mhd(rows["values"][2], rows["values"][0], weights, weights)
+    assert classify(weighted, "ft")["distance"].item() == pytest.approx(expected)
+    with pytest.raises(hd.HeatdataError, match="no row at the time scale of object 'b'"):
+        classify(rows.drop(index=3), "ft")
+
+
+def test_views_with_nan_descriptors_are_left_out_or_counted_wrong(caplog):
+    from heatdata.evaluate import classify
+
+    rows = fake_descriptors(n_train=4, n_test=3).assign(kind="pvst")
+    rows.at[0, "values"] = [np.nan] * 8  # a library view of a
+    rows.at[4, "values"] = [1.0] * 7 + [np.nan]  # a test view of a
+    with caplog.at_level(logging.WARNING):
+        predicted = classify(rows, "d")
+    assert "1 library and 1 test views have NaN values" in caplog.text
+    assert len(predicted) == 6 and predicted["correct"].sum() == 5
+    failed = predicted[predicted["view_id"] == "a/test/000"].iloc[0]
+    assert failed["predicted_object"] == "" and not failed["correct"] and np.isnan(failed["distance"])
+    assert "a/train/000" not in set(predicted["predicted_view_id"])
+
+
+def test_time_scales_and_fixed_time_rows_of_rendered_views(catalog):
+    from heatdata.dataset import view_table_time_scales
+
+    frames = []
+    for obj in ("cupcake", "plastic-cup"):
+        row = catalog[catalog["object"] == obj].iloc[0].to_dict()
+        frames.append(render_object_views(row, {"train": 3, "test": 1, "elevation": 30.0, "distance": 1.0,
+                                                "noise": True, "seed": 0}))
+    specs = [hd.DescriptorSpec("pvhk", 16, "center", "polar"), hd.DescriptorSpec("ft-pvhk", 16, "center", "polar")]
+    scales = pd.concat([view_table_time_scales(f, specs) for f in frames])
+    assert scales["n_views"].tolist() == [3, 3] and scales["source_rule"].tolist() == ["center", "center"]
+    table = describe_view_table(frames[0], specs, scales)
+    pvhk, ft = table[table["kind"] == "pvhk"], table[table["kind"] == "ft-pvhk"]
+    assert scales.iloc[0]["time_scale"] == pytest.approx(pvhk[pvhk["split"] == "train"]["t_global"].min())
+    assert ft[ft["split"] == "train"]["time_object"].eq("cupcake").all()
+    test = ft[ft["split"] == "test"]
+    assert test["time_object"].tolist() == ["cupcake", "plastic-cup"]
+    assert np.allclose(test["time"], scales["time_scale"])
+    with pytest.raises(hd.HeatdataError, match="time scales"):
+        describe_view_table(frames[0], specs)
+
+
+def test_a_descriptor_failing_on_one_view_gives_nan_and_its_reason(square):
+    from heatdata.dataset import descriptor_rows
+
+    corner = int(square.boundary[0])
+    specs = [hd.DescriptorSpec("pvhk", 8, corner), hd.DescriptorSpec("pvst", 8, corner)]
+    table = descriptor_rows([square], pd.DataFrame({"split": ["test"], "seed": [0]}), specs)
+    pvhk, pvst = table.iloc[0], table.iloc[1]
+    assert np.all(np.isfinite(pvhk["values"])) and np.all(np.isnan(pvst["values"]))
+    assert any("interior source" in r for r in pvst["repairs"])

@@ -102,3 +102,17 @@ def test_a_tiny_object_gives_a_clear_error(tmp_path):
     colored_box((0.004, 0.004, 0.004)).export(path)
     with pytest.raises(hd.HeatdataError, match="vertices"):
         hd.render_view(hd.load_model(path), 0.0, 0.0, 1.0)
+
+
+def test_half_scale_image_has_a_quarter_of_the_vertices(cube):
+    from heatdata.view import kinect_intrinsics
+
+    assert kinect_intrinsics(1.0) == hd.render_view(cube, 0.0, 0.0).intrinsics
+    half = kinect_intrinsics(0.5)
+    assert (half["width"], half["height"], half["fx"], half["cx"]) == (320, 240, 290.0, 159.5)
+    full = hd.render_view(cube, 0.0, 0.0, 1.0, noise=False)
+    small = hd.render_view(cube, 0.0, 0.0, 1.0, noise=False, intrinsics=half)
+    assert small.n_vertices / full.n_vertices == pytest.approx(0.25, rel=0.05)
+    assert np.allclose(small.vertices[:, 2], 0.9)  # the same front face
+    with pytest.raises(hd.ViewError, match="image_scale"):
+        kinect_intrinsics(0.0)

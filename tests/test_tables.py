@@ -2,6 +2,7 @@
 
 import numpy as np
 import pandas as pd
+import pyarrow as pa
 import pytest
 
 import heatdata as hd
@@ -47,3 +48,21 @@ def test_views_round_trip(tmp_path, mug):
     for a, b in zip(views, back, strict=True):
         assert np.array_equal(a.vertices, b.vertices) and np.array_equal(a.faces, b.faces)
         assert np.array_equal(hd.pvhk(a).values, hd.pvhk(b).values)
+
+
+def test_concatenate_and_read_part_of_a_table(tmp_path):
+    from heatdata.tables import concat_tables
+
+    parts = []
+    for k, name in enumerate(("a", "b")):
+        rows = prediction_rows().assign(object=name, descriptor=["pvhk", "pvst"][k])
+        write_table(rows, tmp_path / f"{name}.parquet", PREDICTION_SCHEMA, {"part": name})
+        parts.append(tmp_path / f"{name}.parquet")
+    concat_tables(parts, tmp_path / "all.parquet")
+    frame, meta = read_table(tmp_path / "all.parquet")
+    assert frame["object"].tolist() == ["a", "b"] and meta["part"] == "a"
+    only, _ = read_table(tmp_path / "all.parquet", columns=["object"], filters=[("descriptor", "==", "pvst")])
+    assert only.to_dict("list") == {"object": ["b"]}
+    write_table(pd.DataFrame({"x": [1.0]}), tmp_path / "other.parquet", pa.schema([("x", pa.float64())]))
+    with pytest.raises(hd.HeatdataError, match="schema differs"):
+        concat_tables([parts[0], tmp_path / "other.parquet"], tmp_path / "bad.parquet")

@@ -25,7 +25,9 @@ def tiny_config(**overrides):
         "views": {"train": 8, "test": 6},
         "library_sizes": [8, 4],
         "descriptors": [{"kind": "pvhk", "samples": 32, "source": "center", "sampling": "polar"},
-                        {"kind": "pvhk", "samples": 32, "source": "closest", "sampling": "arclength"}],
+                        {"kind": "pvhk", "samples": 32, "source": "closest", "sampling": "arclength"},
+                        {"kind": "ft-pvhk", "samples": 32, "source": "center", "sampling": "polar"},
+                        {"kind": "pvst", "samples": 32, "source": "center", "sampling": "polar"}],
         "primary_descriptor": "pvhk/polar/center/32",
     }
     config.update(overrides)
@@ -54,18 +56,32 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     assert meta["views"]["train"] == 8 and meta["heatdata_version"]
     descriptors, _ = read_table(results / "descriptors.parquet")
     assert list(descriptors.columns) == DESCRIPTOR_SCHEMA.names
-    assert len(descriptors) == 2 * 14 * 2
+    # per object: 14 views x 3 single descriptors, and an FT-PVHK per library view (its own object's
+    # time scale) and per test view x object (every object's)
+    assert len(descriptors) == 2 * (14 * 3 + 8 + 6 * 2)
     assert descriptors["values"].map(len).eq(32).all()
-    assert np.allclose(descriptors["time"] * descriptors["lambda2"], 1.0)
+    pvhk = descriptors[descriptors["kind"] == "pvhk"]
+    assert np.allclose(pvhk["time"] * pvhk["lambda2"], 1.0) and np.allclose(pvhk["time"], pvhk["t_global"])
+    scales = pd.concat([pd.read_csv(p) for p in (results / "time_scales").glob("*.csv")]).set_index("object")
+    ft = descriptors[descriptors["kind"] == "ft-pvhk"]
+    library = ft[ft["split"] == "train"]
+    assert (library["time_object"] == library["object"]).all()
+    assert np.allclose(library["time"], scales.loc[library["object"], "time_scale"])
+    # Alg. 5.1: the time scale is the smallest 1/lambda_2 of the object's library views
+    assert np.allclose(library.groupby("object")["t_global"].min(), scales["time_scale"].sort_index())
+    assert ft.groupby("view_id")["time_object"].nunique().max() == 2 and ft["weights"].map(len).eq(32).all()
+    assert descriptors.loc[descriptors["kind"] != "ft-pvhk", "weights"].isna().all()
     predictions, _ = read_table(results / "evaluation" / "predictions.parquet")
     assert list(predictions.columns) == PREDICTION_SCHEMA.names
     assert sorted(predictions["library_size"].unique()) == [4, 8]
+    assert len(predictions) == 4 * 2 * 12  # descriptors x library sizes x test views
     precision = pd.read_csv(results / "evaluation" / "precision.csv")
     overall = precision[(precision["group"] == "all") & (precision["level"] == "object")]
-    assert len(overall) == 4 and overall["precision"].between(0, 1).all()
+    assert len(overall) == 8 and overall["precision"].between(0, 1).all()
     assert overall["precision"].max() > 0.8
-    for figure in ("precision.png", "isomap.png", "views.png", "confusion/view_angles.png",
-                   "confusion/objects_004_views.png"):
+    for figure in ("precision.png", "isomap.png", "views.png", "global_derivative.png", "confusion/view_angles.png",
+                   "confusion/pvhk_polar_center_32_004_views.png", "confusion/pvst_polar_center_32_T0.75_008_views.png",
+                   "confusion/ft-pvhk_polar_center_32_004_views.png"):
         assert (results / "figures" / figure).stat().st_size > 10_000
     assert "not real sensor data" in (results / "summary.md").read_text()
     assert (results / "benchmarks" / "describe" / "beer-mug.tsv").is_file()
@@ -121,7 +137,10 @@ def test_models_dir_checks(tmp_path):
 def test_a_corrupt_model_fails_its_jobs_and_keep_going_finishes_the_rest(tmp_path):
     models = make_models_dir(tmp_path / "models", {"boxes": ["a", "b"], "crates": ["c", "d"]})
     (models / "crates" / "d.ply").write_bytes(b"ply\ngarbage")
-    result = snakemake(tmp_path / "run", tiny_config(objects=[], models_dir=str(models)), "--keep-going")
+    # PVHKs only: with an FT-PVHK every describe job waits for every object's time scale (Alg. 5.2)
+    config = tiny_config(objects=[], models_dir=str(models))
+    config["descriptors"] = config["descriptors"][:2]
+    result = snakemake(tmp_path / "run", config, "--keep-going")
     assert result.returncode != 0
     log = (tmp_path / "run" / "results" / "logs" / "render" / "crates-d.log").read_text()
     assert "crates/d.ply" in log and "cannot read the model file" in log
@@ -148,14 +167,14 @@ SH3F = Path("/usr/share/sweethome3d/furniture/BlendSwap-CC-0.sh3f")
 
 
 def test_missing_sweet_home_library_is_a_config_error(tmp_path):
-    config = tiny_config(objects=[], sh3f={"file": str(tmp_path / "none.sh3f")})
+    config = tiny_config(objects=[], sh3f={"files": [str(tmp_path / "none.sh3f")]})
     result = snakemake(tmp_path, config, "--dry-run")
     assert result.returncode != 0 and "apt-get install sweethome3d-furniture" in result.stdout + result.stderr
 
 
 @pytest.mark.skipif(not SH3F.exists(), reason="Debian's sweethome3d-furniture is not installed")
 def test_objects_from_a_sweet_home_library(tmp_path):
-    config = tiny_config(objects=[], sh3f={"file": str(SH3F), "names": "^(Plastic cup|Coffee cup)$"},
+    config = tiny_config(objects=[], sh3f={"files": [str(SH3F)], "names": "^(Plastic cup|Coffee cup)$"},
                          views={"train": 4, "test": 2}, library_sizes=[4])
     result = snakemake(tmp_path, config)
     assert result.returncode == 0, result.stderr[-3000:]

@@ -3,7 +3,7 @@ import json
 from pathlib import Path
 
 import heatdata
-from heatdata.catalog import catalog_from_folder, read_catalog, sh3f_catalog
+from heatdata.catalog import catalog_from_folder, read_catalog, sh3f_catalogs
 from heatdata.descriptors import DescriptorSpec
 from heatdata.errors import HeatdataError
 from snakemake.exceptions import WorkflowError
@@ -19,15 +19,17 @@ def _config_error(message):
 def load_objects():
     """The catalogue rows of the objects this run uses, indexed by object id."""
     sh3f = config["sh3f"]
-    if sh3f["file"] and config["models_dir"]:
-        _config_error("set models_dir or sh3f.file, not both")
+    if sh3f["files"] and config["models_dir"]:
+        _config_error("set models_dir or sh3f.files, not both")
     try:
-        if sh3f["file"]:
-            if not Path(sh3f["file"]).is_file():
-                _config_error(f"sh3f.file: {sh3f['file']} does not exist "
+        if sh3f["files"]:
+            missing = [f for f in sh3f["files"] if not Path(f).is_file()]
+            if missing:
+                _config_error(f"sh3f.files: {', '.join(missing)} do(es) not exist "
                               "(apt-get install sweethome3d-furniture installs the libraries; "
                               "dpkg -L sweethome3d-furniture lists their .sh3f files)")
-            table = sh3f_catalog(sh3f["file"], name_pattern=sh3f["names"] or None, label=sh3f["label"] or None)
+            table = sh3f_catalogs(sh3f["files"], name_pattern=sh3f["names"] or None, label=sh3f["label"] or None,
+                                  exclude_pattern=sh3f["exclude"] or None)
             table["path"] = [f"{RESULTS}/models/{o}/{f}" for o, f in zip(table["object"], table["file"])]
         elif config["models_dir"]:
             table = catalog_from_folder(config["models_dir"], scale=config["models_scale"])
@@ -51,9 +53,7 @@ def load_objects():
 
 
 def descriptor_specs():
-    specs = [DescriptorSpec(d["kind"], d.get("samples", 64), d.get("source", "closest"),
-                            d.get("sampling", "arclength"), d.get("color_map"))
-             for d in config["descriptors"]]
+    specs = [DescriptorSpec(**d) for d in config["descriptors"]]
     names = [s.name for s in specs]
     if config["primary_descriptor"] not in names:
         _config_error(f"primary_descriptor {config['primary_descriptor']!r} is not one of descriptors {names}")
@@ -64,6 +64,7 @@ try:
     SPECS = descriptor_specs()
 except HeatdataError as exc:
     _config_error(f"descriptors: {exc}")
+FIXED_TIME = any(s.kind == "ft-pvhk" for s in SPECS)  # needs the objects' time scales (Alg. 5.1)
 CATALOG = load_objects()
 OBJECTS = CATALOG.index.tolist()
 too_large = [s for s in config["library_sizes"] if s > config["views"]["train"]]
@@ -73,7 +74,7 @@ if too_large:
 
 def model_input(obj):
     """What an object's render job needs: its model file, or its extracted Sweet Home 3D folder."""
-    if config["sh3f"]["file"]:
+    if config["sh3f"]["files"]:
         return f"{RESULTS}/models/{obj}"
     return CATALOG.loc[obj, "path"]
 

@@ -1,9 +1,32 @@
-# Describe: PVHK / C-PVHK descriptor tables, one job per object, then one table for the run.
+# Describe: the objects' time scales (Alg. 5.1, for FT-PVHK), descriptor tables one job per object,
+# then one table for the run.
+
+
+rule time_scale:
+    input:
+        f"{RESULTS}/views/{{object}}.parquet",
+    output:
+        f"{RESULTS}/time_scales/{{object}}.csv",
+    params:
+        descriptors=config["descriptors"],
+        version=VERSION,
+    log:
+        f"{RESULTS}/logs/time_scale/{{object}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/time_scale/{{object}}.tsv"
+    threads: 1
+    resources:
+        mem_mb=lambda wildcards, attempt: 2000 * attempt,
+        runtime=lambda wildcards, attempt: 10 * attempt,
+    script:
+        "../scripts/time_scale.py"
 
 
 rule describe:
     input:
-        f"{RESULTS}/views/{{object}}.parquet",
+        views=f"{RESULTS}/views/{{object}}.parquet",
+        # a test view is described at every object's time scale (Alg. 5.2)
+        time_scales=expand(f"{RESULTS}/time_scales/{{object}}.csv", object=OBJECTS) if FIXED_TIME else [],
     output:
         f"{RESULTS}/descriptors/{{object}}.parquet",
     params:
@@ -16,7 +39,7 @@ rule describe:
     threads: 1
     resources:
         mem_mb=lambda wildcards, attempt: 2000 * attempt,
-        runtime=lambda wildcards, attempt: 30 * attempt,
+        runtime=lambda wildcards, attempt: 60 * attempt,
     script:
         "../scripts/describe.py"
 

@@ -19,7 +19,7 @@ rule classify:
         f"{RESULTS}/benchmarks/classify/{{descriptor}}-{{size}}.tsv"
     threads: 1
     resources:
-        mem_mb=lambda wildcards, attempt: 2000 * attempt,
+        mem_mb=lambda wildcards, attempt: 4000 * attempt,
         runtime=lambda wildcards, attempt: 20 * attempt,
     script:
         "../scripts/classify.py"
@@ -60,6 +60,8 @@ rule report_figures:
                          caption="../report/confusion.rst", category="Confusion matrices"),
         isomap=report(f"{RESULTS}/figures/isomap.png", caption="../report/isomap.rst", category="Descriptors"),
         views=report(f"{RESULTS}/figures/views.png", caption="../report/views.rst", category="Descriptors"),
+        global_derivative=report(f"{RESULTS}/figures/global_derivative.png",
+                                 caption="../report/global_derivative.rst", category="Descriptors"),
         summary=report(f"{RESULTS}/summary.md", caption="../report/summary.rst", category="Run"),
     params:
         primary=config["primary_descriptor"],

@@ -21,7 +21,7 @@ rule catalog:
 
 rule extract_model:
     input:
-        config["sh3f"]["file"] or [],
+        lambda wildcards: CATALOG.loc[wildcards.object, "archive"],
     output:
         directory(f"{RESULTS}/models/{{object}}"),
     params:

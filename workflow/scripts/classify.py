@@ -4,6 +4,9 @@ from heatdata.evaluate import evaluate_library_sizes
 from heatdata.tables import PREDICTION_SCHEMA, read_table, write_table
 
 setup_logging(path=snakemake.log[0])
-descriptors, meta = read_table(snakemake.input[0])
-predictions = evaluate_library_sizes(descriptors, snakemake.params.descriptor, [int(snakemake.wildcards.size)])
+name = snakemake.params.descriptor
+descriptors, meta = read_table(snakemake.input[0], filters=[("descriptor", "==", name)],
+                               columns=["object", "label", "view_id", "split", "azimuth", "descriptor", "kind",
+                                        "time_object", "values", "weights"])
+predictions = evaluate_library_sizes(descriptors, name, [int(snakemake.wildcards.size)])
 write_table(predictions, snakemake.output[0], PREDICTION_SCHEMA, meta)

@@ -1,10 +1,6 @@
-"""One descriptor table for the run (rule collect_descriptors)."""
-import pandas as pd
-
+"""One descriptor table for the run (rule collect_descriptors), streamed object by object."""
 from heatdata.cli import setup_logging
-from heatdata.tables import DESCRIPTOR_SCHEMA, read_table, write_table
+from heatdata.tables import concat_tables
 
 setup_logging(path=snakemake.log[0])
-tables = [read_table(path) for path in snakemake.input]
-write_table(pd.concat([t for t, _ in tables], ignore_index=True), snakemake.output[0], DESCRIPTOR_SCHEMA,
-            tables[0][1])
+concat_tables(snakemake.input, snakemake.output[0])

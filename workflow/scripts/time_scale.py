@@ -1,0 +1,13 @@
+"""One object's time scale for each FT-PVHK descriptor, from its library views (rule time_scale, Alg. 5.1)."""
+from threadpoolctl import threadpool_limits
+
+from heatdata.cli import setup_logging
+from heatdata.dataset import view_table_time_scales
+from heatdata.descriptors import DescriptorSpec
+from heatdata.tables import read_table
+
+setup_logging(path=snakemake.log[0])
+views, _ = read_table(snakemake.input[0])
+specs = [DescriptorSpec(**d) for d in snakemake.params.descriptors]
+with threadpool_limits(snakemake.threads):
+    view_table_time_scales(views, specs).to_csv(snakemake.output[0], index=False)
