@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 
 from .descriptors import Descriptor, DescriptorSpec, describe, object_time_scale
-from .errors import HeatdataError, ViewError
+from .errors import HeatdataError, SpectrumError, ViewError
 from .models import Model
 from .render import render_view
 from .view import View, kinect_intrinsics
@@ -92,16 +92,17 @@ def _ft_times(view: View, split: str, specs: list[DescriptorSpec], time_scales: 
 
 def _describe_each(view: View, specs: list[DescriptorSpec], times: dict) -> list[Descriptor]:
     """:func:`describe`, but a spec that fails on this view (e.g. a PVST whose source lies on the
-    boundary) gives NaN descriptors with the reason in ``repairs`` instead of stopping a batch."""
+    boundary, a heat solve that does not converge) gives NaN descriptors with the reason in
+    ``repairs`` instead of stopping a batch."""
     try:
         return describe(view, specs, times=times)
-    except ViewError:
+    except (ViewError, SpectrumError):
         pass
     results = []
     for spec in specs:
         try:
             results += describe(view, [spec], times=times)
-        except ViewError as exc:
+        except (ViewError, SpectrumError) as exc:
             log.warning("%s: %s failed: %s", view.name, spec.name, exc)
             count = spec.samples or len(view.boundary)
             nan = np.full(count, np.nan)
