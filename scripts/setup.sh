@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Set up heatdata on a fresh Debian machine (Python 3.11, pip, root; no GPU needed):
-#   1. the Debian libraries open3d and scikit-sparse need, when missing;
+#   1. the Debian libraries open3d, pymeshlab and scikit-sparse need, when missing;
 #   2. a virtual environment at .venv/ with the exact pins of requirements.txt;
 #   3. heatdata itself, editable, with its `heatdata` command.
 # Safe to run again: steps already done are skipped.
@@ -8,9 +8,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# libusb for `import open3d`; libgl1/libegl1/libgomp1 for its renderer core; SuiteSparse headers to build
-# scikit-sparse (CHOLMOD).
-packages=(libusb-1.0-0 libgl1 libegl1 libgomp1 libsuitesparse-dev)
+# libusb for `import open3d`; libgl1/libegl1/libgomp1 for its renderer core; libopengl0 for pymeshlab's
+# filter plugins; SuiteSparse headers to build scikit-sparse (CHOLMOD).
+packages=(libusb-1.0-0 libgl1 libegl1 libgomp1 libopengl0 libsuitesparse-dev)
 [ "${1:-}" = "--tests" ] && packages+=(slurm-wlm munge)
 missing=()
 for p in "${packages[@]}"; do
@@ -39,7 +39,7 @@ if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
     .venv/bin/python -m pip install --quiet --disable-pip-version-check --no-deps -e .
     echo "$want" > "$stamp"
 fi
-.venv/bin/python -c "import open3d, sksparse.cholmod, heatdata" || {
+.venv/bin/python -c "import open3d, pymeshlab, sksparse.cholmod, heatdata" || {
     echo "setup: the environment does not import; remove .venv and run again" >&2
     exit 1
 }
