@@ -12,6 +12,7 @@ from .descriptors import (COLOR_MAPS, Descriptor, DescriptorSpec, c_pvhk, descri
                           view_time_scale)
 from .distance import mhd, mhd_matrix, weighted_mhd
 from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
+from .library import select_sources
 from .models import Model, load_model
 from .recognition import accuracy_by, confusion_matrix, nearest_neighbours
 from .render import camera_pose, render_view
@@ -29,5 +30,5 @@ __all__ = [
     "ft_pvhk", "global_derivative", "heat_kernel", "heat_model", "import_sh3f", "kinect_intrinsics", "krylov_heat",
     "lambda2", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "nearest_neighbours",
     "object_time_scale", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "sample_boundary",
-    "source_vertex", "view_time_scale", "weighted_mhd", "__version__",
+    "select_sources", "source_vertex", "view_time_scale", "weighted_mhd", "__version__",
 ]

@@ -1,0 +1,251 @@
+"""Compact libraries: one source per library view, chosen around the view circle (thesis 6.3).
+
+The views of one object, in azimuth order, form the layers of the graph of Fig. 6.5: a
+node per candidate source, an edge from each candidate of view i to each candidate of
+view i+1 (the last view joins the first) costing the change of descriptor (eq. 6.6, or
+g of eq. 6.11). A choice of one source per view is a closed walk once around.
+
+The thesis solves this as the LP of eq. 6.7-6.9 relaxed to [0, 1]. Closed around the
+circle, that LP is a circulation carrying one unit across a cut. Its vertices are
+cycles that wind once around (integral) but also cycles that wind w > 1 times, taken
+with weight 1/w. Those are fractional, and can cost less per turn than any single
+winding. :func:`select_sources` therefore:
+
+1. solves the relaxation by column generation (edges of negative reduced cost are
+   added from the duals until none is left, which proves optimality over all edges);
+2. if the result is not integral, branches on the nodes of the smallest layer. Fixing
+   one node makes the LP a shortest path (totally unimodular, so integral), and
+   excluding the nodes already tried bounds the rest.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from .errors import HeatdataError
+
+log = logging.getLogger(__name__)
+
+SOLVER = "HIGHS"
+START_EDGES = 4  # cheapest out-edges per node in the first edge set
+ADD_EDGES = 4  # most negative reduced-cost edges added per node and round
+INTEGRAL_TOL = 1e-6
+
+
+def _check(edge_costs: list, name: str) -> list[np.ndarray]:
+    costs = [np.asarray(c, dtype=np.float64) for c in edge_costs]
+    if len(costs) < 2:
+        raise HeatdataError(f"{name}: selecting sources needs at least two views around the circle, got {len(costs)}")
+    for i, c in enumerate(costs):
+        following = costs[(i + 1) % len(costs)]
+        if c.ndim != 2 or 0 in c.shape:
+            raise HeatdataError(f"{name}: view {i}: edge costs must be a non-empty 2-D array, got shape {c.shape}")
+        if c.shape[1] != following.shape[0]:
+            raise HeatdataError(f"{name}: view {i}: edge costs of shape {c.shape} do not lead to the "
+                                f"{following.shape[0]} candidates of view {(i + 1) % len(costs)}")
+        if not np.all(np.isfinite(c)):
+            raise HeatdataError(f"{name}: view {i}: edge costs must be finite")
+    return costs
+
+
+@dataclass
+class _Graph:
+    """The layered cyclic graph, with layers rotated so that the smallest comes first."""
+
+    costs: list[np.ndarray]
+    offsets: np.ndarray = field(init=False)  # first node id of each layer
+
+    def __post_init__(self):
+        self.offsets = np.concatenate([[0], np.cumsum([c.shape[0] for c in self.costs])])
+
+    @property
+    def layers(self) -> int:
+        return len(self.costs)
+
+    def nodes(self, layer: int) -> int:
+        return self.costs[layer].shape[0]
+
+
+def _solve(graph: _Graph, pool: list[set], fixed: int | None, excluded: list[int], name: str):
+    """Column generation for the circulation LP: (value, {layer: (tails, heads, x)}).
+
+    The pool must hold a feasible cycle (see :func:`_add_cycle`); an infeasible LP is an error.
+    """
+    import cvxpy as cp
+
+    if SOLVER not in cp.installed_solvers():
+        raise HeatdataError(f"{name}: the LP solver {SOLVER} is not installed (cvxpy has {cp.installed_solvers()})")
+    n_nodes = int(graph.offsets[-1])
+    first = graph.nodes(0)
+    while True:
+        edges = [np.array(sorted(p), dtype=np.int64).reshape(-1, 2) for p in pool]
+        sizes = [len(e) for e in edges]
+        starts = np.concatenate([[0], np.cumsum(sizes)])
+        tails = np.concatenate([graph.offsets[i] + e[:, 0] for i, e in enumerate(edges)])
+        heads = np.concatenate([graph.offsets[(i + 1) % graph.layers] + e[:, 1] for i, e in enumerate(edges)])
+        columns = np.arange(starts[-1])
+        incidence = sp.csr_matrix((np.concatenate([np.ones(len(columns)), -np.ones(len(columns))]),
+                                   (np.concatenate([heads, tails]), np.concatenate([columns, columns]))),
+                                  shape=(n_nodes, len(columns)))
+        # rows of the layer-0 nodes' out-flows: the cut and the branching constraints
+        out0 = sp.csr_matrix((np.ones(sizes[0]), (edges[0][:, 0], np.arange(sizes[0]))), shape=(first, len(columns)))
+        cost = np.concatenate([graph.costs[i][e[:, 0], e[:, 1]] for i, e in enumerate(edges)])
+        x = cp.Variable(len(columns), nonneg=True)
+        conservation = incidence @ x == 0
+        cut = cp.sum(out0 @ x) == 1
+        node_flow = out0 @ x
+        branch = []
+        if fixed is not None:
+            branch.append(node_flow[fixed] == 1)
+        if excluded:
+            branch.append(node_flow[np.asarray(excluded)] == 0)
+        problem = cp.Problem(cp.Minimize(cost @ x), [conservation, cut, *branch])
+        tic = time.perf_counter()
+        problem.solve(solver=SOLVER)
+        log.debug("%s: LP with %d edges: %.2f s (%s; compile %.2f s, solver %.2f s)", name, len(columns),
+                  time.perf_counter() - tic, problem.status, problem.compilation_time or 0.0,
+                  problem.solver_stats.solve_time or 0.0)
+        if problem.status != cp.OPTIMAL:
+            raise HeatdataError(f"{name}: the source-selection LP ended {problem.status}")
+        potential = np.asarray(conservation.dual_value)
+        layer0 = np.full(first, float(cut.dual_value))
+        if fixed is not None:
+            layer0[fixed] += float(branch[0].dual_value)
+        if excluded:
+            layer0[np.asarray(excluded)] += np.asarray(branch[-1].dual_value)
+        added = 0
+        values = np.asarray(x.value)
+        for i, c in enumerate(graph.costs):
+            tail = potential[graph.offsets[i]:graph.offsets[i + 1]]
+            head = potential[graph.offsets[(i + 1) % graph.layers]:graph.offsets[(i + 1) % graph.layers + 1]]
+            # reduced cost c + A^T y with cvxpy's sign of equality duals (the tests fail with the other sign)
+            reduced = c + head[None, :] - tail[:, None] + (layer0[:, None] if i == 0 else 0.0)
+            scale = max(1.0, float(np.abs(c).max()))
+            candidates = np.argwhere(reduced < -1e-9 * scale)
+            if len(candidates):
+                order = np.argsort(reduced[candidates[:, 0], candidates[:, 1]])
+                new = [tuple(e) for e in candidates[order[:ADD_EDGES * c.shape[0]]].tolist() if tuple(e) not in pool[i]]
+                pool[i].update(new)
+                added += len(new)
+        if not added:
+            flows = {i: (edges[i][:, 0], edges[i][:, 1], values[starts[i]:starts[i + 1]]) for i in range(graph.layers)}
+            return float(problem.value), flows
+
+
+def _add_cycle(graph: _Graph, pool: list[set], node: int) -> None:
+    """Add a greedy closed walk through layer-0 ``node`` to the edge pool, so that an LP that
+    must use that node (or may use it, when others are excluded) is feasible."""
+    path = [node]
+    for i in range(graph.layers - 1):
+        path.append(int(np.argmin(graph.costs[i][path[-1]])))
+    path.append(node)
+    for i in range(graph.layers):
+        pool[i].add((path[i], path[i + 1]))
+
+
+def _decode(graph: _Graph, flows: dict) -> np.ndarray | None:
+    """One node per layer if the flow is integral (one edge at 1 per layer, chained), else None."""
+    tails, heads = [], []
+    for i in range(graph.layers):
+        a, b, x = flows[i]
+        if np.any((x > INTEGRAL_TOL) & (x < 1 - INTEGRAL_TOL)) or np.sum(x >= 1 - INTEGRAL_TOL) != 1:
+            return None
+        k = int(np.argmax(x))
+        tails.append(a[k])
+        heads.append(b[k])
+    if any(heads[i] != tails[(i + 1) % graph.layers] for i in range(graph.layers)):
+        return None
+    return np.array(tails, dtype=np.int64)
+
+
+def select_sources(edge_costs: list, *, name: str = "object") -> tuple[np.ndarray, float]:
+    """One candidate source per view minimizing the summed edge cost around the circle (eq. 6.7-6.9, 6.12-6.14).
+
+    Parameters
+    ----------
+    edge_costs : list of K arrays
+        The i-th of shape (n_i, n_{(i+1) mod K}): the cost of candidate a in view i
+        followed by candidate b in view i+1; the last array closes the circle.
+    name : str
+        The object, for error messages.
+
+    Returns
+    -------
+    choice : (K,) int64
+        A candidate index per view.
+    cost : float
+        ``sum_i edge_costs[i][choice[i], choice[i+1]]``.
+
+    Raises
+    ------
+    HeatdataError
+        Fewer than two views, an empty or mis-shaped cost array, a non-finite cost, the
+        LP solver not installed or the LP not solved.
+    """
+    costs = _check(edge_costs, name)
+    shift = int(np.argmin([c.shape[0] for c in costs]))  # branch, if needed, on the smallest layer
+    graph = _Graph(costs[shift:] + costs[:shift])
+    pool = []
+    for c in graph.costs:  # each node's cheapest out-edges: every node can continue, so the LP is feasible
+        cheapest = np.argsort(c, axis=1)[:, :START_EDGES]
+        pool.append({(a, int(b)) for a in range(c.shape[0]) for b in cheapest[a]})
+    relaxed = _solve(graph, pool, None, [], name)
+    value, flows = relaxed
+    choice = _decode(graph, flows)
+    if choice is None:
+        log.info("%s: the relaxed LP is fractional (%.6g); branching on the %d candidates of view %d",
+                 name, value, graph.nodes(0), shift)
+        best, choice, excluded = np.inf, None, []
+        while True:
+            node_flow = np.bincount(flows[0][0], weights=flows[0][2], minlength=graph.nodes(0))
+            node_flow[excluded] = -1.0
+            node = int(np.argmax(node_flow))
+            _add_cycle(graph, pool, node)
+            fixed_value, fixed_flows = _solve(graph, pool, node, excluded, name)
+            path = _decode(graph, fixed_flows)
+            if path is None:
+                raise HeatdataError(f"{name}: the LP with view {shift}'s candidate {node} fixed is not integral")
+            if fixed_value < best:
+                best, choice = fixed_value, path
+            excluded.append(node)
+            remaining = np.setdiff1d(np.arange(graph.nodes(0)), excluded)
+            if len(remaining) == 0:
+                break
+            _add_cycle(graph, pool, int(remaining[0]))
+            rest = _solve(graph, pool, None, excluded, name)
+            if rest[0] >= best - 1e-9 * max(1.0, abs(best)):
+                break
+            value, flows = rest
+            integral = _decode(graph, flows)
+            if integral is not None:
+                if value < best:
+                    best, choice = value, integral
+                break
+    choice = np.roll(choice, shift).astype(np.int64)
+    total = float(sum(edge_costs_i[choice[i], choice[(i + 1) % len(costs)]] for i, edge_costs_i in enumerate(costs)))
+    return choice, total
+
+
+def cyclic_dp(edge_costs: list) -> tuple[np.ndarray, float]:
+    """The same optimum by dynamic programming (a min-plus product per view), for checking :func:`select_sources`."""
+    costs = _check(edge_costs, "dp")
+    n0 = costs[0].shape[0]
+    best = costs[0]  # (n0, n1): cheapest walk from each start to each node of the current layer
+    parents = []
+    for c in costs[1:]:
+        total = best[:, :, None] + c[None, :, :]
+        parents.append(np.argmin(total, axis=1))
+        best = np.min(total, axis=1)
+    start = int(np.argmin(best[np.arange(n0), np.arange(n0)]))
+    choice = [start]  # walk back from the closing node (= start)
+    node = start
+    for parent in reversed(parents):
+        node = int(parent[start, node])
+        choice.append(node)
+    choice = np.array([start] + choice[1:][::-1], dtype=np.int64)
+    return choice, float(best[start, start])
