@@ -404,12 +404,16 @@ def _pvst_times(work: _ViewWork, connected: View, op: HeatOperator, source: int,
         edges.append(edges[-1] / ratio if edges[-1] / ratio > 4.0 * t_start else t_start)
     chunks = [(t0, t1, _chunk_model(op, source, boundary, t0, t1, late=t1 == t_end))
               for t1, t0 in zip(edges[:-1], edges[1:], strict=True)][::-1]
+    def above_at_start():
+        return chunks[0][2](np.array([chunks[0][0]]))[0] >= threshold
+
+    early = above_at_start()
     for _ in range(4):  # start earlier while a boundary point is already above the threshold
-        t0 = chunks[0][0]
-        early = chunks[0][2](np.array([t0]))[0] >= threshold
         if not early.any():
             break
+        t0 = chunks[0][0]
         chunks.insert(0, (t0 / 16.0, t0, _chunk_model(op, source, boundary, t0 / 16.0, t0, late=False)))
+        early = above_at_start()
     times = np.full(len(boundary), np.nan)
     for t0, t1, model in chunks:  # the first crossing is in the earliest chunk that has one
         found = first_crossings(model, threshold, t0, t1)
