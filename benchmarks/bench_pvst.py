@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import time
 from pathlib import Path
 
 import numpy as np
@@ -32,32 +31,16 @@ from scipy.optimize import brentq
 from threadpoolctl import threadpool_limits
 
 import heatdata as hd
+from bench_pvhk import interleaved_best, prepared  # run as a script: benchmarks/ is on sys.path
 from heatdata.descriptors import heat_operator
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def prepared(view: hd.View) -> hd.View:
-    v = hd.View(vertices=view.vertices, faces=view.faces, colors=view.colors, intrinsics=view.intrinsics)
-    v.edges, v.boundary, v.component_labels  # noqa: B018 - computed and cached, not timed
-    return v
 
 
 def render(name: str, distance: float) -> hd.View:
     catalog = hd.read_catalog(ROOT / "data/models/catalog.csv")
     model = hd.load_catalog_model(catalog[catalog["object"] == name].iloc[0])
     return hd.render_view(model, azimuth=30.0, elevation=30.0, distance=distance, seed=0)
-
-
-def best_of(functions: dict, repeat: int) -> dict:
-    """Best time (s) of each function, run round-robin so that machine drift hits all alike."""
-    best = dict.fromkeys(functions, np.inf)
-    for _ in range(repeat):
-        for name, function in functions.items():
-            start = time.perf_counter()
-            function()
-            best[name] = min(best[name], time.perf_counter() - start)
-    return best
 
 
 def dense_crossings(view: hd.View, source: int, threshold: float, t_end: float) -> np.ndarray:
@@ -91,7 +74,7 @@ def main() -> None:
     t_fixed = 1.0 / hd.pvhk(view, 64, "center", sampling="polar").lambda2
     with threadpool_limits(1):
         ready = prepared(view)
-        times = best_of({
+        best = interleaved_best({
             "pvhk": lambda: hd.pvhk(ready, 64, "center", sampling="polar"),
             "ft_pvhk": lambda: hd.ft_pvhk(ready, t_fixed, 64, "center", sampling="polar"),
             "ft_pvhk + part_weights": lambda: hd.describe(ready, [hd.DescriptorSpec("ft-pvhk", 64, "center", "polar")],
@@ -100,6 +83,7 @@ def main() -> None:
             "pvhk + pvst in one describe": lambda: hd.describe(ready, [
                 hd.DescriptorSpec("pvhk", 64, "center", "polar"), hd.DescriptorSpec("pvst", 64, "center", "polar")]),
         }, args.repeat)
+    times = {name: seconds for name, (seconds, _) in best.items()}
     print(f"speed: {args.object} at {args.distance} m, {view.n_vertices} vertices, {len(view.boundary)} boundary "
           f"vertices; source center, polar, 64 samples; one thread; best of {args.repeat}")
     for name, seconds in times.items():

@@ -130,8 +130,9 @@ def _fixed_time_neighbours(query: pd.DataFrame, lib: pd.DataFrame, descriptor: s
         d = mhd_matrix(np.stack(at_time["values"].to_numpy()), np.stack(candidates["values"].to_numpy()),
                        query_weights=q_weights, library_weights=l_weights)
         nearest = np.argmin(d, axis=1)
-        closer = d[np.arange(len(views)), nearest] < best
-        best[closer] = d[np.arange(len(views)), nearest][closer]
+        distance = d[np.arange(len(views)), nearest]
+        closer = distance < best
+        best[closer] = distance[closer]
         index[closer] = positions[nearest[closer]]
     return views, index, best
 
@@ -353,7 +354,7 @@ def draw_example_views(catalog: pd.DataFrame, path: str | Path, *, elevation: fl
             component, local = view.component_of(d.source)
             components.append(component)
             local_sources.append(local)
-            derivatives.append(global_derivative(view, d.source))
+            derivatives.append(global_derivative(component, local))
     plot_views(views, temps, sources, path, titles)
     if derivative_path is not None:
         plot_views(components, derivatives, local_sources, derivative_path, titles, heading=DERIVATIVE_HEADING,

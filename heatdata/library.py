@@ -194,8 +194,7 @@ def select_sources(edge_costs: list, *, name: str = "object") -> tuple[np.ndarra
     for c in graph.costs:  # each node's cheapest out-edges: every node can continue, so the LP is feasible
         cheapest = np.argsort(c, axis=1)[:, :START_EDGES]
         pool.append({(a, int(b)) for a in range(c.shape[0]) for b in cheapest[a]})
-    relaxed = _solve(graph, pool, None, [], name)
-    value, flows = relaxed
+    value, flows = _solve(graph, pool, None, [], name)
     choice = _decode(graph, flows)
     if choice is None:
         log.info("%s: the relaxed LP is fractional (%.6g); branching on the %d candidates of view %d",

@@ -118,15 +118,6 @@ def write_table(frame: pd.DataFrame, path: str | Path, schema: pa.Schema, metada
     pq.write_table(table, path)
 
 
-TIME_SCALE_SCHEMA = pa.schema([
-    ("object", pa.string()),
-    ("descriptor", pa.string()),
-    ("source_rule", pa.string()),
-    ("time_scale", pa.float64()),
-    ("n_views", pa.int64()),
-])
-
-
 def read_table(path: str | Path, *, columns: list[str] | None = None, filters: list | None = None
                ) -> tuple[pd.DataFrame, dict]:
     """Read a heatdata Parquet table and its run metadata.
