@@ -11,9 +11,15 @@ cycles that wind once around (integral) but also cycles that wind w > 1 times, t
 with weight 1/w. Those are fractional, and can cost less per turn than any single
 winding. :func:`select_sources` therefore:
 
-1. solves the relaxation by column generation (edges of negative reduced cost are
-   added from the duals until none is left, which proves optimality over all edges);
-2. if the result is not integral, branches on the nodes of the smallest layer. Fixing
+1. drops the edges that no cycle cheaper than a known one can use. An edge's bound is
+   the cheapest walk once around through it, not required to close (a forward and a
+   backward min-plus sweep, O(edges)); the known cycle is the cheapest closed one
+   through the best open walk's start. Any cycle through a dropped edge costs more
+   than that cycle, so the optimum is among the edges kept (reduced-cost fixing);
+2. solves the relaxation on the edges kept by column generation (edges of negative
+   reduced cost are added from the duals until none is left, which proves the LP
+   optimal over all edges kept);
+3. if the result is not integral, branches on the nodes of the smallest layer. Fixing
    one node makes the LP a shortest path (totally unimodular, so integral), and
    excluding the nodes already tried bounds the rest.
 """
@@ -32,7 +38,8 @@ from .errors import HeatdataError
 log = logging.getLogger(__name__)
 
 SOLVER = "HIGHS"
-START_EDGES = 4  # cheapest out-edges per node in the first edge set
+FULL_POOL = 50_000  # when at most this many edges are kept, the first LP has them all
+START_EDGES = 4  # else: each node's cheapest kept out-edges in the first edge set
 ADD_EDGES = 4  # most negative reduced-cost edges added per node and round
 INTEGRAL_TOL = 1e-6
 
@@ -59,9 +66,37 @@ class _Graph:
 
     costs: list[np.ndarray]
     offsets: np.ndarray = field(init=False)  # first node id of each layer
+    kept: list[np.ndarray] = field(init=False)  # (n_i, n_i+1) bool: edges some cycle <= upper may use
+    upper: float = field(init=False)  # the cost of a known cycle
+    cycle: np.ndarray = field(init=False)  # (K,) its node per layer
 
     def __post_init__(self):
         self.offsets = np.concatenate([[0], np.cumsum([c.shape[0] for c in self.costs])])
+        forward = [np.zeros(self.costs[0].shape[0])]  # cheapest walk from any layer-0 node
+        for c in self.costs:
+            forward.append(np.min(forward[-1][:, None] + c, axis=0))
+        backward = [np.zeros(self.costs[0].shape[0])]  # cheapest walk on to any layer-0 node
+        for c in reversed(self.costs):
+            backward.append(np.min(c + backward[-1][None, :], axis=1))
+        backward = backward[::-1]
+        self.cycle = self._cheapest_cycle_through(int(np.argmin(backward[0])))
+        self.upper = float(sum(c[self.cycle[i], self.cycle[(i + 1) % self.layers]] for i, c in enumerate(self.costs)))
+        slack = 1e-9 * max(1.0, abs(self.upper))
+        self.kept = [forward[i][:, None] + c + backward[i + 1][None, :] <= self.upper + slack
+                     for i, c in enumerate(self.costs)]
+
+    def _cheapest_cycle_through(self, start: int) -> np.ndarray:
+        """The cheapest closed walk through layer-0 node ``start`` (a shortest path, O(edges))."""
+        best, parents = self.costs[0][start], []
+        for c in self.costs[1:]:
+            total = best[:, None] + c
+            parents.append(np.argmin(total, axis=0))
+            best = total[parents[-1], np.arange(c.shape[1])]
+        node, path = start, [start]
+        for parent in reversed(parents):
+            node = int(parent[node])
+            path.append(node)
+        return np.array([start] + path[1:][::-1], dtype=np.int64)
 
     @property
     def layers(self) -> int:
@@ -125,6 +160,7 @@ def _solve(graph: _Graph, pool: list[set], fixed: int | None, excluded: list[int
             head = potential[graph.offsets[(i + 1) % graph.layers]:graph.offsets[(i + 1) % graph.layers + 1]]
             # reduced cost c + A^T y with cvxpy's sign of equality duals (the tests fail with the other sign)
             reduced = c + head[None, :] - tail[:, None] + (layer0[:, None] if i == 0 else 0.0)
+            reduced[~graph.kept[i]] = np.inf
             scale = max(1.0, float(np.abs(c).max()))
             candidates = np.argwhere(reduced < -1e-9 * scale)
             if len(candidates):
@@ -190,10 +226,18 @@ def select_sources(edge_costs: list, *, name: str = "object") -> tuple[np.ndarra
     costs = _check(edge_costs, name)
     shift = int(np.argmin([c.shape[0] for c in costs]))  # branch, if needed, on the smallest layer
     graph = _Graph(costs[shift:] + costs[:shift])
+    kept = sum(int(k.sum()) for k in graph.kept)
+    log.debug("%s: %d of %d edges can be on a cycle costing at most %.6g", name, kept,
+              sum(c.size for c in graph.costs), graph.upper)
     pool = []
-    for c in graph.costs:  # each node's cheapest out-edges: every node can continue, so the LP is feasible
-        cheapest = np.argsort(c, axis=1)[:, :START_EDGES]
-        pool.append({(a, int(b)) for a in range(c.shape[0]) for b in cheapest[a]})
+    for c, k in zip(graph.costs, graph.kept, strict=True):
+        if kept <= FULL_POOL:
+            pool.append({(int(a), int(b)) for a, b in np.argwhere(k)})
+            continue
+        cheapest = np.argsort(np.where(k, c, np.inf), axis=1)[:, :START_EDGES]
+        pool.append({(a, int(b)) for a in range(c.shape[0]) for b in cheapest[a] if k[a, b]})
+    for i in range(graph.layers):  # the known cycle keeps the first LP feasible
+        pool[i].add((int(graph.cycle[i]), int(graph.cycle[(i + 1) % graph.layers])))
     value, flows = _solve(graph, pool, None, [], name)
     choice = _decode(graph, flows)
     if choice is None:
