@@ -16,7 +16,7 @@ from .library import select_sources
 from .models import Model, load_model
 from .recognition import accuracy_by, confusion_matrix, nearest_neighbours
 from .render import camera_pose, render_view
-from .sources import candidate_sources
+from .sources import candidate_descriptors, candidate_sources
 from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat,
                        lambda2, laplacian)
 from .view import View, kinect_intrinsics
@@ -26,7 +26,7 @@ __version__ = "0.1.0"
 __all__ = [
     "COLOR_MAPS", "Descriptor", "DescriptorSpec", "HeatModel", "HeatOperator", "HeatdataError", "Model", "ModelError",
     "RenderError", "Spectrum", "SpectrumError", "View", "ViewError", "accuracy_by", "c_pvhk", "camera_pose",
-    "candidate_sources", "catalog_from_folder", "confusion_matrix", "describe", "eigen_spectrum", "first_crossings",
+    "candidate_descriptors", "candidate_sources", "catalog_from_folder", "confusion_matrix", "describe", "eigen_spectrum", "first_crossings",
     "ft_pvhk", "global_derivative", "heat_kernel", "heat_model", "import_sh3f", "kinect_intrinsics", "krylov_heat",
     "lambda2", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "nearest_neighbours",
     "object_time_scale", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "sample_boundary",

@@ -184,25 +184,39 @@ def sample_boundary(view: View, boundary: np.ndarray, temps: np.ndarray, samples
     view : View
     boundary : (b,) int
         Ordered boundary loop.
-    temps : (b,) float
-        Values at the boundary vertices, in loop order.
+    temps : (b,) or (s, b) float
+        Values at the boundary vertices, in loop order (one row per source).
     samples : int or None
         M; None keeps one value per boundary vertex.
     sampling : {"arclength", "polar"}
 
     Returns
     -------
-    values, positions : (M,) float64
+    values : (M,) or (s, M) float64
+    positions : (M,) float64
     """
+    temps = np.asarray(temps, float)
+    first, frac, positions = _sample_points(view, boundary, samples, sampling)
+    second = (first + 1) % len(boundary)
+    return (1.0 - frac) * temps[..., first] + frac * temps[..., second], positions
+
+
+def _sample_points(view: View, boundary: np.ndarray, samples: int | None, sampling: str
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where the M samples fall on the boundary loop: (M,) edge start index and fraction along the edge, and
+    the (M,) positions."""
     cumulative, total = _arclength_positions(view, boundary)
     if samples is None:
-        return np.asarray(temps, float), cumulative[:-1] / total
+        return np.arange(len(boundary)), np.zeros(len(boundary)), cumulative[:-1] / total
     if samples < 2:
         raise ViewError(f"samples must be at least 2 or None, got {samples}")
     if sampling == "arclength":
         positions = np.arange(samples) / samples
-        closed = np.concatenate([temps, temps[:1]])
-        return np.interp(positions * total, cumulative, closed), positions
+        first = np.clip(np.searchsorted(cumulative, positions * total, side="right") - 1, 0, len(boundary) - 1)
+        step = cumulative[first + 1] - cumulative[first]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            frac = np.where(step > 0, (positions * total - cumulative[first]) / step, 0.0)
+        return first, frac, positions
     if sampling != "polar":
         raise ViewError(f"unknown sampling {sampling!r} (use one of {', '.join(SAMPLINGS)})")
     p = view.planar[boundary]
@@ -217,18 +231,16 @@ def sample_boundary(view: View, boundary: np.ndarray, temps: np.ndarray, samples
     radius = (u @ p.T) + f * (u @ e.T)
     hit = (f >= 0) & (f <= 1) & (radius > 0) & np.isfinite(f)
     radius = np.where(hit, radius, -np.inf)
-    best = np.argmax(radius, axis=1)
+    first = np.argmax(radius, axis=1)
     rows = np.arange(samples)
-    frac = np.where(hit[rows, best], f[rows, best], 0.0)
-    values = (1 - frac) * temps[best] + frac * np.roll(temps, -1)[best]
+    frac = np.where(hit[rows, first], f[rows, first], 0.0)
     missed = ~hit.any(axis=1)
-    if missed.any():
+    if missed.any():  # a ray that meets no edge takes the boundary vertex nearest in angle
         angles = np.arctan2(p[:, 1], p[:, 0])
         gap = np.abs(np.angle(np.exp(1j * (theta[missed, None] - angles[None, :]))))
-        values[missed] = temps[np.argmin(gap, axis=1)]
-    return values, theta / (2.0 * np.pi)
-
-
+        first[missed] = np.argmin(gap, axis=1)
+        frac[missed] = 0.0
+    return first, frac, theta / (2.0 * np.pi)
 
 
 @dataclass(frozen=True)

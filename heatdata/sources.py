@@ -13,12 +13,15 @@ import logging
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .descriptors import Descriptor, DescriptorSpec, color_rates, heat_operator, sample_boundary
 from .errors import ViewError
+from .spectrum import eigen_spectrum
 from .view import View
 
 log = logging.getLogger(__name__)
 
 MAX_PASSES = 8  # quadric decimation passes; an open view needs 2-3 to reach its target
+TRUNCATION = 1e-7  # exp(-lambda_k t) of the first mode left out of the multi-source expansion
 
 
 def _decimated_vertices(view: View, count: int) -> np.ndarray:
@@ -98,3 +101,71 @@ def candidate_sources(view: View, count: int | None = 250) -> np.ndarray:
     if len(chosen) > count:  # the decimation stopped above its target after MAX_PASSES
         log.info("%s: simplification kept %d vertices; the first %d are used", view.name, len(chosen), count)
     return np.sort(interior[chosen[:count]]).astype(np.int64)
+
+
+def candidate_descriptors(view: View, sources: np.ndarray, spec: DescriptorSpec, *, times=None,
+                          modes: int = 32) -> list[Descriptor]:
+    """One descriptor per source, all from one eigen-decomposition per connected component (6.2.1).
+
+    The normalized temperatures at the boundary for every source at once are
+    ``Phi_B diag(exp(-lambda t)) Phi_S^T`` times ``sum(c)`` (eq. 2.9/2.11 with the heat
+    kernel's symmetry); the eigenpairs are doubled until the first mode left out weighs
+    less than 1e-7 at the earliest time.
+
+    Parameters
+    ----------
+    view : View
+    sources : (s,) int
+        Source vertices (e.g. :func:`candidate_sources`); the spec's own source rule is
+        not used.
+    spec : DescriptorSpec
+        A ``pvhk``, ``c-pvhk`` or ``ft-pvhk`` (the PVST's crossing times need early
+        times, where a truncated expansion is not accurate; compute PVSTs one source
+        at a time with :func:`heatdata.describe`).
+    times : float or sequence of float
+        The fixed times of an ``ft-pvhk`` (one descriptor per source and time).
+    modes : int
+        Eigenpairs to start with.
+
+    Returns
+    -------
+    list of Descriptor
+        Source-major: for each source in the order given, one per time. No part weights.
+    """
+    if spec.kind == "pvst":
+        raise ViewError(f"{view.name}: multi-source descriptors are pvhk, c-pvhk or ft-pvhk; a pvst's early "
+                        "crossing times need one heat solve per source (heatdata.describe)")
+    if spec.kind == "ft-pvhk" and times is None:
+        raise ViewError(f"{view.name}: the ft-pvhk {spec.name} needs times= (the object's time scale, Alg. 5.1)")
+    sources = np.asarray(sources, dtype=np.int64)
+    if sources.ndim != 1 or len(sources) == 0 or sources.min() < 0 or sources.max() >= view.n_vertices:
+        raise ViewError(f"{view.name}: sources must be a non-empty list of vertex indices in 0..{view.n_vertices - 1}")
+    labels = view.component_labels[sources]
+    out: dict[int, list[Descriptor]] = {}
+    for label in np.unique(labels):
+        group = np.flatnonzero(labels == label)
+        connected = view.component_of(int(sources[group[0]]))[0]
+        local = np.cumsum(view.component_labels == label) - 1  # view vertex -> component vertex
+        on_boundary = np.isin(local[sources[group]], connected.boundary)
+        if on_boundary.any():
+            log.info("%s: %d of %d sources are on the outer boundary", view.name, int(on_boundary.sum()), len(group))
+        op = heat_operator(connected, None if spec.color_map is None else color_rates(connected, spec.color_map))
+        spectrum = eigen_spectrum(op, modes)
+        while True:
+            spec_times = (1.0 / spectrum.lambda2,) if spec.kind != "ft-pvhk" else \
+                tuple(float(t) for t in np.atleast_1d(times))
+            if spectrum.truncation(min(spec_times)) <= TRUNCATION or len(spectrum.values) >= op.n - 2:
+                break
+            spectrum = eigen_spectrum(op, 2 * len(spectrum.values))
+        lam2 = spectrum.lambda2
+        repairs = tuple(connected.repairs[len(view.repairs):])
+        per_time = []
+        for t in spec_times:
+            heat = spectrum.heat(local[sources[group]], t, at=connected.boundary)  # (s, b)
+            values, positions = sample_boundary(connected, connected.boundary, heat, spec.samples, spec.sampling)
+            per_time.append(values)
+        for row, g in enumerate(group):
+            out[int(g)] = [Descriptor(kind=spec.kind, values=v[row], positions=positions, source=int(sources[g]),
+                                      time=t, lambda2=lam2, sampling=spec.sampling, color_map=spec.color_map,
+                                      repairs=repairs) for t, v in zip(spec_times, per_time, strict=True)]
+    return [d for g in range(len(sources)) for d in out[g]]

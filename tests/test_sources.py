@@ -39,3 +39,40 @@ def test_all_interior_vertices_and_too_many_asked(square):
     with pytest.raises(hd.ViewError, match="at least one"):
         hd.candidate_sources(square, 0)
     assert len(hd.candidate_sources(square, len(interior))) == len(interior)
+
+
+@pytest.mark.parametrize("kind", ["pvhk", "c-pvhk", "ft-pvhk"])
+def test_candidate_descriptors_from_one_spectrum_match_one_solve_per_source(mug, kind):
+    view = hd.render_view(mug, 30.0, 30.0, 1.15, seed=0)
+    sources = hd.candidate_sources(view, 20)
+    spec = hd.DescriptorSpec(kind=kind, sampling="polar", color_map="c3" if kind == "c-pvhk" else None)
+    times = [0.02, 0.05] if kind == "ft-pvhk" else None
+    many = hd.candidate_descriptors(view, sources, spec, times=times)
+    assert len(many) == len(sources) * (2 if times else 1)
+    for k in (0, 7, 19):  # against the Krylov solve of describe(), source by source
+        single = hd.describe(view, [hd.DescriptorSpec(kind=kind, sampling="polar", source=int(sources[k]),
+                                                      color_map=spec.color_map)],
+                             times=times, part_weights=False)
+        for j, one in enumerate(single):
+            d = many[k * len(single) + j]
+            assert d.source == sources[k] and d.time == pytest.approx(one.time, rel=1e-9)
+            np.testing.assert_allclose(d.values, one.values, atol=2e-6 * np.abs(one.values).max())
+
+
+def test_candidate_descriptors_on_a_view_of_two_parts(square):
+    two = hd.View(vertices=np.vstack([square.vertices, square.vertices + [0.1, 0, 0]]),
+                  colors=np.vstack([square.colors] * 2),
+                  faces=np.vstack([square.faces, square.faces + square.n_vertices]), view_id="two squares")
+    sources = np.array([square.n_vertices + 220, 220])  # the centre of each square, second part first
+    a, b = hd.candidate_descriptors(two, sources, hd.DescriptorSpec(kind="pvhk"))
+    assert (a.source, b.source) == (square.n_vertices + 220, 220)
+    np.testing.assert_allclose(a.values, b.values, atol=1e-9)  # the same square, the same heat
+
+
+def test_candidate_descriptors_refuse_what_they_cannot_do(square):
+    with pytest.raises(hd.ViewError, match="one heat solve per source"):
+        hd.candidate_descriptors(square, [220], hd.DescriptorSpec(kind="pvst"))
+    with pytest.raises(hd.ViewError, match="needs times="):
+        hd.candidate_descriptors(square, [220], hd.DescriptorSpec(kind="ft-pvhk"))
+    with pytest.raises(hd.ViewError, match="vertex indices"):
+        hd.candidate_descriptors(square, [square.n_vertices], hd.DescriptorSpec())
