@@ -10,11 +10,11 @@ from .catalog import catalog_from_folder, import_sh3f, load_catalog_model, read_
 from .descriptors import (COLOR_MAPS, Descriptor, DescriptorSpec, c_pvhk, describe, ft_pvhk, global_derivative,
                           heat_kernel, object_time_scale, part_weights, pvhk, pvst, sample_boundary, source_vertex,
                           view_time_scale)
-from .distance import mhd, mhd_matrix, weighted_mhd
+from .distance import mhd, mhd_matrix, nearest_mhd, nearest_pair_mhd, weighted_mhd
 from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
-from .library import select_sources
+from .library import combined_costs, consecutive_costs, other_object_distances, select_sources
 from .models import Model, load_model
-from .recognition import accuracy_by, confusion_matrix, nearest_neighbours
+from .recognition import accuracy_by, classify_candidates, confusion_matrix, nearest_neighbours
 from .render import camera_pose, render_view
 from .sources import candidate_descriptors, candidate_sources
 from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat,
@@ -24,11 +24,13 @@ from .view import View, kinect_intrinsics
 __version__ = "0.1.0"
 
 __all__ = [
-    "COLOR_MAPS", "Descriptor", "DescriptorSpec", "HeatModel", "HeatOperator", "HeatdataError", "Model", "ModelError",
-    "RenderError", "Spectrum", "SpectrumError", "View", "ViewError", "accuracy_by", "c_pvhk", "camera_pose",
-    "candidate_descriptors", "candidate_sources", "catalog_from_folder", "confusion_matrix", "describe", "eigen_spectrum", "first_crossings",
-    "ft_pvhk", "global_derivative", "heat_kernel", "heat_model", "import_sh3f", "kinect_intrinsics", "krylov_heat",
-    "lambda2", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "nearest_neighbours",
-    "object_time_scale", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "sample_boundary",
-    "select_sources", "source_vertex", "view_time_scale", "weighted_mhd", "__version__",
+    "accuracy_by", "c_pvhk", "camera_pose", "candidate_descriptors", "candidate_sources", "catalog_from_folder",
+    "classify_candidates", "COLOR_MAPS", "combined_costs", "confusion_matrix", "consecutive_costs", "describe",
+    "Descriptor", "DescriptorSpec", "eigen_spectrum", "first_crossings", "ft_pvhk", "global_derivative",
+    "heat_kernel", "heat_model", "HeatdataError", "HeatModel", "HeatOperator", "import_sh3f", "kinect_intrinsics",
+    "krylov_heat", "lambda2", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "Model",
+    "ModelError", "nearest_mhd", "nearest_neighbours", "nearest_pair_mhd", "object_time_scale",
+    "other_object_distances", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "RenderError",
+    "sample_boundary", "select_sources", "source_vertex", "Spectrum", "SpectrumError", "View", "view_time_scale",
+    "ViewError", "weighted_mhd", "__version__",
 ]

@@ -113,6 +113,65 @@ def _describe_each(view: View, specs: list[DescriptorSpec], times: dict) -> list
     return results
 
 
+def _row(view: View, planned, spec: DescriptorSpec, d: Descriptor, seconds: float, time_object: str = "") -> dict:
+    """One :data:`heatdata.tables.DESCRIPTOR_SCHEMA` row."""
+    return {
+        "object": view.object_id, "label": view.label, "view_id": view.view_id, "split": planned.split,
+        "azimuth": view.azimuth, "elevation": view.elevation, "distance": view.distance,
+        "seed": planned.seed, "n_vertices": view.n_vertices, "n_boundary": len(view.boundary),
+        "descriptor": spec.name, "kind": spec.kind, "sampling": spec.sampling,
+        "source_rule": str(spec.source), "color_map": d.color_map or "", "source": d.source,
+        "time": d.time, "time_object": time_object, "lambda2": d.lambda2, "t_global": 1.0 / d.lambda2,
+        "values": d.values.tolist(), "positions": d.positions.tolist(),
+        "weights": None if d.weights is None else d.weights.tolist(),
+        "repairs": list(view.repairs) + list(d.repairs), "seconds": seconds,
+    }
+
+
+def candidate_rows(views: list[View], plan: pd.DataFrame, spec: DescriptorSpec, *, library_count: int | None = 250,
+                   test_count: int | None = None, progress_every: int = 40) -> pd.DataFrame:
+    """Descriptors from many candidate sources per view, and from the spec's own source rule (thesis 6.2).
+
+    Every view gets one row per candidate source (descriptor name with source
+    ``candidates``, e.g. ``pvhk/polar/candidates/64``) and one row for ``spec``'s own
+    rule (the initial library of 6.4, e.g. ``pvhk/polar/center/64``), all from one
+    eigen-decomposition (:func:`heatdata.candidate_descriptors`). Library views take
+    ``library_count`` candidates by mesh simplification, test views ``test_count``
+    (None: every vertex off the outline, as in the thesis). A view that cannot be
+    described gets one NaN candidate row with the reason in ``repairs``.
+    """
+    from .descriptors import source_vertex
+    from .sources import candidate_descriptors, candidate_sources
+
+    if len(views) != len(plan):
+        raise HeatdataError(f"{len(views)} views but {len(plan)} plan rows")
+    multi = DescriptorSpec(kind=spec.kind, samples=spec.samples, source="candidates", sampling=spec.sampling,
+                           color_map=spec.color_map)
+    rows = []
+    start = time.perf_counter()
+    for count, (view, planned) in enumerate(zip(views, plan.itertuples(), strict=True), 1):
+        tic = time.perf_counter()
+        try:
+            sources = candidate_sources(view, library_count if planned.split == "train" else test_count)
+            own = source_vertex(view, spec.source)
+            described = candidate_descriptors(view, np.append(sources, own), spec)
+        except (ViewError, SpectrumError) as exc:
+            log.warning("%s: candidate descriptors failed: %s", view.name, exc)
+            nan = np.full(spec.samples or 1, np.nan)
+            failed = Descriptor(kind=spec.kind, values=nan, positions=nan, source=-1, time=np.nan, lambda2=np.nan,
+                                sampling=spec.sampling, color_map=spec.color_map,
+                                repairs=(f"candidate descriptors failed: {exc}",))
+            rows.append(_row(view, planned, multi, failed, time.perf_counter() - tic))
+            continue
+        seconds = (time.perf_counter() - tic) / len(described)
+        rows += [_row(view, planned, multi, d, seconds) for d in described[:-1]]
+        rows.append(_row(view, planned, spec, described[-1], seconds))
+        if count % progress_every == 0 or count == len(views):
+            log.info("%s: %d/%d views described from %d candidate sources (%.1f s)", view.object_id, count,
+                     len(views), len(described) - 1, time.perf_counter() - start)
+    return pd.DataFrame(rows)
+
+
 def descriptor_rows(views: list[View], plan: pd.DataFrame, specs: list[DescriptorSpec], *,
                     time_scales: pd.DataFrame | None = None, progress_every: int = 40) -> pd.DataFrame:
     """Descriptors of ``specs`` for each view; ``plan`` gives each view's split and seed, in order.
@@ -139,17 +198,7 @@ def descriptor_rows(views: list[View], plan: pd.DataFrame, specs: list[Descripto
         labelled = [(spec, obj) for spec in specs
                     for obj in (ft_times[spec.name].index if spec.kind == "ft-pvhk" else [""])]
         for (spec, time_object), d in zip(labelled, descriptors, strict=True):
-            rows.append({
-                "object": view.object_id, "label": view.label, "view_id": view.view_id, "split": planned.split,
-                "azimuth": view.azimuth, "elevation": view.elevation, "distance": view.distance,
-                "seed": planned.seed, "n_vertices": view.n_vertices, "n_boundary": len(view.boundary),
-                "descriptor": spec.name, "kind": spec.kind, "sampling": spec.sampling,
-                "source_rule": str(spec.source), "color_map": d.color_map or "", "source": d.source,
-                "time": d.time, "time_object": time_object, "lambda2": d.lambda2, "t_global": 1.0 / d.lambda2,
-                "values": d.values.tolist(), "positions": d.positions.tolist(),
-                "weights": None if d.weights is None else d.weights.tolist(),
-                "repairs": list(view.repairs) + list(d.repairs), "seconds": seconds,
-            })
+            rows.append(_row(view, planned, spec, d, seconds, time_object))
         if count % progress_every == 0 or count == len(views):
             log.info("%s: %d/%d views described (%.1f s)", view.object_id, count, len(views),
                      time.perf_counter() - start)
@@ -210,6 +259,15 @@ def describe_view_table(frame: pd.DataFrame, specs: list[DescriptorSpec], time_s
     from .tables import frame_to_views
 
     return descriptor_rows(frame_to_views(frame), frame[["split", "seed"]], specs, time_scales=time_scales)
+
+
+def candidate_view_table(frame: pd.DataFrame, spec: DescriptorSpec, *, library_count: int | None,
+                         test_count: int | None) -> pd.DataFrame:
+    """Workflow step: :func:`candidate_rows` of the views of a :data:`VIEW_SCHEMA` frame."""
+    from .tables import frame_to_views
+
+    return candidate_rows(frame_to_views(frame), frame[["split", "seed"]], spec, library_count=library_count,
+                          test_count=test_count)
 
 
 def view_table_time_scales(frame: pd.DataFrame, specs: list[DescriptorSpec]) -> pd.DataFrame:

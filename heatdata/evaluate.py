@@ -18,8 +18,8 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from .errors import HeatdataError  # noqa: E402
-from .distance import mhd_matrix  # noqa: E402
-from .recognition import confusion_matrix, nearest_neighbours  # noqa: E402
+from .distance import SHORTLIST, mhd_matrix  # noqa: E402
+from .recognition import classify_candidates, confusion_matrix, nearest_neighbours  # noqa: E402
 
 log = logging.getLogger(__name__)
 
@@ -168,6 +168,55 @@ def evaluate_library_sizes(descriptors: pd.DataFrame, descriptor: str, sizes: li
         subset = pd.concat([library_subset(rows, size), tests])
         results.append(classify(subset, descriptor).assign(library_size=size))
     return pd.concat(results, ignore_index=True)
+
+
+def evaluate_compact(candidates: pd.DataFrame, libraries: pd.DataFrame, *, shortlist: int | None = SHORTLIST
+                     ) -> pd.DataFrame:
+    """Alg. 6.1: each test view, described from its candidate sources, against each library.
+
+    Parameters
+    ----------
+    candidates : pandas.DataFrame
+        Test (``split = "test"``) ``candidates`` rows of :func:`heatdata.dataset.candidate_rows`.
+    libraries : pandas.DataFrame
+        :func:`heatdata.library.compact_libraries`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Rows of :data:`heatdata.tables.PREDICTION_SCHEMA`, one per library
+        (``descriptor`` = method, ``library_size``) and test view, ready for
+        :func:`precision_table`. A test view that could not be described counts as
+        wrong (``predicted_object`` empty).
+    """
+    tests = candidates[(candidates["split"] == "test") & (candidates["source_rule"] == "candidates")]
+    per_view = []
+    for _, rows in tests.groupby("view_id", sort=False):
+        values = np.stack(rows["values"].to_numpy())
+        usable = np.all(np.isfinite(values), axis=1)
+        first = rows.iloc[0]
+        per_view.append((first, values[usable]))
+    failed = sum(len(v) == 0 for _, v in per_view)
+    if failed:
+        log.warning("%d test views have no usable candidate descriptor and count as wrong", failed)
+    out = []
+    for (method, size), lib in libraries.groupby(["descriptor", "library_size"], sort=False):
+        lib_values = np.stack(lib["values"].to_numpy())
+        objects = lib["object"].to_numpy()
+        for first, values in per_view:
+            row = {"descriptor": method, "library_size": int(size), "object": first["object"],
+                   "label": first["label"], "view_id": first["view_id"], "azimuth": first["azimuth"]}
+            if len(values) == 0:
+                out.append({**row, "predicted_object": "", "predicted_label": "", "predicted_view_id": "",
+                            "predicted_azimuth": np.nan, "distance": np.nan, "correct": False})
+                continue
+            _, _, item, distance = classify_candidates(values, lib_values, objects, shortlist=shortlist)
+            match = lib.iloc[item]
+            out.append({**row, "predicted_object": match["object"], "predicted_label": match["label"],
+                        "predicted_view_id": match["view_id"], "predicted_azimuth": match["azimuth"],
+                        "distance": distance, "correct": match["object"] == first["object"]})
+        log.info("%s, %d views: %d test views classified", method, size, len(per_view))
+    return pd.DataFrame(out)
 
 
 def precision_table(predictions: pd.DataFrame) -> pd.DataFrame:

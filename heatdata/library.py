@@ -31,8 +31,10 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+import pandas as pd
 import scipy.sparse as sp
 
+from .distance import SHORTLIST, mhd_matrix, nearest_mhd
 from .errors import HeatdataError
 
 log = logging.getLogger(__name__)
@@ -292,3 +294,136 @@ def cyclic_dp(edge_costs: list) -> tuple[np.ndarray, float]:
         choice.append(node)
     choice = np.array([start] + choice[1:][::-1], dtype=np.int64)
     return choice, float(best[start, start])
+
+
+def consecutive_costs(views: list[np.ndarray]) -> list[np.ndarray]:
+    """c of eq. 6.6: the MHD from each candidate descriptor of view i to each of view i+1 (the last to the first).
+
+    Parameters
+    ----------
+    views : list of K (n_i, M) arrays
+        Candidate descriptors of one object's library views, in azimuth order.
+
+    Returns
+    -------
+    list of K (n_i, n_{i+1}) float64
+    """
+    return [mhd_matrix(views[i], views[(i + 1) % len(views)]) for i in range(len(views))]
+
+
+def other_object_distances(candidates: dict[str, list[np.ndarray]], *, shortlist: int | None = SHORTLIST
+                           ) -> dict[str, list[np.ndarray]]:
+    """rho of Alg. 6.3 (eq. 6.3-6.4): each candidate descriptor's MHD to the nearest candidate of another object.
+
+    Parameters
+    ----------
+    candidates : dict from object to a list of (n_i, M) arrays
+        The extended library: every candidate descriptor of every library view.
+    shortlist : int or None
+        As in :func:`heatdata.distance.nearest_mhd`.
+
+    Returns
+    -------
+    dict from object to a list of (n_i,) float64, matching ``candidates``
+    """
+    if len(candidates) < 2:
+        raise HeatdataError(f"distances to other objects need two or more objects, got {list(candidates)}")
+    stacked = {obj: np.vstack(views) for obj, views in candidates.items()}
+    rho = {}
+    for obj, views in candidates.items():
+        others = np.vstack([d for other, d in stacked.items() if other != obj])
+        _, nearest = nearest_mhd(stacked[obj], others, shortlist=shortlist)
+        rho[obj] = np.split(nearest, np.cumsum([len(v) for v in views])[:-1])
+    return rho
+
+
+def combined_costs(consecutive: list[np.ndarray], rho: list[np.ndarray], alpha: float) -> list[np.ndarray]:
+    """g = alpha c + (1 - alpha) w of eq. 6.11, with w of eq. 6.10: ``w_ab = -rho_a - rho_b`` (Alg. 6.3).
+
+    Parameters
+    ----------
+    consecutive : list of K (n_i, n_{i+1}) arrays
+        c, from :func:`consecutive_costs`.
+    rho : list of K (n_i,) arrays
+        The object's entries of :func:`other_object_distances`.
+    alpha : float in [0, 1]
+        1: penalize local variability only (Alg. 6.2); 0: reward distance to other objects only.
+    """
+    if not 0.0 <= alpha <= 1.0:
+        raise HeatdataError(f"the mixing parameter alpha must be in [0, 1], got {alpha}")
+    k = len(consecutive)
+    return [alpha * c - (1.0 - alpha) * (rho[i][:, None] + rho[(i + 1) % k][None, :])
+            for i, c in enumerate(consecutive)]
+
+
+def _method(alpha: float) -> str:
+    return f"compact alpha={alpha:g}"
+
+
+def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[float], *,
+                      shortlist: int | None = SHORTLIST) -> pd.DataFrame:
+    """Alg. 6.3 for every object, library size and alpha, and the initial library for comparison.
+
+    Parameters
+    ----------
+    candidates : pandas.DataFrame
+        Library (``split = "train"``) rows of :func:`heatdata.dataset.candidate_rows`:
+        the ``candidates`` descriptor rows (one per view and candidate source) and the
+        single-source rows of the initial rule.
+    sizes : list of int
+        Library views per object (evenly spaced in azimuth, :func:`heatdata.evaluate.library_subset`).
+    alphas : list of float
+        Mixing parameters of eq. 6.11.
+    shortlist : int or None
+        For rho, as in :func:`heatdata.distance.nearest_mhd`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per object, library size, method and library view: ``object, label,
+        library_size, descriptor`` (the method: ``initial <rule>`` or ``compact alpha=<a>``),
+        ``view_id, azimuth, source, values, cost`` (the object's summed g around the
+        circle; NaN for the initial library) and ``seconds`` (the LP's).
+    """
+    from .evaluate import library_subset
+
+    train = candidates[candidates["split"] == "train"]
+    failed = train.loc[[not np.all(np.isfinite(v)) for v in train["values"]], "view_id"].unique()
+    if len(failed):
+        log.warning("%d library views could not be described and are left out of the circle: %s", len(failed),
+                    ", ".join(failed[:5]))
+    multi = train[train["source_rule"] == "candidates"]
+    initial = train[(train["source_rule"] != "candidates") & ~train["view_id"].isin(failed)]
+    if multi.empty or initial.empty:
+        raise HeatdataError("compact libraries need candidate rows and initial-rule rows of library views "
+                            "(heatdata.dataset.candidate_rows)")
+    columns = ["object", "label", "view_id", "azimuth", "source", "values"]
+    out = []
+    for size in sizes:
+        subset = library_subset(multi, size)  # chosen among all views, then the failed ones left out
+        subset = subset[~subset["view_id"].isin(failed)]
+        views = {obj: [g for _, g in rows.groupby("azimuth", sort=True)] for obj, rows in subset.groupby("object")}
+        stacked = {obj: [np.stack(g["values"].to_numpy()) for g in groups] for obj, groups in views.items()}
+        tic = time.perf_counter()
+        rho = other_object_distances(stacked, shortlist=shortlist) if min(alphas) < 1.0 else None
+        if rho is not None:
+            log.info("%d views per object: distances to the other objects' candidates in %.1f s", size,
+                     time.perf_counter() - tic)
+        chosen = initial[initial["view_id"].isin(subset["view_id"])]
+        out.append(chosen[columns].assign(library_size=size, descriptor=f"initial {chosen['source_rule'].iloc[0]}",
+                                          cost=np.nan, seconds=0.0))
+        for obj, groups in views.items():
+            name = f"{obj} ({size} views)"
+            if len(groups) < 2:
+                raise HeatdataError(f"{name}: a compact library needs two or more views around the circle")
+            start = time.perf_counter()
+            consecutive = consecutive_costs(stacked[obj])
+            for alpha in alphas:
+                tic = time.perf_counter()
+                costs = consecutive if rho is None or alpha == 1.0 else combined_costs(consecutive, rho[obj], alpha)
+                choice, cost = select_sources(costs, name=f"{name}, alpha {alpha:g}")
+                rows = pd.DataFrame([g.iloc[k] for g, k in zip(groups, choice, strict=True)])[columns]
+                out.append(rows.assign(library_size=size, descriptor=_method(alpha), cost=cost,
+                                       seconds=time.perf_counter() - tic))
+            log.info("%s: sources selected for alpha in %s (%.1f s)", name, alphas, time.perf_counter() - start)
+    return pd.concat(out, ignore_index=True)

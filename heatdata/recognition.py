@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from .distance import mhd_matrix
+from .distance import SHORTLIST, mhd_matrix, nearest_pair_mhd
 
 
 @dataclass
@@ -34,6 +34,33 @@ def nearest_neighbours(queries: np.ndarray, library: np.ndarray, **kwargs) -> Ne
     d = mhd_matrix(queries, library, **kwargs)
     index = np.argmin(d, axis=1)
     return NearestNeighbours(index=index, distance=d[np.arange(len(index)), index])
+
+
+def classify_candidates(candidates: np.ndarray, library: np.ndarray, labels: np.ndarray, *,
+                        shortlist: int | None = SHORTLIST) -> tuple[object, int, int, float]:
+    """Alg. 6.1: the label of the library descriptor nearest to any of a view's candidate descriptors.
+
+    ``D(Z, z) = min_{z' in Z} d(z, z')`` (eq. 6.1), then the nearest library descriptor.
+
+    Parameters
+    ----------
+    candidates : (s, M) float
+        The observed view's descriptors, one per candidate source.
+    library : (N, M) float
+    labels : (N,)
+        Object (or class) of each library descriptor.
+    shortlist : int or None
+        As in :func:`heatdata.distance.nearest_pair_mhd`.
+
+    Returns
+    -------
+    label, candidate, item, distance
+        The predicted label, which candidate and which library descriptor matched, and their distance.
+    """
+    if len(labels) != len(library):
+        raise ValueError(f"{len(labels)} labels for {len(library)} library descriptors")
+    candidate, item, distance = nearest_pair_mhd(candidates, library, shortlist=shortlist)
+    return labels[item], candidate, item, distance
 
 
 def confusion_matrix(true: pd.Series, predicted: pd.Series, labels: list | None = None) -> pd.DataFrame:

@@ -79,6 +79,19 @@ PREDICTION_SCHEMA = pa.schema([
     ("library_size", pa.int64()),
 ])
 
+COMPACT_LIBRARY_SCHEMA = pa.schema([
+    ("object", pa.string()),
+    ("label", pa.string()),
+    ("library_size", pa.int64()),
+    ("descriptor", pa.string()),
+    ("view_id", pa.string()),
+    ("azimuth", pa.float64()),
+    ("source", pa.int64()),
+    ("values", pa.list_(pa.float64())),
+    ("cost", pa.float64()),
+    ("seconds", pa.float64()),
+])
+
 
 def views_to_frame(views: list, plan: pd.DataFrame) -> pd.DataFrame:
     """Views as rows of :data:`VIEW_SCHEMA` (flattened arrays); ``plan`` gives split and seed in order."""

@@ -75,3 +75,37 @@ def test_nearest_neighbours_and_confusion():
 def test_bad_input():
     with pytest.raises(hd.HeatdataError):
         hd.mhd(np.zeros((2, 2)), np.zeros(2))
+
+
+def test_nearest_mhd_is_exact_without_a_shortlist_and_an_upper_bound_with_one():
+    rng = np.random.default_rng(3)
+    queries = np.cumsum(rng.normal(size=(40, 32)), axis=1) * 0.05
+    library = np.cumsum(rng.normal(size=(300, 32)), axis=1) * 0.05
+    full = hd.mhd_matrix(queries, library)
+    index, distance = hd.nearest_mhd(queries, library, shortlist=None)
+    assert np.array_equal(index, full.argmin(axis=1))
+    np.testing.assert_allclose(distance, full.min(axis=1), rtol=1e-6)
+    index, distance = hd.nearest_mhd(queries, library, shortlist=8, block=7)
+    np.testing.assert_allclose(distance, full[np.arange(40), index], rtol=1e-6)  # the MHD of what it returns
+    assert np.all(distance >= full.min(axis=1) - 1e-9)
+    assert np.mean(index == full.argmin(axis=1)) > 0.5  # L1 ranks near matches well
+
+
+def test_l1_bounds_the_mhd_from_above(curves):
+    a, b = curves
+    assert hd.mhd(a, b) <= np.abs(a - b).sum() + 1e-12
+
+
+def test_nearest_pair_over_a_set_of_candidates():
+    rng = np.random.default_rng(4)
+    library = np.cumsum(rng.normal(size=(50, 32)), axis=1) * 0.05
+    candidates = np.cumsum(rng.normal(size=(30, 32)), axis=1) * 0.05
+    candidates[17] = library[23] + 1e-4
+    query, item, distance = hd.nearest_pair_mhd(candidates, library)
+    assert (query, item) == (17, 23) and distance == pytest.approx(32e-4, rel=1e-3)
+    full = hd.mhd_matrix(candidates, library)
+    assert hd.nearest_pair_mhd(candidates, library, shortlist=None)[2] == pytest.approx(full.min(), rel=1e-6)
+    with pytest.raises(hd.HeatdataError, match="one length"):
+        hd.nearest_pair_mhd(candidates, library[:, :16])
+    with pytest.raises(hd.HeatdataError, match="NaN"):
+        hd.nearest_mhd(np.full((1, 32), np.nan), library)

@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 import heatdata as hd
-from heatdata.dataset import describe_view_table, render_object_views, view_plan
+from heatdata.dataset import candidate_view_table, describe_view_table, render_object_views, view_plan
 from heatdata.evaluate import evaluate_library_sizes, library_subset, precision_table
 
 
@@ -52,6 +52,28 @@ def test_render_and_describe_steps(catalog):
     assert len(table) == 5 and table["values"].map(len).eq(16).all()
     plan = view_plan(["cupcake"], 3, 2)
     assert np.array_equal(frame["seed"], plan["seed"])
+
+
+def test_candidate_rows_of_rendered_views(catalog, caplog):
+    row = catalog[catalog["object"] == "cupcake"].iloc[0].to_dict()
+    frame = render_object_views(row, {"train": 2, "test": 1, "elevation": 30.0, "distance": 1.0, "noise": True,
+                                      "seed": 0})
+    spec = hd.DescriptorSpec("pvhk", 16, "center", "polar")
+    table = candidate_view_table(frame, spec, library_count=12, test_count=5)
+    counts = table.groupby(["split", "descriptor"]).size()
+    assert counts["train", "pvhk/polar/candidates/16"] == 24 and counts["test", "pvhk/polar/candidates/16"] == 5
+    assert counts["train", "pvhk/polar/center/16"] == 2 and counts["test", "pvhk/polar/center/16"] == 1
+    assert table.groupby("view_id")["source"].nunique().min() >= 6  # distinct sources
+    single = describe_view_table(frame, [spec])
+    own = table[table["source_rule"] == "center"].set_index("view_id")["values"]
+    for view_id, values in single.set_index("view_id")["values"].items():  # one spectrum = one solve each
+        np.testing.assert_allclose(own[view_id], values, atol=1e-5)
+    with caplog.at_level(logging.WARNING, logger="heatdata.dataset"):
+        failed = candidate_view_table(frame, spec, library_count=10**6, test_count=5)
+    assert "candidate descriptors failed" in caplog.text
+    bad = failed[failed["split"] == "train"]
+    assert len(bad) == 2 and bad["values"].map(lambda v: np.isnan(v).all()).all()
+    assert bad["repairs"].map(lambda r: "vertices off its outer boundary" in r[-1]).all()
 
 
 def fixed_time_rows():

@@ -3,10 +3,12 @@
 import logging
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import heatdata as hd
 import heatdata.library as library
+from heatdata.evaluate import evaluate_compact, precision_table
 
 
 def random_costs(rng, layers, low, high):
@@ -59,3 +61,82 @@ def test_a_missing_solver_is_named(monkeypatch):
     monkeypatch.setattr(library, "SOLVER", "GUROBI_NOT_HERE")
     with pytest.raises(hd.HeatdataError, match="chair-7: the LP solver GUROBI_NOT_HERE is not installed"):
         hd.select_sources([np.ones((2, 2)), np.ones((2, 2))], name="chair-7")
+
+
+def curve(offset, wiggle, m=16):
+    x = np.linspace(0, 2 * np.pi, m, endpoint=False)
+    return offset + 0.1 * np.sin(wiggle * x)
+
+
+def candidate_table(rng):
+    """Two objects, 8 library and 2 test views each. Per library view, candidate 0 is the object's
+    steady curve, 1 a random one and 2 a curve far from everything of the other object that changes from
+    view to view."""
+    rows = []
+    for k, obj in enumerate("ab"):
+        base, far = curve(k, 2 + k), curve(4 + 3 * k, 5)
+        for split, count in (("train", 8), ("test", 2)):
+            for i in range(count):
+                view = dict(object=obj, label="thing", split=split, view_id=f"{obj}/{split}/{i}",
+                            azimuth=360.0 * i / count)
+                values = [base + 0.01 * rng.standard_normal(16), curve(rng.uniform(0, 2), 7), far + 0.5 * (i % 3)]
+                rows += [dict(view, source_rule="candidates", source=s, values=v) for s, v in enumerate(values)]
+                rows.append(dict(view, source_rule="center", source=99, values=curve(rng.uniform(0, 2), 3)))
+    return pd.DataFrame(rows)
+
+
+def test_consecutive_costs_and_other_object_distances_against_brute_force():
+    rng = np.random.default_rng(5)
+    views = [rng.random((n, 16)) for n in (3, 4, 5)]
+    costs = library.consecutive_costs(views)
+    assert [c.shape for c in costs] == [(3, 4), (4, 5), (5, 3)]
+    np.testing.assert_allclose(costs[2], hd.mhd_matrix(views[2], views[0]), rtol=1e-6)
+    other = [rng.random((2, 16))]
+    rho = library.other_object_distances({"a": views, "b": other}, shortlist=None)
+    np.testing.assert_allclose(rho["a"][1], hd.mhd_matrix(views[1], other[0]).min(axis=1), rtol=1e-6)
+    np.testing.assert_allclose(rho["b"][0], hd.mhd_matrix(other[0], np.vstack(views)).min(axis=1), rtol=1e-6)
+    with pytest.raises(hd.HeatdataError, match="two or more objects"):
+        library.other_object_distances({"a": views})
+
+
+def test_combined_costs_mix_the_two_terms():
+    c = [np.array([[1.0, 2.0]]), np.array([[3.0], [4.0]])]
+    rho = [np.array([0.5]), np.array([1.0, 2.0])]
+    assert np.array_equal(library.combined_costs(c, rho, 1.0)[1], c[1])
+    # w_ab = -rho_a - rho_b (eq. 6.10, Alg. 6.3)
+    assert np.array_equal(library.combined_costs(c, rho, 0.0)[0], [[-1.5, -2.5]])
+    assert np.allclose(library.combined_costs(c, rho, 0.25)[1], 0.25 * c[1] - 0.75 * np.array([[1.5], [2.5]]))
+    with pytest.raises(hd.HeatdataError, match="alpha"):
+        library.combined_costs(c, rho, 1.5)
+
+
+def test_compact_libraries_follow_alpha_and_classify_the_test_views():
+    table = candidate_table(np.random.default_rng(6))
+    libraries = library.compact_libraries(table, [8, 4], [0.0, 1.0], shortlist=None)
+    assert set(libraries["descriptor"]) == {"initial center", "compact alpha=0", "compact alpha=1"}
+    sizes = libraries.groupby(["descriptor", "library_size", "object"]).size()
+    assert set(sizes.xs(8, level="library_size")) == {8} and set(sizes.xs(4, level="library_size")) == {4}
+    steady = libraries[libraries["descriptor"] == "compact alpha=1"]
+    assert (steady["source"] == 0).all()  # Alg. 6.2: the candidate that changes least around the circle
+    distant = libraries[libraries["descriptor"] == "compact alpha=0"]
+    assert (distant["source"] == 2).all()  # eq. 6.3: the candidate farthest from the other object
+    assert (libraries.loc[libraries["descriptor"] == "initial center", "source"] == 99).all()
+    predictions = evaluate_compact(table, libraries)
+    assert len(predictions) == 3 * 2 * 4  # libraries x sizes x test views
+    assert predictions.loc[predictions["descriptor"] == "compact alpha=1", "correct"].all()
+    precision = precision_table(predictions)
+    assert set(precision["descriptor"]) == set(libraries["descriptor"])
+
+
+def test_compact_libraries_leave_out_failed_views_and_need_two_views(caplog):
+    table = candidate_table(np.random.default_rng(7))
+    broken = table["view_id"] == "a/train/3"
+    table.loc[broken, "values"] = pd.Series([np.full(16, np.nan)] * int(broken.sum()), index=table.index[broken])
+    with caplog.at_level(logging.WARNING, logger="heatdata.library"):
+        libraries = library.compact_libraries(table, [8], [1.0], shortlist=None)
+    assert "a/train/3" in caplog.text
+    assert len(libraries[(libraries["object"] == "a") & (libraries["descriptor"] == "compact alpha=1")]) == 7
+    with pytest.raises(hd.HeatdataError, match=r"b \(1 views\): a compact library needs two or more views"):
+        library.compact_libraries(table[table["object"] == "b"], [1], [1.0])
+    with pytest.raises(hd.HeatdataError, match="candidate rows and initial-rule rows"):
+        library.compact_libraries(table[table["source_rule"] == "candidates"], [8], [1.0])

@@ -41,10 +41,13 @@ def snakemake(workdir: Path, config: dict, *args: str) -> subprocess.CompletedPr
                            *args], capture_output=True, text=True, timeout=900)
 
 
+COMPACT = {"enabled": True, "library_candidates": 12, "test_candidates": 8, "alphas": [0.25, 1.0]}
+
+
 @pytest.fixture(scope="module")
 def tiny_run(tmp_path_factory):
     workdir = tmp_path_factory.mktemp("workflow")
-    result = snakemake(workdir, tiny_config())
+    result = snakemake(workdir, tiny_config(compact=COMPACT))
     assert result.returncode == 0, result.stderr[-3000:]
     return workdir
 
@@ -88,14 +91,32 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     assert (results / "logs" / "render" / "plastic-cup.log").read_text().count("views rendered") >= 1
 
 
+def test_compact_libraries_and_their_precision(tiny_run):
+    results = tiny_run / "results"
+    candidates, meta = read_table(results / "compact" / "candidates" / "beer-mug.parquet")
+    assert meta["compact"]["library_candidates"] == 12
+    counts = candidates.groupby(["split", "source_rule"]).size()
+    assert counts["train", "candidates"] == 8 * 12 and counts["test", "candidates"] == 6 * 8
+    assert counts["train", "center"] == 8 and candidates["values"].map(len).eq(64).all()
+    libraries, _ = read_table(results / "compact" / "libraries.parquet")
+    per = libraries.groupby(["descriptor", "library_size", "object"]).size()
+    assert set(per.index.get_level_values(0)) == {"initial center", "compact alpha=0.25", "compact alpha=1"}
+    assert per.xs(4, level="library_size").eq(4).all() and per.xs(8, level="library_size").eq(8).all()
+    predictions, _ = read_table(results / "compact" / "predictions.parquet")
+    assert list(predictions.columns) == PREDICTION_SCHEMA.names and len(predictions) == 3 * 2 * 12
+    precision = pd.read_csv(results / "compact" / "precision.csv")
+    assert precision["precision"].between(0, 1).all()
+    assert (results / "figures" / "compact_precision.png").stat().st_size > 10_000
+
+
 def test_rerun_with_nothing_changed_runs_no_job(tiny_run):
-    result = snakemake(tiny_run, tiny_config(), "--dry-run")
+    result = snakemake(tiny_run, tiny_config(compact=COMPACT), "--dry-run")
     assert result.returncode == 0
     assert "Nothing to be done" in result.stdout + result.stderr
 
 
 def test_report_is_self_contained_html(tiny_run):
-    result = snakemake(tiny_run, tiny_config(), "--report", "results/report.html")
+    result = snakemake(tiny_run, tiny_config(compact=COMPACT), "--report", "results/report.html")
     assert result.returncode == 0, result.stderr[-2000:]
     html = (tiny_run / "results" / "report.html").read_text(errors="replace")
     assert len(html) > 100_000 and "rendered" in html
@@ -107,6 +128,9 @@ def test_report_is_self_contained_html(tiny_run):
     ({"objects": ["unicorn"]}, "unicorn"),
     ({"views": {"train": 8, "test": 6, "elevation": 95}}, "95"),
     ({"primary_descriptor": "pvhk/polar/center/64"}, "primary_descriptor"),
+    ({"compact": {"enabled": True}, "library_sizes": [8, 1]}, "two or more views around the circle"),
+    ({"compact": {"enabled": True}, "objects": ["beer-mug"]}, "give two or more objects"),
+    ({"compact": {"enabled": True, "alphas": [1.5]}}, "1.5"),
 ])
 def test_bad_config_is_rejected_before_any_job(tmp_path, overrides, message):
     result = snakemake(tmp_path, tiny_config(**overrides), "--dry-run")

@@ -67,6 +67,12 @@ except HeatdataError as exc:
 FIXED_TIME = any(s.kind == "ft-pvhk" for s in SPECS)  # needs the objects' time scales (Alg. 5.1)
 CATALOG = load_objects()
 OBJECTS = CATALOG.index.tolist()
+if config["compact"]["enabled"]:
+    if min(config["library_sizes"]) < 2:
+        _config_error("compact: a compact library needs two or more views around the circle; "
+                      f"library_sizes has {min(config['library_sizes'])}")
+    if len(OBJECTS) < 2 and min(config["compact"]["alphas"]) < 1:
+        _config_error("compact: alpha < 1 rewards distance to other objects (eq. 6.10); give two or more objects")
 too_large = [s for s in config["library_sizes"] if s > config["views"]["train"]]
 if too_large:
     _config_error(f"library_sizes {too_large} exceed views.train = {config['views']['train']} rendered views")

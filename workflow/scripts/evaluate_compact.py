@@ -1,0 +1,20 @@
+"""Test views against every compact library and the initial one (rule evaluate_compact, Alg. 6.1)."""
+import pandas as pd
+from threadpoolctl import threadpool_limits
+
+from heatdata.cli import setup_logging
+from heatdata.evaluate import evaluate_compact, plot_precision, precision_table
+from heatdata.tables import PREDICTION_SCHEMA, read_table, write_table
+
+setup_logging(path=snakemake.log[0])
+columns = ["object", "label", "view_id", "split", "azimuth", "source_rule", "source", "values"]
+tests = pd.concat([read_table(path, columns=columns, filters=[("split", "==", "test"),
+                                                              ("source_rule", "==", "candidates")])[0]
+                   for path in snakemake.input.candidates], ignore_index=True)
+libraries, meta = read_table(snakemake.input.libraries)
+with threadpool_limits(snakemake.threads):
+    predictions = evaluate_compact(tests, libraries, shortlist=snakemake.params.compact["shortlist"])
+write_table(predictions, snakemake.output.predictions, PREDICTION_SCHEMA, meta)
+precision = precision_table(predictions)
+precision.to_csv(snakemake.output.precision, index=False)
+plot_precision(precision, snakemake.output.figure)
