@@ -10,7 +10,7 @@ from .catalog import catalog_from_folder, import_sh3f, load_catalog_model, read_
 from .descriptors import (COLOR_MAPS, Descriptor, DescriptorSpec, c_pvhk, describe, ft_pvhk, global_derivative,
                           heat_kernel, object_time_scale, part_weights, pvhk, pvst, sample_boundary, source_vertex,
                           view_time_scale)
-from .distance import mhd, mhd_matrix, nearest_mhd, nearest_pair_mhd, weighted_mhd
+from .distance import mhd, mhd_matrix, nearest_pair_mhd, weighted_mhd
 from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
 from .library import combined_costs, consecutive_costs, other_object_distances, select_sources
 from .models import Model, load_model
@@ -29,7 +29,7 @@ __all__ = [
     "Descriptor", "DescriptorSpec", "eigen_spectrum", "first_crossings", "ft_pvhk", "global_derivative",
     "heat_kernel", "heat_model", "HeatdataError", "HeatModel", "HeatOperator", "import_sh3f", "kinect_intrinsics",
     "krylov_heat", "lambda2", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "Model",
-    "ModelError", "nearest_mhd", "nearest_neighbours", "nearest_pair_mhd", "object_time_scale",
+    "ModelError", "nearest_neighbours", "nearest_pair_mhd", "object_time_scale",
     "other_object_distances", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "RenderError",
     "sample_boundary", "select_sources", "source_vertex", "Spectrum", "SpectrumError", "View", "view_time_scale",
     "ViewError", "weighted_mhd", "__version__",

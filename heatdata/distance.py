@@ -22,7 +22,7 @@ from scipy.spatial.distance import cdist
 
 from .errors import HeatdataError
 
-SHORTLIST = 64  # library descriptors nearest in L1 whose exact MHD :func:`nearest_mhd` computes
+SHORTLIST = 64  # pairs nearest in L1 whose exact MHD :func:`nearest_pair_mhd` computes
 
 
 def _curve_x(m: int, dtype) -> np.ndarray:
@@ -163,57 +163,6 @@ def _mhd_tensor(a: np.ndarray, b: np.ndarray, wa: np.ndarray, wb: np.ndarray) ->
     dx2 = (_curve_x(a.shape[-1], a.dtype)[:, None] - _curve_x(b.shape[-1], a.dtype)[None, :]) ** 2
     d2 = (a[..., :, None] - b[..., None, :]) ** 2 + dx2  # (q, n, M, M')
     return np.minimum((np.sqrt(d2.min(axis=3)) * wa).sum(axis=2), (np.sqrt(d2.min(axis=2)) * wb).sum(axis=2))
-
-
-def nearest_mhd(queries: np.ndarray, library: np.ndarray, *, shortlist: int | None = SHORTLIST,
-                block: int = 256, dtype=np.float32) -> tuple[np.ndarray, np.ndarray]:
-    """The library descriptor nearest to each query under eq. 3.1, searched on a shortlist.
-
-    For descriptors of one length the L1 distance ``sum_i |z_i - z'_i|`` is an upper
-    bound of the MHD (pairing each point with the one at the same position), and close
-    to it for near matches. The exact MHD is computed to the ``shortlist`` library
-    descriptors nearest in L1; the result is exact whenever the nearest under the MHD
-    is among them (``shortlist=None``: all, exact). ``benchmarks/bench_nearest_mhd.py``
-    measures how often that holds on view descriptors.
-
-    Parameters
-    ----------
-    queries : (Q, M) float
-    library : (N, M) float
-    shortlist : int or None
-    block : int
-        Queries per batch (the L1 block is block x N).
-
-    Returns
-    -------
-    index : (Q,) int64
-    distance : (Q,) float64
-    """
-    queries = np.atleast_2d(np.asarray(queries, dtype))
-    library = np.atleast_2d(np.asarray(library, dtype))
-    _check_finite(queries, "queries")
-    _check_finite(library, "library")
-    if queries.shape[1] != library.shape[1]:
-        raise HeatdataError(f"nearest_mhd needs descriptors of one length, got {queries.shape[1]} and "
-                            f"{library.shape[1]}")
-    if shortlist is None or shortlist >= len(library):
-        d = mhd_matrix(queries, library, dtype=dtype)
-        index = np.argmin(d, axis=1)
-        return index.astype(np.int64), d[np.arange(len(index)), index]
-    index = np.empty(len(queries), np.int64)
-    distance = np.empty(len(queries))
-    ones = np.ones((1, 1, queries.shape[1]), dtype)
-    for q0 in range(0, len(queries), block):
-        q = queries[q0:q0 + block]
-        near = np.argpartition(cdist(q, library, "cityblock"), shortlist - 1, axis=1)[:, :shortlist]
-        d = np.empty(near.shape)
-        for r0 in range(0, len(q), 16):  # 16 x shortlist pairs at a time: small work arrays
-            rows = slice(r0, r0 + 16)
-            d[rows] = _mhd_offsets(q[rows, None, :], library[near[rows]], ones, ones)
-        best = np.argmin(d, axis=1)
-        index[q0:q0 + block] = near[np.arange(len(q)), best]
-        distance[q0:q0 + block] = d[np.arange(len(q)), best]
-    return index, distance
 
 
 def nearest_pair_mhd(queries: np.ndarray, library: np.ndarray, *, shortlist: int | None = SHORTLIST,

@@ -33,8 +33,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 import scipy.sparse as sp
+from scipy.spatial.distance import cdist
 
-from .distance import SHORTLIST, mhd_matrix, nearest_mhd
 from .errors import HeatdataError
 
 log = logging.getLogger(__name__)
@@ -297,7 +297,11 @@ def cyclic_dp(edge_costs: list) -> tuple[np.ndarray, float]:
 
 
 def consecutive_costs(views: list[np.ndarray]) -> list[np.ndarray]:
-    """c of eq. 6.6: the MHD from each candidate descriptor of view i to each of view i+1 (the last to the first).
+    """c of eq. 6.6: the L1 distance from each candidate of view i to each of view i+1 (the last to the first).
+
+    The same distance as rho (:func:`other_object_distances`), so that alpha in eq. 6.11
+    mixes terms of one unit; for the near matches of neighbouring views it is close to
+    the MHD (which it bounds from above), at a fraction of the cost.
 
     Parameters
     ----------
@@ -308,19 +312,28 @@ def consecutive_costs(views: list[np.ndarray]) -> list[np.ndarray]:
     -------
     list of K (n_i, n_{i+1}) float64
     """
-    return [mhd_matrix(views[i], views[(i + 1) % len(views)]) for i in range(len(views))]
+    for i, values in enumerate(views):
+        if not np.all(np.isfinite(values)):
+            raise HeatdataError(f"view {i}: candidate descriptors hold NaN or infinite values")
+    return [cdist(views[i], views[(i + 1) % len(views)], "cityblock") for i in range(len(views))]
 
 
-def other_object_distances(candidates: dict[str, list[np.ndarray]], *, shortlist: int | None = SHORTLIST
+def other_object_distances(candidates: dict[str, list[np.ndarray]], *, block: int = 1024
                            ) -> dict[str, list[np.ndarray]]:
-    """rho of Alg. 6.3 (eq. 6.3-6.4): each candidate descriptor's MHD to the nearest candidate of another object.
+    """rho of Alg. 6.3 (eq. 6.3-6.4): each candidate's L1 distance to the nearest candidate of another object.
+
+    Eq. 6.3-6.4 and 6.10 write a norm, ``min_z ||z_v - z||``; heatdata takes the L1 norm,
+    ``sum_i |z_i - z'_i|`` (an upper bound of the MHD of eq. 3.1, in its units), for c too.
+    The exact MHD over an extended library of 40 views x 250 candidates per object costs
+    ~12 us per pair, ~40 min per chair, and a shortlist by L1 misses the MHD's nearest
+    for ~30% of the candidates (``benchmarks/bench_nearest_mhd.py``).
 
     Parameters
     ----------
     candidates : dict from object to a list of (n_i, M) arrays
         The extended library: every candidate descriptor of every library view.
-    shortlist : int or None
-        As in :func:`heatdata.distance.nearest_mhd`.
+    block : int
+        Candidates per batch (the work array is block x the other objects' candidates).
 
     Returns
     -------
@@ -329,10 +342,14 @@ def other_object_distances(candidates: dict[str, list[np.ndarray]], *, shortlist
     if len(candidates) < 2:
         raise HeatdataError(f"distances to other objects need two or more objects, got {list(candidates)}")
     stacked = {obj: np.vstack(views) for obj, views in candidates.items()}
+    for obj, values in stacked.items():
+        if not np.all(np.isfinite(values)):
+            raise HeatdataError(f"{obj}: candidate descriptors hold NaN or infinite values")
     rho = {}
     for obj, views in candidates.items():
         others = np.vstack([d for other, d in stacked.items() if other != obj])
-        _, nearest = nearest_mhd(stacked[obj], others, shortlist=shortlist)
+        nearest = np.concatenate([cdist(stacked[obj][k:k + block], others, "cityblock").min(axis=1)
+                                  for k in range(0, len(stacked[obj]), block)])
         rho[obj] = np.split(nearest, np.cumsum([len(v) for v in views])[:-1])
     return rho
 
@@ -360,8 +377,8 @@ def _method(alpha: float) -> str:
     return f"compact alpha={alpha:g}"
 
 
-def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[float], *,
-                      shortlist: int | None = SHORTLIST) -> pd.DataFrame:
+def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[float], *, solver: str = "lp"
+                      ) -> pd.DataFrame:
     """Alg. 6.3 for every object, library size and alpha, and the initial library for comparison.
 
     Parameters
@@ -374,8 +391,10 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
         Library views per object (evenly spaced in azimuth, :func:`heatdata.evaluate.library_subset`).
     alphas : list of float
         Mixing parameters of eq. 6.11.
-    shortlist : int or None
-        For rho, as in :func:`heatdata.distance.nearest_mhd`.
+    solver : {"lp", "dp"}
+        ``"lp"``: :func:`select_sources` (cvxpy). ``"dp"``: :func:`cyclic_dp`, the same
+        optimum (the tests compare them) in seconds where the LP is slow: on near-flat
+        costs, column generation and branching can take minutes per object.
 
     Returns
     -------
@@ -387,6 +406,8 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
     """
     from .evaluate import library_subset
 
+    if solver not in ("lp", "dp"):
+        raise HeatdataError(f"unknown solver {solver!r} (use 'lp' or 'dp')")
     train = candidates[candidates["split"] == "train"]
     failed = train.loc[[not np.all(np.isfinite(v)) for v in train["values"]], "view_id"].unique()
     if len(failed):
@@ -405,7 +426,7 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
         views = {obj: [g for _, g in rows.groupby("azimuth", sort=True)] for obj, rows in subset.groupby("object")}
         stacked = {obj: [np.stack(g["values"].to_numpy()) for g in groups] for obj, groups in views.items()}
         tic = time.perf_counter()
-        rho = other_object_distances(stacked, shortlist=shortlist) if min(alphas) < 1.0 else None
+        rho = other_object_distances(stacked) if min(alphas) < 1.0 else None
         if rho is not None:
             log.info("%d views per object: distances to the other objects' candidates in %.1f s", size,
                      time.perf_counter() - tic)
@@ -421,7 +442,8 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
             for alpha in alphas:
                 tic = time.perf_counter()
                 costs = consecutive if rho is None or alpha == 1.0 else combined_costs(consecutive, rho[obj], alpha)
-                choice, cost = select_sources(costs, name=f"{name}, alpha {alpha:g}")
+                choice, cost = select_sources(costs, name=f"{name}, alpha {alpha:g}") if solver == "lp" else \
+                    cyclic_dp(costs)
                 rows = pd.DataFrame([g.iloc[k] for g, k in zip(groups, choice, strict=True)])[columns]
                 out.append(rows.assign(library_size=size, descriptor=_method(alpha), cost=cost,
                                        seconds=time.perf_counter() - tic))

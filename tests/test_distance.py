@@ -77,20 +77,6 @@ def test_bad_input():
         hd.mhd(np.zeros((2, 2)), np.zeros(2))
 
 
-def test_nearest_mhd_is_exact_without_a_shortlist_and_an_upper_bound_with_one():
-    rng = np.random.default_rng(3)
-    queries = np.cumsum(rng.normal(size=(40, 32)), axis=1) * 0.05
-    library = np.cumsum(rng.normal(size=(300, 32)), axis=1) * 0.05
-    full = hd.mhd_matrix(queries, library)
-    index, distance = hd.nearest_mhd(queries, library, shortlist=None)
-    assert np.array_equal(index, full.argmin(axis=1))
-    np.testing.assert_allclose(distance, full.min(axis=1), rtol=1e-6)
-    index, distance = hd.nearest_mhd(queries, library, shortlist=8, block=7)
-    np.testing.assert_allclose(distance, full[np.arange(40), index], rtol=1e-6)  # the MHD of what it returns
-    assert np.all(distance >= full.min(axis=1) - 1e-9)
-    assert np.mean(index == full.argmin(axis=1)) > 0.5  # L1 ranks near matches well
-
-
 def test_l1_bounds_the_mhd_from_above(curves):
     a, b = curves
     assert hd.mhd(a, b) <= np.abs(a - b).sum() + 1e-12
@@ -108,4 +94,4 @@ def test_nearest_pair_over_a_set_of_candidates():
     with pytest.raises(hd.HeatdataError, match="one length"):
         hd.nearest_pair_mhd(candidates, library[:, :16])
     with pytest.raises(hd.HeatdataError, match="NaN"):
-        hd.nearest_mhd(np.full((1, 32), np.nan), library)
+        hd.nearest_pair_mhd(np.full((1, 32), np.nan), library)

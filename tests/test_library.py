@@ -90,11 +90,13 @@ def test_consecutive_costs_and_other_object_distances_against_brute_force():
     views = [rng.random((n, 16)) for n in (3, 4, 5)]
     costs = library.consecutive_costs(views)
     assert [c.shape for c in costs] == [(3, 4), (4, 5), (5, 3)]
-    np.testing.assert_allclose(costs[2], hd.mhd_matrix(views[2], views[0]), rtol=1e-6)
+    np.testing.assert_allclose(costs[2], np.abs(views[2][:, None, :] - views[0][None, :, :]).sum(axis=2))
     other = [rng.random((2, 16))]
-    rho = library.other_object_distances({"a": views, "b": other}, shortlist=None)
-    np.testing.assert_allclose(rho["a"][1], hd.mhd_matrix(views[1], other[0]).min(axis=1), rtol=1e-6)
-    np.testing.assert_allclose(rho["b"][0], hd.mhd_matrix(other[0], np.vstack(views)).min(axis=1), rtol=1e-6)
+    rho = library.other_object_distances({"a": views, "b": other}, block=2)
+    l1 = np.abs(views[1][:, None, :] - other[0][None, :, :]).sum(axis=2)
+    np.testing.assert_allclose(rho["a"][1], l1.min(axis=1))
+    l1 = np.abs(other[0][:, None, :] - np.vstack(views)[None, :, :]).sum(axis=2)
+    np.testing.assert_allclose(rho["b"][0], l1.min(axis=1))
     with pytest.raises(hd.HeatdataError, match="two or more objects"):
         library.other_object_distances({"a": views})
 
@@ -112,7 +114,7 @@ def test_combined_costs_mix_the_two_terms():
 
 def test_compact_libraries_follow_alpha_and_classify_the_test_views():
     table = candidate_table(np.random.default_rng(6))
-    libraries = library.compact_libraries(table, [8, 4], [0.0, 1.0], shortlist=None)
+    libraries = library.compact_libraries(table, [8, 4], [0.0, 1.0])
     assert set(libraries["descriptor"]) == {"initial center", "compact alpha=0", "compact alpha=1"}
     sizes = libraries.groupby(["descriptor", "library_size", "object"]).size()
     assert set(sizes.xs(8, level="library_size")) == {8} and set(sizes.xs(4, level="library_size")) == {4}
@@ -121,6 +123,10 @@ def test_compact_libraries_follow_alpha_and_classify_the_test_views():
     distant = libraries[libraries["descriptor"] == "compact alpha=0"]
     assert (distant["source"] == 2).all()  # eq. 6.3: the candidate farthest from the other object
     assert (libraries.loc[libraries["descriptor"] == "initial center", "source"] == 99).all()
+    by_dp = library.compact_libraries(table, [8, 4], [0.0, 1.0], solver="dp")
+    assert np.allclose(by_dp["cost"], libraries["cost"], equal_nan=True)
+    with pytest.raises(hd.HeatdataError, match="unknown solver"):
+        library.compact_libraries(table, [8], [1.0], solver="simplex")
     predictions = evaluate_compact(table, libraries)
     assert len(predictions) == 3 * 2 * 4  # libraries x sizes x test views
     assert predictions.loc[predictions["descriptor"] == "compact alpha=1", "correct"].all()
@@ -133,7 +139,7 @@ def test_compact_libraries_leave_out_failed_views_and_need_two_views(caplog):
     broken = table["view_id"] == "a/train/3"
     table.loc[broken, "values"] = pd.Series([np.full(16, np.nan)] * int(broken.sum()), index=table.index[broken])
     with caplog.at_level(logging.WARNING, logger="heatdata.library"):
-        libraries = library.compact_libraries(table, [8], [1.0], shortlist=None)
+        libraries = library.compact_libraries(table, [8], [1.0])
     assert "a/train/3" in caplog.text
     assert len(libraries[(libraries["object"] == "a") & (libraries["descriptor"] == "compact alpha=1")]) == 7
     with pytest.raises(hd.HeatdataError, match=r"b \(1 views\): a compact library needs two or more views"):
