@@ -143,7 +143,10 @@ def _solve(graph: _Graph, pool: list[set], fixed: int | None, excluded: list[int
             branch.append(node_flow[np.asarray(excluded)] == 0)
         problem = cp.Problem(cp.Minimize(cost @ x), [conservation, cut, *branch])
         tic = time.perf_counter()
-        problem.solve(solver=SOLVER)
+        try:
+            problem.solve(solver=SOLVER)
+        except (cp.error.SolverError, ValueError) as exc:
+            raise HeatdataError(f"{name}: the LP solver {SOLVER} failed on the source-selection LP: {exc}") from exc
         log.debug("%s: LP with %d edges: %.2f s (%s; compile %.2f s, solver %.2f s)", name, len(columns),
                   time.perf_counter() - tic, problem.status, problem.compilation_time or 0.0,
                   problem.solver_stats.solve_time or 0.0)

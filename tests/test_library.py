@@ -146,3 +146,12 @@ def test_compact_libraries_leave_out_failed_views_and_need_two_views(caplog):
         library.compact_libraries(table[table["object"] == "b"], [1], [1.0])
     with pytest.raises(hd.HeatdataError, match="candidate rows and initial-rule rows"):
         library.compact_libraries(table[table["source_rule"] == "candidates"], [8], [1.0])
+
+
+def test_an_lp_that_ends_infeasible_is_an_error_naming_the_object():
+    graph = library._Graph([np.ones((2, 2)), np.ones((2, 2))])
+    dead_end = [{(0, 0)}, set()]  # flow can leave view 0 but never come back
+    with pytest.raises(hd.HeatdataError, match="chair-7: the source-selection LP ended infeasible"):
+        library._solve(graph, dead_end, None, [], "chair-7")
+    with pytest.raises(hd.HeatdataError, match="chair-7: the LP solver HIGHS failed"):
+        library._solve(graph, [set(), set()], None, [], "chair-7")  # no edge at all
