@@ -69,9 +69,17 @@ def test_candidate_descriptors_on_a_view_of_two_parts(square):
     np.testing.assert_allclose(a.values, b.values, atol=1e-9)  # the same square, the same heat
 
 
+def test_candidate_pvsts_share_the_view_work_and_match_one_at_a_time(square):
+    spec = hd.DescriptorSpec(kind="pvst", sampling="polar")
+    many = hd.candidate_descriptors(square, [220, 200, 242], spec)
+    assert [d.source for d in many] == [220, 200, 242]
+    one = hd.pvst(square, source=200, sampling="polar")
+    np.testing.assert_allclose(many[1].values, one.values, rtol=1e-9)
+    with pytest.raises(hd.ViewError, match="outer boundary"):
+        hd.candidate_descriptors(square, [220, 0], spec)  # vertex 0 is a corner
+
+
 def test_candidate_descriptors_refuse_what_they_cannot_do(square):
-    with pytest.raises(hd.ViewError, match="one heat solve per source"):
-        hd.candidate_descriptors(square, [220], hd.DescriptorSpec(kind="pvst"))
     with pytest.raises(hd.ViewError, match="needs times="):
         hd.candidate_descriptors(square, [220], hd.DescriptorSpec(kind="ft-pvhk"))
     with pytest.raises(hd.ViewError, match="vertex indices"):
