@@ -11,14 +11,16 @@ from __future__ import annotations
 import logging
 import time
 import zlib
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
 
-from .descriptors import Descriptor, DescriptorSpec, describe, object_time_scale
+from .descriptors import Descriptor, DescriptorSpec, describe, object_time_scale, source_vertex
 from .errors import HeatdataError, SpectrumError, ViewError
 from .models import Model
 from .render import render_view
+from .sources import candidate_descriptors, candidate_sources
 from .view import View, kinect_intrinsics
 
 log = logging.getLogger(__name__)
@@ -140,13 +142,9 @@ def candidate_rows(views: list[View], plan: pd.DataFrame, spec: DescriptorSpec, 
     (None: every vertex off the outline, as in the thesis). A view that cannot be
     described gets one NaN candidate row with the reason in ``repairs``.
     """
-    from .descriptors import source_vertex
-    from .sources import candidate_descriptors, candidate_sources
-
     if len(views) != len(plan):
         raise HeatdataError(f"{len(views)} views but {len(plan)} plan rows")
-    multi = DescriptorSpec(kind=spec.kind, samples=spec.samples, source="candidates", sampling=spec.sampling,
-                           color_map=spec.color_map)
+    multi = replace(spec, source="candidates")
     rows = []
     start = time.perf_counter()
     for count, (view, planned) in enumerate(zip(views, plan.itertuples(), strict=True), 1):

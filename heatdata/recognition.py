@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 
 from .distance import SHORTLIST, mhd_matrix, nearest_pair_mhd
+from .errors import HeatdataError
 
 
 @dataclass
@@ -58,7 +59,7 @@ def classify_candidates(candidates: np.ndarray, library: np.ndarray, labels: np.
         The predicted label, which candidate and which library descriptor matched, and their distance.
     """
     if len(labels) != len(library):
-        raise ValueError(f"{len(labels)} labels for {len(library)} library descriptors")
+        raise HeatdataError(f"{len(labels)} labels for {len(library)} library descriptors")
     candidate, item, distance = nearest_pair_mhd(candidates, library, shortlist=shortlist)
     return labels[item], candidate, item, distance
 

@@ -93,5 +93,9 @@ def test_nearest_pair_over_a_set_of_candidates():
     assert hd.nearest_pair_mhd(candidates, library, shortlist=None)[2] == pytest.approx(full.min(), rel=1e-6)
     with pytest.raises(hd.HeatdataError, match="one length"):
         hd.nearest_pair_mhd(candidates, library[:, :16])
+    label, candidate, item, _ = hd.classify_candidates(candidates, library, np.arange(50) // 10)
+    assert (label, candidate, item) == (2, 17, 23)
+    with pytest.raises(hd.HeatdataError, match="49 labels for 50"):
+        hd.classify_candidates(candidates, library, np.arange(49))
     with pytest.raises(hd.HeatdataError, match="NaN"):
         hd.nearest_pair_mhd(np.full((1, 32), np.nan), library)
