@@ -21,7 +21,8 @@ winding. :func:`select_sources` therefore:
    optimal over all edges kept);
 3. if the result is not integral, branches on the nodes of the smallest layer. Fixing
    one node makes the LP a shortest path (totally unimodular, so integral), and
-   excluding the nodes already tried bounds the rest.
+   excluding the nodes already tried bounds the rest; a node whose cheapest open walk
+   costs at least the best cycle found is excluded without an LP.
 """
 
 from __future__ import annotations
@@ -70,6 +71,7 @@ class _Graph:
     offsets: np.ndarray = field(init=False)  # first node id of each layer
     kept: list[np.ndarray] = field(init=False)  # (n_i, n_i+1) bool: edges some cycle <= upper may use
     upper: float = field(init=False)  # the cost of a known cycle
+    start_bound: np.ndarray = field(init=False)  # (n_0,) cheapest open walk from each layer-0 node
     cycle: np.ndarray = field(init=False)  # (K,) its node per layer
 
     def __post_init__(self):
@@ -81,6 +83,7 @@ class _Graph:
         for c in reversed(self.costs):
             backward.append(np.min(c + backward[-1][None, :], axis=1))
         backward = backward[::-1]
+        self.start_bound = backward[0]
         self.cycle = self._cheapest_cycle_through(int(np.argmin(backward[0])))
         self.upper = float(sum(c[self.cycle[i], self.cycle[(i + 1) % self.layers]] for i, c in enumerate(self.costs)))
         slack = 1e-9 * max(1.0, abs(self.upper))
@@ -248,8 +251,24 @@ def select_sources(edge_costs: list, *, name: str = "object") -> tuple[np.ndarra
     if choice is None:
         log.info("%s: the relaxed LP is fractional (%.6g); branching on the %d candidates of view %d",
                  name, value, graph.nodes(0), shift)
-        best, choice, excluded = np.inf, None, []
+        best, choice, excluded = graph.upper, graph.cycle, []
         while True:
+            # a start whose cheapest open walk costs at least the best cycle found cannot beat it
+            tol = 1e-9 * max(1.0, abs(best))
+            hopeless = [int(s) for s in np.flatnonzero(graph.start_bound >= best - tol) if s not in excluded]
+            if excluded or hopeless:  # else the relaxation solved above still holds
+                excluded += hopeless
+                remaining = np.setdiff1d(np.arange(graph.nodes(0)), excluded)
+                if len(remaining) == 0:
+                    break
+                _add_cycle(graph, pool, int(remaining[0]))
+                value, flows = _solve(graph, pool, None, excluded, name)
+            if value >= best - tol:
+                break
+            integral = _decode(graph, flows)
+            if integral is not None:
+                best, choice = value, integral
+                break
             node_flow = np.bincount(flows[0][0], weights=flows[0][2], minlength=graph.nodes(0))
             node_flow[excluded] = -1.0
             node = int(np.argmax(node_flow))
@@ -261,19 +280,6 @@ def select_sources(edge_costs: list, *, name: str = "object") -> tuple[np.ndarra
             if fixed_value < best:
                 best, choice = fixed_value, path
             excluded.append(node)
-            remaining = np.setdiff1d(np.arange(graph.nodes(0)), excluded)
-            if len(remaining) == 0:
-                break
-            _add_cycle(graph, pool, int(remaining[0]))
-            rest = _solve(graph, pool, None, excluded, name)
-            if rest[0] >= best - 1e-9 * max(1.0, abs(best)):
-                break
-            value, flows = rest
-            integral = _decode(graph, flows)
-            if integral is not None:
-                if value < best:
-                    best, choice = value, integral
-                break
     choice = np.roll(choice, shift).astype(np.int64)
     total = float(sum(edge_costs_i[choice[i], choice[(i + 1) % len(costs)]] for i, edge_costs_i in enumerate(costs)))
     return choice, total
