@@ -106,13 +106,16 @@ def _describe_each(view: View, specs: list[DescriptorSpec], times: dict) -> list
             results += describe(view, [spec], times=times)
         except (ViewError, SpectrumError) as exc:
             log.warning("%s: %s failed: %s", view.name, spec.name, exc)
-            count = spec.samples or len(view.boundary)
-            nan = np.full(count, np.nan)
-            results += [Descriptor(kind=spec.kind, values=nan, positions=nan, source=-1, time=float(t),
-                                   lambda2=np.nan, sampling=spec.sampling, color_map=spec.color_map,
-                                   repairs=(f"{spec.name} failed: {exc}",))
+            results += [_failed(spec, spec.samples or len(view.boundary), float(t), f"{spec.name} failed: {exc}")
                         for t in np.atleast_1d(times.get(spec.name, np.nan))]
     return results
+
+
+def _failed(spec: DescriptorSpec, count: int, time: float, reason: str) -> Descriptor:
+    """The NaN descriptor of a view ``spec`` could not describe, with ``reason`` in its repairs."""
+    nan = np.full(count, np.nan)
+    return Descriptor(kind=spec.kind, values=nan, positions=nan, source=-1, time=time, lambda2=np.nan,
+                      sampling=spec.sampling, color_map=spec.color_map, repairs=(reason,))
 
 
 def _row(view: View, planned, spec: DescriptorSpec, d: Descriptor, seconds: float, time_object: str = "") -> dict:
@@ -155,10 +158,7 @@ def candidate_rows(views: list[View], plan: pd.DataFrame, spec: DescriptorSpec, 
             described = candidate_descriptors(view, np.append(sources, own), spec)
         except (ViewError, SpectrumError) as exc:
             log.warning("%s: candidate descriptors failed: %s", view.name, exc)
-            nan = np.full(spec.samples or 1, np.nan)
-            failed = Descriptor(kind=spec.kind, values=nan, positions=nan, source=-1, time=np.nan, lambda2=np.nan,
-                                sampling=spec.sampling, color_map=spec.color_map,
-                                repairs=(f"candidate descriptors failed: {exc}",))
+            failed = _failed(spec, spec.samples or 1, np.nan, f"candidate descriptors failed: {exc}")
             rows.append(_row(view, planned, multi, failed, time.perf_counter() - tic))
             continue
         seconds = (time.perf_counter() - tic) / len(described)

@@ -36,6 +36,7 @@ import pandas as pd
 import scipy.sparse as sp
 from scipy.spatial.distance import cdist
 
+from .distance import _check_finite
 from .errors import HeatdataError
 
 log = logging.getLogger(__name__)
@@ -63,6 +64,11 @@ def _check(edge_costs: list, name: str) -> list[np.ndarray]:
     return costs
 
 
+def _cycle_cost(costs: list[np.ndarray], choice: np.ndarray) -> float:
+    """The summed edge cost of one node per layer, around the circle."""
+    return float(sum(c[choice[i], choice[(i + 1) % len(costs)]] for i, c in enumerate(costs)))
+
+
 @dataclass
 class _Graph:
     """The layered cyclic graph, with layers rotated so that the smallest comes first."""
@@ -85,7 +91,7 @@ class _Graph:
         backward = backward[::-1]
         self.start_bound = backward[0]
         self.cycle = self._cheapest_cycle_through(int(np.argmin(backward[0])))
-        self.upper = float(sum(c[self.cycle[i], self.cycle[(i + 1) % self.layers]] for i, c in enumerate(self.costs)))
+        self.upper = _cycle_cost(self.costs, self.cycle)
         slack = 1e-9 * max(1.0, abs(self.upper))
         self.kept = [forward[i][:, None] + c + backward[i + 1][None, :] <= self.upper + slack
                      for i, c in enumerate(self.costs)]
@@ -281,8 +287,7 @@ def select_sources(edge_costs: list, *, name: str = "object") -> tuple[np.ndarra
                 best, choice = fixed_value, path
             excluded.append(node)
     choice = np.roll(choice, shift).astype(np.int64)
-    total = float(sum(edge_costs_i[choice[i], choice[(i + 1) % len(costs)]] for i, edge_costs_i in enumerate(costs)))
-    return choice, total
+    return choice, _cycle_cost(costs, choice)
 
 
 def cyclic_dp(edge_costs: list) -> tuple[np.ndarray, float]:
@@ -322,8 +327,7 @@ def consecutive_costs(views: list[np.ndarray]) -> list[np.ndarray]:
     list of K (n_i, n_{i+1}) float64
     """
     for i, values in enumerate(views):
-        if not np.all(np.isfinite(values)):
-            raise HeatdataError(f"view {i}: candidate descriptors hold NaN or infinite values")
+        _check_finite(values, f"view {i}")
     return [cdist(views[i], views[(i + 1) % len(views)], "cityblock") for i in range(len(views))]
 
 
@@ -352,8 +356,7 @@ def other_object_distances(candidates: dict[str, list[np.ndarray]], *, block: in
         raise HeatdataError(f"distances to other objects need two or more objects, got {list(candidates)}")
     stacked = {obj: np.vstack(views) for obj, views in candidates.items()}
     for obj, values in stacked.items():
-        if not np.all(np.isfinite(values)):
-            raise HeatdataError(f"{obj}: candidate descriptors hold NaN or infinite values")
+        _check_finite(values, obj)
     rho = {}
     for obj, views in candidates.items():
         others = np.vstack([d for other, d in stacked.items() if other != obj])
@@ -382,10 +385,6 @@ def combined_costs(consecutive: list[np.ndarray], rho: list[np.ndarray], alpha: 
             for i, c in enumerate(consecutive)]
 
 
-def _method(alpha: float) -> str:
-    return f"compact alpha={alpha:g}"
-
-
 def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[float], *, solver: str = "lp"
                       ) -> pd.DataFrame:
     """Alg. 6.3 for every object, library size and alpha, and the initial library for comparison.
@@ -411,7 +410,7 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
         One row per object, library size, method and library view: ``object, label,
         library_size, descriptor`` (the method: ``initial <rule>`` or ``compact alpha=<a>``),
         ``view_id, azimuth, source, values, cost`` (the object's summed g around the
-        circle; NaN for the initial library) and ``seconds`` (the LP's).
+        circle; NaN for the initial library) and ``seconds`` (building g and selecting).
     """
     from .evaluate import library_subset
 
@@ -454,7 +453,7 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
                 choice, cost = select_sources(costs, name=f"{name}, alpha {alpha:g}") if solver == "lp" else \
                     cyclic_dp(costs)
                 rows = pd.DataFrame([g.iloc[k] for g, k in zip(groups, choice, strict=True)])[columns]
-                out.append(rows.assign(library_size=size, descriptor=_method(alpha), cost=cost,
+                out.append(rows.assign(library_size=size, descriptor=f"compact alpha={alpha:g}", cost=cost,
                                        seconds=time.perf_counter() - tic))
             log.info("%s: sources selected for alpha in %s (%.1f s)", name, alphas, time.perf_counter() - start)
     return pd.concat(out, ignore_index=True)
