@@ -7,24 +7,26 @@
 """
 
 from .catalog import catalog_from_folder, import_sh3f, load_catalog_model, read_catalog
-from .descriptors import (COLOR_MAPS, Descriptor, DescriptorSpec, c_pvhk, describe, ft_pvhk, global_derivative,
-                          heat_kernel, object_time_scale, part_weights, pvhk, pvst, sample_boundary, source_vertex,
-                          view_time_scale)
-from .distance import mhd, mhd_matrix, nearest_pair_mhd, weighted_mhd
+from .distance import chi_square_matrix, mhd, mhd_matrix, nearest_pair_mhd, weighted_mhd
+from .descriptors import (COLOR_MAPS, DESCRIPTORS, Descriptor, DescriptorSpec, c_pvhk, describe, distance, fit_spec,
+                          ft_pvhk, global_derivative, heat_kernel, object_time_scale, part_weights, pvhk, pvst,
+                          sample_boundary, source_vertex, view_time_scale)
 from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
-from .library import combined_costs, consecutive_costs, other_object_distances, select_sources
+from .library import combined_costs, consecutive_costs, library_subset, other_object_distances, select_sources
 from .models import Model, load_model
 from .recognition import accuracy_by, classify_candidates, confusion_matrix, nearest_neighbours
 from .render import camera_pose, render_view
 from .sources import candidate_descriptors, candidate_sources
 from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat,
                        lambda2, laplacian)
+from .version import __version__
 from .view import View, kinect_intrinsics
 
-__version__ = "0.1.0"
+# ``hd.distance`` is the descriptor-level distance function; the module of distance matrices stays
+# importable as ``heatdata.distance`` (``from heatdata.distance import mhd_matrix``).
 
 __all__ = [
-    "accuracy_by", "c_pvhk", "camera_pose", "candidate_descriptors", "candidate_sources", "catalog_from_folder",
+    "accuracy_by", "c_pvhk", "chi_square_matrix", "DESCRIPTORS", "distance", "fit_spec", "library_subset", "camera_pose", "candidate_descriptors", "candidate_sources", "catalog_from_folder",
     "classify_candidates", "COLOR_MAPS", "combined_costs", "confusion_matrix", "consecutive_costs", "describe",
     "Descriptor", "DescriptorSpec", "eigen_spectrum", "first_crossings", "ft_pvhk", "global_derivative",
     "heat_kernel", "heat_model", "HeatdataError", "HeatModel", "HeatOperator", "import_sh3f", "kinect_intrinsics",

@@ -18,43 +18,25 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from . import __version__
 from .catalog import import_sh3f, load_catalog_model, read_catalog
 from .dataset import describe_object, view_plan
-from .descriptors import KINDS, DescriptorSpec, describe
+from .descriptors import COLOR_KIND, DEFAULT_KIND, DESCRIPTORS, KINDS, DescriptorSpec, describe, fit_spec
 from .errors import HeatdataError
-from .evaluate import (RENDERED_NOTE, accuracy_table, classify, draw_example_views, plot_confusion,
-                       plot_view_confusion)
+from .evaluate import accuracy_table, classify
+from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_view_confusion
+from .log import setup_logging
 from .models import load_model
 from .render import render_view
 from .tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, read_table, write_table
+from .version import __version__
 from .view import View
 
 log = logging.getLogger("heatdata")
 
 DEFAULT_CATALOG = Path(__file__).resolve().parents[1] / "data" / "models" / "catalog.csv"
-DEMO_SPECS = [DescriptorSpec("pvhk", 64, source, sampling)
+DEMO_SPECS = [DescriptorSpec(DEFAULT_KIND, 64, source, sampling)
               for source in ("closest", "center") for sampling in ("arclength", "polar")]
-DEMO_SPECS.append(DescriptorSpec("c-pvhk", 64, "center", "polar", "c3"))
-
-
-def setup_logging(verbose: bool = False, path: str | None = None) -> None:
-    """Log heatdata's progress to stderr, or to ``path`` (a Snakemake job's log file).
-
-    With a ``path``, an uncaught error is written to that log too, so a failed job's
-    log names the file or view that failed.
-    """
-    logging.basicConfig(level=logging.DEBUG if verbose else logging.INFO, filename=path, force=path is not None,
-                        format="%(asctime)s %(levelname)s %(name)s: %(message)s", datefmt="%H:%M:%S")
-    if path is not None:
-        def log_and_raise(kind, value, traceback):
-            log.critical("%s: %s", kind.__name__, value, exc_info=(kind, value, traceback))
-            sys.__excepthook__(kind, value, traceback)
-
-        sys.excepthook = log_and_raise
-    logging.getLogger("trimesh").setLevel(logging.WARNING)
-    if not verbose:  # per-view repairs are summarized per object and recorded in the tables
-        logging.getLogger("heatdata.view").setLevel(logging.WARNING)
+DEMO_SPECS.append(DescriptorSpec(COLOR_KIND, 64, "center", "polar", "c3"))
 
 
 def _one_thread() -> None:
@@ -153,10 +135,18 @@ def cmd_render(args: argparse.Namespace) -> None:
 def cmd_describe(args: argparse.Namespace) -> None:
     """Describe a saved view; print the descriptor as JSON."""
     view = View.load(args.view)
-    source = int(args.source) if args.source.isdigit() else args.source
-    kind = args.kind or ("c-pvhk" if args.color_map else "pvhk")
-    spec = DescriptorSpec(kind, None if args.samples == 0 else args.samples, source, args.sampling, args.color_map,
-                          args.threshold)
+    kind = args.kind or (COLOR_KIND if args.color_map else DEFAULT_KIND)
+    given = {"source": int(args.source) if args.source and args.source.isdigit() else args.source,
+             "sampling": args.sampling, "color_map": args.color_map, "threshold": args.threshold}
+    if args.samples is not None:
+        given["samples"] = None if args.samples == 0 else args.samples
+    for item in args.option:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise HeatdataError(f"--option {item!r}: give KEY=VALUE")
+        given[key] = _option_value(value)
+    spec = DescriptorSpec(kind, **given)
+    spec = fit_spec(spec, [view]) if spec.impl.fitted else spec
     d = describe(view, [spec], times=None if args.time is None else [args.time])[0]
     out = {"descriptor": spec.name, "source": d.source, "time": d.time, "lambda2": d.lambda2,
            "repairs": list(view.repairs) + list(d.repairs), "values": np.round(d.values, 8).tolist()}
@@ -177,6 +167,25 @@ def cmd_classify(args: argparse.Namespace) -> None:
     if args.out:
         write_table(predictions, args.out, PREDICTION_SCHEMA, {"descriptors": str(args.descriptors)})
     print(accuracy_table(predictions).loc[["all"]].to_string())
+
+
+def _option_value(text: str):
+    """A command-line option value: a number if it reads as one, else the text."""
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return None if text == "none" else text
+
+
+def cmd_kinds(args: argparse.Namespace) -> None:
+    """List every descriptor kind, whether this machine can compute it, and its options."""
+    for name, kind in KINDS.items():
+        reason = DESCRIPTORS[name]
+        print(f"{name}: {kind.summary}" + ("" if reason is None else f"\n  UNAVAILABLE here: {reason}"))
+        for option in kind.options:
+            print(f"  {option.name} (default {option.default!r}): {option.help}")
 
 
 def cmd_import_sh3f(args: argparse.Namespace) -> None:
@@ -223,11 +232,14 @@ def build_parser() -> argparse.ArgumentParser:
     desc = sub.add_parser("describe", help="PVHK, C-PVHK, FT-PVHK or PVST of a saved view",
                           description=cmd_describe.__doc__)
     desc.add_argument("view", type=Path, help=".npz view written by 'heatdata render'")
-    desc.add_argument("--samples", type=int, default=64, help="boundary samples; 0: one per boundary vertex")
-    desc.add_argument("--source", default="closest", help="closest, center, interior or a vertex index")
-    desc.add_argument("--sampling", default="arclength", choices=["arclength", "polar"])
-    desc.add_argument("--color-map", default=None, help="c1, c2, c3, c4 or hue: compute a C-PVHK")
-    desc.add_argument("--kind", choices=KINDS, help="default pvhk, or c-pvhk with --color-map")
+    desc.add_argument("--samples", type=int, help="boundary samples (default 64); 0: one per boundary vertex")
+    desc.add_argument("--source", help="closest (default), center, interior or a vertex index")
+    desc.add_argument("--sampling", choices=["arclength", "polar"], help="boundary sampling (default arclength)")
+    desc.add_argument("--color-map", default=None, help=f"c1, c2, c3, c4 or hue: compute a {COLOR_KIND}")
+    desc.add_argument("--kind", choices=list(KINDS), help=f"default {DEFAULT_KIND}, or {COLOR_KIND} with "
+                      "--color-map; 'heatdata kinds' lists every kind and its options")
+    desc.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
+                      help="any other option of the kind, e.g. --option seed=3 for an esf (repeatable)")
     desc.add_argument("--time", type=float, help="the fixed time of an ft-pvhk (the object's time scale, Alg. 5.1)")
     desc.add_argument("--threshold", type=float, help="the pvst's threshold T_a (default 0.75 of equilibrium)")
     desc.set_defaults(func=cmd_describe)
@@ -238,6 +250,9 @@ def build_parser() -> argparse.ArgumentParser:
     cls.add_argument("--descriptor", help="descriptor name (default: every one in the table)")
     cls.add_argument("--out", type=Path, help="write predictions.parquet here")
     cls.set_defaults(func=cmd_classify)
+
+    kinds = sub.add_parser("kinds", help="list the descriptor kinds and their options", description=cmd_kinds.__doc__)
+    kinds.set_defaults(func=cmd_kinds)
 
     imp = sub.add_parser("import-sh3f", help="import a Sweet Home 3D furniture library",
                          description=cmd_import_sh3f.__doc__ + " E.g. after 'apt-get install sweethome3d-furniture': "

@@ -11,12 +11,11 @@ from __future__ import annotations
 import logging
 import time
 import zlib
-from dataclasses import replace
-
 import numpy as np
 import pandas as pd
 
-from .descriptors import Descriptor, DescriptorSpec, describe, object_time_scale, source_vertex
+from .descriptors import CANDIDATES_RULE, Descriptor, DescriptorSpec, describe, object_time_scale, source_vertex
+from .descriptors.heat import color_name
 from .errors import HeatdataError, SpectrumError, ViewError
 from .models import Model
 from .render import render_view
@@ -68,17 +67,17 @@ def render_views(model: Model, plan: pd.DataFrame, *, noise: bool = True, intrin
 
 def _ft_times(view: View, split: str, specs: list[DescriptorSpec], time_scales: pd.DataFrame | None
               ) -> dict[str, pd.Series]:
-    """Per ft-pvhk spec, the times to describe ``view`` at, indexed by the object they belong to.
+    """Per time-scaled spec (ft-pvhk), the times to describe ``view`` at, indexed by the object they belong to.
 
     A library view is described at its own object's time scale; a test view, whose object
     is unknown, at every object's (Alg. 5.2 compares it with each object's library at
     that object's time).
     """
-    names = [s.name for s in specs if s.kind == "ft-pvhk"]
+    names = [s.name for s in specs if s.impl.time_scaled]
     if not names:
         return {}
     if time_scales is None:
-        raise HeatdataError("ft-pvhk descriptors need the objects' time scales (Alg. 5.1, time_scale_table)")
+        raise HeatdataError(f"{', '.join(names)} need(s) the objects' time scales (Alg. 5.1, time_scale_table)")
     times = {}
     for name in names:
         scales = time_scales[time_scales["descriptor"] == name].set_index("object")["time_scale"]
@@ -106,7 +105,7 @@ def _describe_each(view: View, specs: list[DescriptorSpec], times: dict) -> list
             results += describe(view, [spec], times=times)
         except (ViewError, SpectrumError) as exc:
             log.warning("%s: %s failed: %s", view.name, spec.name, exc)
-            results += [_failed(spec, spec.samples or len(view.boundary), float(t), f"{spec.name} failed: {exc}")
+            results += [_failed(spec, spec.impl.size(spec, view), float(t), f"{spec.name} failed: {exc}")
                         for t in np.atleast_1d(times.get(spec.name, np.nan))]
     return results
 
@@ -115,17 +114,19 @@ def _failed(spec: DescriptorSpec, count: int, time: float, reason: str) -> Descr
     """The NaN descriptor of a view ``spec`` could not describe, with ``reason`` in its repairs."""
     nan = np.full(count, np.nan)
     return Descriptor(kind=spec.kind, values=nan, positions=nan, source=-1, time=time, lambda2=np.nan,
-                      sampling=spec.sampling, color_map=spec.color_map, repairs=(reason,))
+                      sampling=spec.get("sampling"), color_map=color_name(spec.get("color_map")), repairs=(reason,))
 
 
 def _row(view: View, planned, spec: DescriptorSpec, d: Descriptor, seconds: float, time_object: str = "") -> dict:
-    """One :data:`heatdata.tables.DESCRIPTOR_SCHEMA` row."""
+    """One :data:`heatdata.tables.DESCRIPTOR_SCHEMA` row; boundary columns are null for kinds without them."""
+    boundary = "sampling" in spec.options
     return {
         "object": view.object_id, "label": view.label, "view_id": view.view_id, "split": planned.split,
         "azimuth": view.azimuth, "elevation": view.elevation, "distance": view.distance,
         "seed": planned.seed, "n_vertices": view.n_vertices, "n_boundary": len(view.boundary),
-        "descriptor": spec.name, "kind": spec.kind, "sampling": spec.sampling,
-        "source_rule": str(spec.source), "color_map": d.color_map or "", "source": d.source,
+        "descriptor": spec.name, "kind": spec.kind, "sampling": spec.get("sampling"),
+        "source_rule": str(spec.source) if boundary else None,
+        "color_map": d.color_map or ("" if boundary else None), "source": d.source,
         "time": d.time, "time_object": time_object, "lambda2": d.lambda2, "t_global": 1.0 / d.lambda2,
         "values": d.values.tolist(), "positions": d.positions.tolist(),
         "weights": None if d.weights is None else d.weights.tolist(),
@@ -147,7 +148,7 @@ def candidate_rows(views: list[View], plan: pd.DataFrame, spec: DescriptorSpec, 
     """
     if len(views) != len(plan):
         raise HeatdataError(f"{len(views)} views but {len(plan)} plan rows")
-    multi = replace(spec, source="candidates")
+    multi = spec.replace(source=CANDIDATES_RULE)
     rows = []
     start = time.perf_counter()
     for count, (view, planned) in enumerate(zip(views, plan.itertuples(), strict=True), 1):
@@ -158,7 +159,7 @@ def candidate_rows(views: list[View], plan: pd.DataFrame, spec: DescriptorSpec, 
             described = candidate_descriptors(view, np.append(sources, own), spec)
         except (ViewError, SpectrumError) as exc:
             log.warning("%s: candidate descriptors failed: %s", view.name, exc)
-            failed = _failed(spec, spec.samples or 1, np.nan, f"candidate descriptors failed: {exc}")
+            failed = _failed(spec, spec.impl.size(spec, view), np.nan, f"candidate descriptors failed: {exc}")
             rows.append(_row(view, planned, multi, failed, time.perf_counter() - tic))
             continue
         seconds = (time.perf_counter() - tic) / len(described)
@@ -194,7 +195,7 @@ def descriptor_rows(views: list[View], plan: pd.DataFrame, specs: list[Descripto
         descriptors = _describe_each(view, specs, {name: t.to_numpy() for name, t in ft_times.items()})
         seconds = (time.perf_counter() - tic) / len(descriptors)
         labelled = [(spec, obj) for spec in specs
-                    for obj in (ft_times[spec.name].index if spec.kind == "ft-pvhk" else [""])]
+                    for obj in (ft_times[spec.name].index if spec.impl.time_scaled else [""])]
         for (spec, time_object), d in zip(labelled, descriptors, strict=True):
             rows.append(_row(view, planned, spec, d, seconds, time_object))
         if count % progress_every == 0 or count == len(views):
@@ -218,7 +219,7 @@ def time_scale_table(views: list[View], plan: pd.DataFrame, specs: list[Descript
             library.setdefault(view.object_id, []).append(view)
     rows, scales = [], {}
     for spec in specs:
-        if spec.kind != "ft-pvhk":
+        if not spec.impl.time_scaled:
             continue
         for obj, object_views in library.items():
             key = (obj, str(spec.source))

@@ -199,3 +199,37 @@ def nearest_pair_mhd(queries: np.ndarray, library: np.ndarray, *, shortlist: int
                         for k in range(0, len(pairs), 4096)])
     best = int(np.argmin(d))
     return int(q[best]), int(n[best]), float(d[best])
+
+
+def chi_square_matrix(queries: np.ndarray, library: np.ndarray, *, chunk_elements: int = 2 ** 22) -> np.ndarray:
+    """The chi-square distance ``sum_k (a_k - b_k)^2 / (a_k + b_k) / 2`` between histograms (0/0 counts 0).
+
+    The customary distance of histogram descriptors (VFH, FPFH, ESF, bags of words); 0
+    for equal histograms and 1 for normalized histograms with disjoint support.
+
+    Parameters
+    ----------
+    queries : (Q, D) float
+    library : (N, D) float
+        Non-negative histograms.
+
+    Returns
+    -------
+    (Q, N) float64
+    """
+    queries = np.atleast_2d(np.asarray(queries, np.float64))
+    library = np.atleast_2d(np.asarray(library, np.float64))
+    _check_finite(queries, "queries")
+    _check_finite(library, "library")
+    if queries.shape[1] != library.shape[1]:
+        raise HeatdataError(f"histograms of {queries.shape[1]} and {library.shape[1]} bins cannot be compared")
+    if np.any(queries < 0) or np.any(library < 0):
+        raise HeatdataError("chi-square distances need non-negative histograms")
+    out = np.empty((len(queries), len(library)))
+    block = max(1, chunk_elements // max(1, len(library) * queries.shape[1]))
+    for q0 in range(0, len(queries), block):
+        a = queries[q0:q0 + block, None, :]
+        total = a + library[None, :, :]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out[q0:q0 + block] = 0.5 * np.where(total > 0, (a - library[None]) ** 2 / total, 0.0).sum(axis=2)
+    return out

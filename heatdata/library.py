@@ -396,7 +396,7 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
         the ``candidates`` descriptor rows (one per view and candidate source) and the
         single-source rows of the initial rule.
     sizes : list of int
-        Library views per object (evenly spaced in azimuth, :func:`heatdata.evaluate.library_subset`).
+        Library views per object (evenly spaced in azimuth, :func:`library_subset`).
     alphas : list of float
         Mixing parameters of eq. 6.11.
     solver : {"lp", "dp"}
@@ -412,7 +412,6 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
         ``view_id, azimuth, source, values, cost`` (the object's summed g around the
         circle; NaN for the initial library) and ``seconds`` (building g and selecting).
     """
-    from .evaluate import library_subset
 
     if solver not in ("lp", "dp"):
         raise HeatdataError(f"unknown solver {solver!r} (use 'lp' or 'dp')")
@@ -457,3 +456,22 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
                                        seconds=time.perf_counter() - tic))
             log.info("%s: sources selected for alpha in %s (%.1f s)", name, alphas, time.perf_counter() - start)
     return pd.concat(out, ignore_index=True)
+
+
+def library_subset(descriptors: pd.DataFrame, size: int, split: str = "train") -> pd.DataFrame:
+    """The ``size`` library views per object evenly spaced in azimuth among the ``split`` views (3.4.1).
+
+    Raises
+    ------
+    HeatdataError
+        An object has fewer library views than ``size``.
+    """
+    library = descriptors[descriptors["split"] == split]
+    chosen = []
+    for obj, views in library.groupby("object")["azimuth"]:
+        angles = np.sort(views.unique())
+        if size > len(angles):
+            raise HeatdataError(f"library size {size} is larger than the {len(angles)} {split} views of {obj!r}")
+        keep = angles[np.floor(np.arange(size) * len(angles) / size).astype(int)]
+        chosen.append(library[(library["object"] == obj) & library["azimuth"].isin(keep)])
+    return pd.concat(chosen)

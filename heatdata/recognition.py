@@ -19,20 +19,24 @@ class NearestNeighbours:
     distance: np.ndarray
 
 
-def nearest_neighbours(queries: np.ndarray, library: np.ndarray, **kwargs) -> NearestNeighbours:
-    """Nearest library descriptor of each query under eq. 3.1.
+def nearest_neighbours(queries: np.ndarray, library: np.ndarray, *, distance=mhd_matrix, **kwargs
+                       ) -> NearestNeighbours:
+    """Nearest library descriptor of each query, under eq. 3.1 or a kind's own distance.
 
     Parameters
     ----------
     queries : (Q, M) float
     library : (N, M') float
+    distance : callable
+        ``distance(queries, library, **kwargs)`` -> (Q, N), e.g. a kind's
+        :meth:`heatdata.descriptors.Kind.distance_matrix`; default :func:`heatdata.mhd_matrix`.
 
     Returns
     -------
     NearestNeighbours
         ``index`` (Q,) int and ``distance`` (Q,) float.
     """
-    d = mhd_matrix(queries, library, **kwargs)
+    d = distance(queries, library, **kwargs)
     index = np.argmin(d, axis=1)
     return NearestNeighbours(index=index, distance=d[np.arange(len(index)), index])
 

@@ -9,20 +9,16 @@ sources, found by simplifying the view's mesh (the thesis: library views simplif
 from __future__ import annotations
 
 import logging
-from dataclasses import replace
-
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .descriptors import Descriptor, DescriptorSpec, color_rates, describe, heat_operator, sample_boundary
+from .descriptors import Descriptor, DescriptorSpec
 from .errors import ViewError
-from .spectrum import eigen_spectrum
 from .view import View
 
 log = logging.getLogger(__name__)
 
 MAX_PASSES = 8  # quadric decimation passes; an open view needs 2-3 to reach its target
-TRUNCATION = 1e-7  # exp(-lambda_k t) of the first mode left out of the multi-source expansion
 
 
 def _decimated_vertices(view: View, count: int) -> np.ndarray:
@@ -106,16 +102,16 @@ def candidate_sources(view: View, count: int | None = 250) -> np.ndarray:
 
 def candidate_descriptors(view: View, sources: np.ndarray, spec: DescriptorSpec, *, times=None,
                           modes: int = 32) -> list[Descriptor]:
-    """One descriptor per source, all from one eigen-decomposition per connected component (6.2.1).
+    """One descriptor per source of a view (6.2.1), computed the way the spec's kind shares work.
 
-    The normalized temperatures at the boundary for every source at once are
-    ``Phi_B diag(exp(-lambda t)) Phi_S^T`` times ``sum(c)`` (eq. 2.9/2.11 with the heat
-    kernel's symmetry); the eigenpairs are doubled until the first mode left out weighs
-    less than 1e-7 at the earliest time.
-
-    A PVST's crossing times need early times, where a truncated expansion is not
-    accurate: its sources share one factorization and lambda_2, and each gets its own
-    heat model (:func:`heatdata.describe`): 250 took 15.7 s on a 4,263-vertex chair view.
+    Heat kinds (PVHK, C-PVHK, FT-PVHK) come from one eigen-decomposition per connected
+    component, ``Phi_B diag(exp(-lambda t)) Phi_S^T`` times ``sum(c)`` (eq. 2.9/2.11 with
+    the heat kernel's symmetry), with eigenpairs doubled until the first mode left out
+    weighs less than 1e-7 at the earliest time. A PVST's crossing times need early
+    times, where a truncated expansion is not accurate: its sources share one
+    factorization and lambda_2, and each gets its own heat model (250 took 15.7 s on a
+    4,263-vertex chair view). Kinds without a source (the histogram baselines) are an
+    error.
 
     Parameters
     ----------
@@ -123,9 +119,9 @@ def candidate_descriptors(view: View, sources: np.ndarray, spec: DescriptorSpec,
     sources : (s,) int
         Source vertices (e.g. :func:`candidate_sources`).
     spec : DescriptorSpec
-        Any kind; the spec's own source rule is not used.
+        A kind with ``multi_source``; the spec's own source rule is not used.
     times : float or sequence of float
-        The fixed times of an ``ft-pvhk`` (one descriptor per source and time).
+        The fixed times of a time-scaled kind (``ft-pvhk``; one descriptor per source and time).
     modes : int
         Eigenpairs to start with.
 
@@ -134,39 +130,7 @@ def candidate_descriptors(view: View, sources: np.ndarray, spec: DescriptorSpec,
     list of Descriptor
         Source-major: for each source in the order given, one per time. No part weights.
     """
-    if spec.kind == "ft-pvhk" and times is None:
-        raise ViewError(f"{view.name}: the ft-pvhk {spec.name} needs times= (the object's time scale, Alg. 5.1)")
     sources = np.asarray(sources, dtype=np.int64)
     if sources.ndim != 1 or len(sources) == 0 or sources.min() < 0 or sources.max() >= view.n_vertices:
         raise ViewError(f"{view.name}: sources must be a non-empty list of vertex indices in 0..{view.n_vertices - 1}")
-    if spec.kind == "pvst":  # one describe call: the sources share the factorization and lambda_2
-        return describe(view, [replace(spec, source=int(s)) for s in sources])
-    labels = view.component_labels[sources]
-    out: dict[int, list[Descriptor]] = {}
-    for label in np.unique(labels):
-        group = np.flatnonzero(labels == label)
-        connected = view.component_of(int(sources[group[0]]))[0]
-        local = np.cumsum(view.component_labels == label) - 1  # view vertex -> component vertex
-        on_boundary = np.isin(local[sources[group]], connected.boundary)
-        if on_boundary.any():
-            log.info("%s: %d of %d sources are on the outer boundary", view.name, int(on_boundary.sum()), len(group))
-        op = heat_operator(connected, None if spec.color_map is None else color_rates(connected, spec.color_map))
-        spectrum = eigen_spectrum(op, modes)
-        while True:
-            spec_times = (1.0 / spectrum.lambda2,) if spec.kind != "ft-pvhk" else \
-                tuple(float(t) for t in np.atleast_1d(times))
-            if spectrum.truncation(min(spec_times)) <= TRUNCATION or len(spectrum.values) >= op.n - 2:
-                break
-            spectrum = eigen_spectrum(op, 2 * len(spectrum.values))
-        lam2 = spectrum.lambda2
-        repairs = tuple(connected.repairs[len(view.repairs):])
-        per_time = []
-        for t in spec_times:
-            heat = spectrum.heat(local[sources[group]], t, at=connected.boundary)  # (s, b)
-            values, positions = sample_boundary(connected, connected.boundary, heat, spec.samples, spec.sampling)
-            per_time.append(values)
-        for row, g in enumerate(group):
-            out[int(g)] = [Descriptor(kind=spec.kind, values=v[row], positions=positions, source=int(sources[g]),
-                                      time=t, lambda2=lam2, sampling=spec.sampling, color_map=spec.color_map,
-                                      repairs=repairs) for t, v in zip(spec_times, per_time, strict=True)]
-    return [d for g in range(len(sources)) for d in out[g]]
+    return spec.impl.candidates(view, sources, spec, times=times, modes=modes)

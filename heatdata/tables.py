@@ -118,7 +118,7 @@ def frame_to_views(frame: pd.DataFrame) -> list:
 
 def write_table(frame: pd.DataFrame, path: str | Path, schema: pa.Schema, metadata: dict | None = None) -> None:
     """Write ``frame`` as Parquet with ``schema`` and JSON-encoded ``metadata``."""
-    from . import __version__
+    from .version import __version__
 
     missing = [name for name in schema.names if name not in frame.columns]
     if missing:

@@ -13,7 +13,7 @@ import argparse
 
 import numpy as np
 
-from heatdata.evaluate import library_subset
+from heatdata.library import library_subset
 from heatdata.recognition import nearest_neighbours
 from heatdata.tables import read_table
 

@@ -8,7 +8,7 @@ import scipy.linalg
 from scipy.optimize import brentq
 
 import heatdata as hd
-import heatdata.descriptors as descriptors
+import heatdata.descriptors.heat as descriptors
 from heatdata.descriptors import heat_operator
 from heatdata.spectrum import lambda2
 

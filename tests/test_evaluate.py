@@ -8,7 +8,8 @@ import pytest
 
 import heatdata as hd
 from heatdata.dataset import candidate_view_table, describe_view_table, render_object_views, view_plan
-from heatdata.evaluate import evaluate_library_sizes, library_subset, precision_table
+from heatdata.evaluate import evaluate_library_sizes, precision_table
+from heatdata.library import library_subset
 
 
 def fake_descriptors(objects=("a", "b"), n_train=8, n_test=4):

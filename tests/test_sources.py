@@ -51,7 +51,7 @@ def test_candidate_descriptors_from_one_spectrum_match_one_solve_per_source(mug,
     assert len(many) == len(sources) * (2 if times else 1)
     for k in (0, 7, 19):  # against the Krylov solve of describe(), source by source
         single = hd.describe(view, [hd.DescriptorSpec(kind=kind, sampling="polar", source=int(sources[k]),
-                                                      color_map=spec.color_map)],
+                                                      color_map=spec.get("color_map"))],
                              times=times, part_weights=False)
         for j, one in enumerate(single):
             d = many[k * len(single) + j]

@@ -4,7 +4,7 @@ from pathlib import Path
 
 import heatdata
 from heatdata.catalog import catalog_from_folder, read_catalog, sh3f_catalogs
-from heatdata.descriptors import DescriptorSpec
+from heatdata.descriptors import DESCRIPTORS, DescriptorSpec
 from heatdata.errors import HeatdataError
 from snakemake.exceptions import WorkflowError
 
@@ -53,21 +53,35 @@ def load_objects():
 
 
 def descriptor_specs():
-    specs = [DescriptorSpec(**d) for d in config["descriptors"]]
+    """The configured descriptors, each checked against its kind (options, availability on this machine)."""
+    specs = []
+    for k, d in enumerate(config["descriptors"]):
+        try:
+            spec = DescriptorSpec(**d)
+        except (HeatdataError, TypeError) as exc:
+            _config_error(f"descriptors[{k}]: {exc}")
+        if DESCRIPTORS[spec.kind] is not None:
+            _config_error(f"descriptors[{k}]: {spec.kind} is not available here: {DESCRIPTORS[spec.kind]}")
+        specs.append(spec)
     names = [s.name for s in specs]
+    if len(set(names)) < len(names):
+        _config_error(f"descriptors: the same descriptor twice in {names}")
     if config["primary_descriptor"] not in names:
         _config_error(f"primary_descriptor {config['primary_descriptor']!r} is not one of descriptors {names}")
     return specs
 
 
-try:
-    SPECS = descriptor_specs()
-except HeatdataError as exc:
-    _config_error(f"descriptors: {exc}")
-FIXED_TIME = any(s.kind == "ft-pvhk" for s in SPECS)  # needs the objects' time scales (Alg. 5.1)
+SPECS = descriptor_specs()
+FIXED_TIME = any(s.impl.time_scaled for s in SPECS)  # needs the objects' time scales (Alg. 5.1)
 CATALOG = load_objects()
 OBJECTS = CATALOG.index.tolist()
 if config["compact"]["enabled"]:
+    try:
+        COMPACT_SPEC = DescriptorSpec(**config["compact"]["descriptor"])
+    except (HeatdataError, TypeError) as exc:
+        _config_error(f"compact.descriptor: {exc}")
+    if not COMPACT_SPEC.impl.multi_source:
+        _config_error(f"compact.descriptor: a {COMPACT_SPEC.kind} has no heat source to take candidates of (ch. 6)")
     if min(config["library_sizes"]) < 2:
         _config_error("compact: a compact library needs two or more views around the circle; "
                       f"library_sizes has {min(config['library_sizes'])}")

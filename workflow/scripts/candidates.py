@@ -1,7 +1,7 @@
 """Candidate-source descriptors of one object's views (rule candidates, thesis 6.2)."""
 from threadpoolctl import threadpool_limits
 
-from heatdata.cli import setup_logging
+from heatdata.log import setup_logging
 from heatdata.dataset import candidate_view_table
 from heatdata.descriptors import DescriptorSpec
 from heatdata.tables import DESCRIPTOR_SCHEMA, read_table, write_table

@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from heatdata.cli import setup_logging
+from heatdata.log import setup_logging
 
 setup_logging(path=snakemake.log[0])
 table = pd.read_json(io.StringIO(snakemake.params.rows), orient="records", dtype=False)

@@ -1,5 +1,5 @@
 """Nearest-neighbour predictions of one descriptor for one library size (rule classify)."""
-from heatdata.cli import setup_logging
+from heatdata.log import setup_logging
 from heatdata.evaluate import evaluate_library_sizes
 from heatdata.tables import PREDICTION_SCHEMA, read_table, write_table
 

@@ -1,5 +1,5 @@
 """One descriptor table for the run (rule collect_descriptors), streamed object by object."""
-from heatdata.cli import setup_logging
+from heatdata.log import setup_logging
 from heatdata.tables import concat_tables
 
 setup_logging(path=snakemake.log[0])

@@ -2,7 +2,7 @@
 import pandas as pd
 from threadpoolctl import threadpool_limits
 
-from heatdata.cli import setup_logging
+from heatdata.log import setup_logging
 from heatdata.library import compact_libraries
 from heatdata.tables import COMPACT_LIBRARY_SCHEMA, read_table, write_table
 

@@ -2,7 +2,7 @@
 import pandas as pd
 from threadpoolctl import threadpool_limits
 
-from heatdata.cli import setup_logging
+from heatdata.log import setup_logging
 from heatdata.dataset import describe_view_table
 from heatdata.descriptors import DescriptorSpec
 from heatdata.tables import DESCRIPTOR_SCHEMA, read_table, write_table

@@ -1,7 +1,7 @@
 """All predictions of the run and their precision table (rule evaluate)."""
 import pandas as pd
 
-from heatdata.cli import setup_logging
+from heatdata.log import setup_logging
 from heatdata.evaluate import precision_table
 from heatdata.tables import PREDICTION_SCHEMA, read_table, write_table
 

@@ -2,8 +2,9 @@
 import pandas as pd
 from threadpoolctl import threadpool_limits
 
-from heatdata.cli import setup_logging
-from heatdata.evaluate import evaluate_compact, plot_precision, precision_table
+from heatdata.log import setup_logging
+from heatdata.evaluate import evaluate_compact, precision_table
+from heatdata.figures import plot_precision
 from heatdata.tables import PREDICTION_SCHEMA, read_table, write_table
 
 setup_logging(path=snakemake.log[0])

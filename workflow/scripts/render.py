@@ -3,7 +3,7 @@ import json
 
 from threadpoolctl import threadpool_limits
 
-from heatdata.cli import setup_logging
+from heatdata.log import setup_logging
 from heatdata.dataset import render_object_views
 from heatdata.tables import VIEW_SCHEMA, write_table
 

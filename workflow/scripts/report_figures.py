@@ -1,6 +1,6 @@
 """Figures and summary of the report (rule report_figures)."""
-from heatdata.cli import setup_logging
-from heatdata.evaluate import draw_report
+from heatdata.log import setup_logging
+from heatdata.report import draw_report
 
 setup_logging(path=snakemake.log[0])
 draw_report(snakemake.input.descriptors, snakemake.input.predictions, snakemake.input.precision,

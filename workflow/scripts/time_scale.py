@@ -1,7 +1,7 @@
 """One object's time scale for each FT-PVHK descriptor, from its library views (rule time_scale, Alg. 5.1)."""
 from threadpoolctl import threadpool_limits
 
-from heatdata.cli import setup_logging
+from heatdata.log import setup_logging
 from heatdata.dataset import view_table_time_scales
 from heatdata.descriptors import DescriptorSpec
 from heatdata.tables import read_table

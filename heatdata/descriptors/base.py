@@ -1,0 +1,326 @@
+"""Descriptor types and the registry of kinds: one :class:`Kind` object per descriptor kind.
+
+Everything outside this package asks a kind what to do instead of comparing kind
+names: how it is computed on a view (:meth:`Kind.compute`, sharing the view's work),
+its distance (:meth:`Kind.distance_matrix`), whether it is learned on library views
+(:attr:`Kind.fitted`), whether it is described at the objects' time scales
+(:attr:`Kind.time_scaled`, Alg. 5.1-5.2), whether it can be computed from many sources
+of one view (:attr:`Kind.multi_source`, ch. 6), and whether this machine can compute it
+(:meth:`Kind.unavailable`).
+
+A new kind is one module in this package that defines a :class:`Kind` subclass and
+calls :func:`register` on an instance; the package imports every module in it.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import HeatdataError, ViewError
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class Descriptor:
+    """One descriptor of one view.
+
+    Attributes
+    ----------
+    kind : str
+        A registered kind (:data:`DESCRIPTORS`).
+    values : (M,) float64
+        Boundary kinds: normalized temperatures (equilibrium = 1) along the boundary, or
+        for a ``pvst`` the first times they reach the threshold (NaN where they do not).
+        Histogram kinds: the normalized histogram (sums to 1).
+    positions : (M,) float64
+        Where each value was taken: fraction of the boundary length (arclength, and
+        per-vertex descriptors), polar angle / 2 pi (polar), or bin / M (histograms).
+    source : int
+        Source vertex, indexed in the view passed in; -1 for kinds without a source.
+    time : float
+        Stopping time: t_s = 1/lambda_2 (PVHK), the fixed time (FT-PVHK), the end of the
+        search window (PVST); NaN for kinds without one.
+    lambda2 : float
+        First non-zero eigenvalue of the (coloured) view; NaN when it was not needed.
+    sampling : str or None
+        Boundary sampling; None for histogram kinds.
+    color_map : str or None
+    repairs : tuple of str
+        Repairs made to the view for this descriptor (e.g. a component kept).
+    weights : (M,) float64 or None
+        Part weights rho of eq. 5.13 at the same samples (FT-PVHK), else None.
+    """
+
+    kind: str
+    values: np.ndarray
+    positions: np.ndarray
+    source: int
+    time: float
+    lambda2: float
+    sampling: str | None
+    color_map: str | None = None
+    repairs: tuple = field(default_factory=tuple)
+    weights: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Option:
+    """One option of a kind: its default, a check that returns the value to keep, and help text.
+
+    ``check(value)`` raises :class:`ValueError` or :class:`TypeError` with what is wrong;
+    the spec turns that into a :class:`heatdata.ViewError` naming the kind and option.
+    A default of None is kept as None without a check.
+    """
+
+    name: str
+    default: Any
+    help: str
+    check: Callable[[Any], Any] = lambda value: value
+    #: None given for this option means its default (False: None is a value, e.g. samples=None)
+    none_is_default: bool = True
+
+
+def integer(low: int, high: int | None = None, *, allow_none: bool = False) -> Callable[[Any], Any]:
+    """A check for whole numbers in ``[low, high]`` (bools and floats such as 2.5 are refused)."""
+    def check(value):
+        if value is None and allow_none:
+            return None
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+            raise TypeError(f"must be a whole number, got {value!r}")
+        if value < low or (high is not None and value > high):
+            raise ValueError(f"must be in {low}..{'' if high is None else high}, got {value}")
+        return int(value)
+    return check
+
+
+def number(low: float, high: float, *, open_low: bool = True) -> Callable[[Any], Any]:
+    """A check for real numbers in ``(low, high]`` (``[low, high]`` with ``open_low=False``)."""
+    def check(value):
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+            raise TypeError(f"must be a number, got {value!r}")
+        value = float(value)
+        if not np.isfinite(value) or value > high or value < low or (open_low and value == low):
+            raise ValueError(f"must be in {'(' if open_low else '['}{low:g}, {high:g}], got {value}")
+        return value
+    return check
+
+
+def one_of(choices) -> Callable[[Any], Any]:
+    def check(value):
+        if value not in choices:
+            raise ValueError(f"must be one of {', '.join(map(str, choices))}, got {value!r}")
+        return value
+    return check
+
+
+class Kind:
+    """What a descriptor kind is and how the rest of heatdata uses it.
+
+    Subclasses set the class attributes and implement :meth:`compute`; the defaults
+    suit a kind with no source, no fitting and no time scales.
+    """
+
+    #: the kind's name, e.g. ``"pvhk"``
+    name: str = ""
+    #: one line for ``heatdata kinds`` and the docs, with the thesis section
+    summary: str = ""
+    #: the options, in the order positional spec arguments take them
+    options: tuple[Option, ...] = ()
+    #: learned on library views before use (:func:`fit_spec`), e.g. SI-HKS's codebook
+    fitted: bool = False
+    #: described at given fixed times (the objects' time scales, Alg. 5.1); a test view once per object
+    time_scaled: bool = False
+    #: can be computed from many sources of one view (:func:`heatdata.candidate_descriptors`, ch. 6)
+    multi_source: bool = False
+    #: the descriptor carries part weights used by its distance (eq. 5.14)
+    weighted: bool = False
+    #: what :meth:`distance_matrix` computes, for figure titles
+    distance_name: str = ""
+
+    def unavailable(self) -> str | None:
+        """Why this machine cannot compute the kind (a missing tool), or None."""
+        return None
+
+    def validate(self, options: dict) -> dict:
+        """Checks across options, after each option's own check; returns the options to keep."""
+        return options
+
+    def label(self, options: Mapping) -> str:
+        """The stable name of a spec: the kind, then each option that differs from its default."""
+        defaults = {o.name: o.default for o in self.options}
+        parts = [self.name] + [f"{k}={v}" for k, v in options.items() if v != defaults[k]]
+        return "/".join(parts)
+
+    def compute(self, work, spec: "DescriptorSpec", **context) -> list[Descriptor]:
+        """The descriptors of ``spec`` on the view of ``work`` (a :class:`heatdata.descriptors.work.ViewWork`).
+
+        ``context`` holds what :func:`heatdata.describe` was given (``times``,
+        ``part_weights``, ``t_final``, ``method``); a kind takes what it needs.
+        """
+        raise NotImplementedError
+
+    def size(self, spec: "DescriptorSpec", view) -> int:
+        """How many values a descriptor of ``spec`` has on ``view`` (a failed view's NaN row has as many)."""
+        raise NotImplementedError
+
+    def distance_matrix(self, queries: np.ndarray, library: np.ndarray, *, query_weights=None,
+                        library_weights=None) -> np.ndarray:
+        """(Q, N) distances between (Q, M) query and (N, M) library values."""
+        raise NotImplementedError
+
+    def fit(self, spec: "DescriptorSpec", views: list) -> dict[str, np.ndarray]:
+        """What the kind learns from library ``views``, as named arrays (only if :attr:`fitted`)."""
+        raise HeatdataError(f"a {self.name} is not fitted")
+
+    def candidates(self, view, sources: np.ndarray, spec: "DescriptorSpec", *, times=None, modes: int = 32
+                   ) -> list[Descriptor]:
+        """One descriptor per source vertex (only if :attr:`multi_source`)."""
+        raise ViewError(f"a {self.name} has no heat source: candidate descriptors (ch. 6) need one of "
+                        f"{', '.join(k for k, v in KINDS.items() if v.multi_source)}")
+
+
+KINDS: dict[str, Kind] = {}
+
+
+def register(kind: Kind) -> Kind:
+    """Add a kind to the registry (once per name)."""
+    if not kind.name or kind.name in KINDS:
+        raise HeatdataError(f"descriptor kind {kind.name!r} is unnamed or registered twice")
+    KINDS[kind.name] = kind
+    return kind
+
+
+def kind_of(name: str) -> Kind:
+    """The registered kind called ``name``; a clear error for an unknown one."""
+    try:
+        return KINDS[name]
+    except (KeyError, TypeError):
+        raise ViewError(f"unknown descriptor kind {name!r} (use one of {', '.join(KINDS)})") from None
+
+
+def available() -> dict[str, str | None]:
+    """Every registered kind: None if this machine can compute it, else the reason."""
+    return {name: kind.unavailable() for name, kind in KINDS.items()}
+
+
+class DescriptorSpec:
+    """What to compute for a view: a kind and its options (validated against the kind).
+
+    ``DescriptorSpec("pvhk", 64, "center", "polar")`` takes options positionally in the
+    kind's order, or by name: ``DescriptorSpec("esf", seed=3)``. An option given as None
+    takes its default (``samples=None`` means one value per boundary vertex); None for an
+    option the kind does not have is ignored. A fitted kind's spec carries what :func:`fit_spec` learned in
+    :attr:`fitted` (not part of its name or equality).
+
+    Attributes
+    ----------
+    kind : str
+    options : dict
+        Every option of the kind, with defaults filled in.
+    fitted : dict of str to ndarray, or None
+    """
+
+    __slots__ = ("kind", "options", "fitted")
+
+    def __init__(self, kind: str = "pvhk", *args, fitted: Mapping | None = None, **given):
+        impl = kind_of(kind)
+        names = [o.name for o in impl.options]
+        if len(args) > len(names):
+            raise ViewError(f"a {kind} takes at most {len(names)} options ({', '.join(names)}), got {len(args)}")
+        for name, value in zip(names, args, strict=False):
+            if name in given:
+                raise ViewError(f"{kind}: option {name} given twice")
+            given[name] = value
+        unknown = sorted(k for k, v in given.items() if k not in names and v is not None)
+        if unknown:
+            raise ViewError(f"a {kind} takes no {', '.join(unknown)} (its options: {', '.join(names) or 'none'})")
+        options = {}
+        for option in impl.options:
+            value = given.get(option.name, option.default)
+            if value is None and option.none_is_default:
+                value = option.default
+            try:
+                options[option.name] = None if value is None and option.default is None else option.check(value)
+            except (TypeError, ValueError) as exc:
+                raise ViewError(f"{kind}: option {option.name} {exc}") from None
+        object.__setattr__(self, "kind", kind)
+        object.__setattr__(self, "options", impl.validate(options))
+        object.__setattr__(self, "fitted", None if fitted is None else dict(fitted))
+
+    def __getattr__(self, name: str):
+        options = object.__getattribute__(self, "options")
+        if name in options:
+            return options[name]
+        raise AttributeError(f"a {object.__getattribute__(self, 'kind')} spec has no option {name!r}")
+
+    def __setattr__(self, name, value):
+        raise AttributeError("DescriptorSpec is immutable; use spec.replace(...)")
+
+    def __reduce__(self):  # pickled for process pools: rebuilt (and re-validated) from kind and options
+        return _rebuild, (self.kind, self.options, self.fitted)
+
+    def get(self, name: str, default=None):
+        """The option ``name``, or ``default`` if the kind has no such option."""
+        return self.options.get(name, default)
+
+    @property
+    def impl(self) -> Kind:
+        """The registered :class:`Kind` of this spec."""
+        return KINDS[self.kind]
+
+    @property
+    def name(self) -> str:
+        """Stable identifier, e.g. ``pvhk/polar/center/64``, ``pvst/polar/center/64/T0.75``, ``esf``."""
+        return self.impl.label(self.options)
+
+    def replace(self, **changes) -> "DescriptorSpec":
+        """A copy with some options changed (what was fitted is kept)."""
+        return DescriptorSpec(self.kind, fitted=self.fitted, **{**self.options, **changes})
+
+    def with_fitted(self, fitted: Mapping) -> "DescriptorSpec":
+        return DescriptorSpec(self.kind, fitted=fitted, **self.options)
+
+    def _key(self):
+        return self.kind, tuple((k, v if isinstance(v, (str, int, float, type(None))) else id(v))
+                                for k, v in self.options.items())
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, DescriptorSpec) and self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
+
+    def __repr__(self) -> str:
+        options = ", ".join(f"{k}={v!r}" for k, v in self.options.items())
+        return f"DescriptorSpec({self.kind!r}{', ' if options else ''}{options}{', fitted' if self.fitted else ''})"
+
+
+def _rebuild(kind: str, options: dict, fitted) -> DescriptorSpec:
+    return DescriptorSpec(kind, fitted=fitted, **options)
+
+
+def fit_spec(spec: DescriptorSpec, library_views: list) -> DescriptorSpec:
+    """Fit a learned kind on library views (e.g. SI-HKS's codebook); other kinds come back as they are."""
+    if not spec.impl.fitted:
+        return spec
+    views = list(library_views)
+    if not views:
+        raise ViewError(f"{spec.name}: fitting needs at least one library view")
+    return spec.with_fitted(spec.impl.fit(spec, views))
+
+
+def distance(a: Descriptor, b: Descriptor) -> float:
+    """The kind's own distance between two descriptors of one kind (eq. 3.1, 5.14 or a histogram distance)."""
+    if a.kind != b.kind:
+        raise HeatdataError(f"no distance between a {a.kind} and a {b.kind} descriptor: compare one kind")
+    impl = kind_of(a.kind)
+    weights = {}
+    if impl.weighted and a.weights is not None and b.weights is not None:
+        weights = dict(query_weights=np.atleast_2d(a.weights), library_weights=np.atleast_2d(b.weights))
+    return float(impl.distance_matrix(np.atleast_2d(a.values), np.atleast_2d(b.values), **weights)[0, 0])

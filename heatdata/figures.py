@@ -1,0 +1,193 @@
+"""Figures a person would rather look at than read (thesis Fig. 2.3/2.4, 2.11, 3.5, 3.7, 5.7).
+
+The object confusion matrix, the view-angle confusion of Fig. 3.5, precision against
+library size, Isomaps of the library descriptors, and partial views coloured by
+temperature with the source marked.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from .descriptors import kind_of  # noqa: E402
+from .errors import HeatdataError  # noqa: E402
+from .recognition import confusion_matrix  # noqa: E402
+
+RENDERED_NOTE = "Views are rendered from 3D models with simulated Kinect noise, not real sensor data."
+
+
+def plot_precision(precision: pd.DataFrame, path: str | Path) -> None:
+    """Precision against library size: all views per descriptor, and per object (Fig. 3.7, 5.13)."""
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
+    overall = precision[(precision["group"] == "all") & (precision["level"] == "object")]
+    for name, rows in overall.groupby("descriptor"):
+        rows = rows.sort_values("library_size")
+        left.plot(rows["library_size"], rows["precision"], "o-", label=name)
+    left.set_xlabel("library views per object")
+    left.set_ylabel("precision (all test views)")
+    left.legend(fontsize=7)
+    left.grid(alpha=0.3)
+    best = overall.sort_values("precision").iloc[-1]["descriptor"]
+    objects = precision[(precision["level"] == "object") & (precision["group"] != "all")
+                        & (precision["descriptor"] == best)]
+    right.set_prop_cycle(color=plt.cm.tab20.colors)
+    for name, rows in objects.groupby("group"):
+        rows = rows.sort_values("library_size")
+        right.plot(rows["library_size"], rows["precision"], ".-", label=name)
+    right.set_xlabel("library views per object")
+    right.set_ylabel(f"precision per object ({best})")
+    right.legend(fontsize=6, ncol=2)
+    right.grid(alpha=0.3)
+    _save(fig, path)
+
+
+def plot_isomap(descriptors: pd.DataFrame, descriptor: str, path: str | Path, n_neighbors: int = 8) -> None:
+    """2D Isomap of the library descriptors under their kind's distance, neighbouring view angles joined (Fig. 2.11).
+
+    ``descriptors`` needs the columns ``descriptor, kind, object, split, azimuth, values``.
+    """
+    from sklearn.manifold import Isomap
+
+    rows = descriptors[(descriptors["descriptor"] == descriptor) & (descriptors["split"] == "train")]
+    rows = rows.sort_values(["object", "azimuth"])
+    if len(rows) < 4:
+        raise HeatdataError(f"Isomap needs at least 4 library views, got {len(rows)}")
+    n_neighbors = min(n_neighbors, len(rows) - 2)
+    values = np.stack(rows["values"].to_numpy())
+    impl = kind_of(rows["kind"].iloc[0])
+    distances = impl.distance_matrix(values, values)
+    distances = np.minimum(distances, distances.T)  # exact symmetry for the neighbour graph
+    embedding = Isomap(n_neighbors=n_neighbors, n_components=2, metric="precomputed").fit_transform(distances)
+    fig, ax = plt.subplots(figsize=(7, 6))
+    ax.set_prop_cycle(color=plt.cm.tab20.colors)
+    for obj in rows["object"].unique():
+        mask = (rows["object"] == obj).to_numpy()
+        closed = np.vstack([embedding[mask], embedding[mask][:1]])  # azimuth wraps around
+        ax.plot(closed[:, 0], closed[:, 1], "o-", ms=3, lw=0.8, label=obj)
+    ax.set_title(f"Isomap ({impl.distance_name}) of {descriptor} library descriptors;\n"
+                 "lines join neighbouring view angles", fontsize=9)
+    ax.legend(fontsize=6, ncol=2)
+    _save(fig, path)
+
+
+def _save(fig, path: str | Path) -> None:
+    """Sign the figure as rendered data, save it and free it."""
+    fig.text(0.01, 0.005, RENDERED_NOTE, fontsize=6, color="grey")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_confusion(predictions: pd.DataFrame, path: str | Path, title: str) -> None:
+    """Object confusion matrix, rows true, columns predicted, with per-object accuracy."""
+    objects = sorted(set(predictions["object"]) | set(predictions["predicted_object"]))
+    counts = confusion_matrix(predictions["object"], predictions["predicted_object"], objects).to_numpy()
+    fraction = counts / np.maximum(counts.sum(axis=1, keepdims=True), 1)
+    fig, ax = plt.subplots(figsize=(max(5.0, 1.0 + 0.55 * len(objects)), max(4.5, 0.8 + 0.5 * len(objects))))
+    ax.imshow(fraction, cmap="Blues", vmin=0, vmax=1)
+    for (i, j), n in np.ndenumerate(counts):
+        if n:
+            ax.text(j, i, str(n), ha="center", va="center", fontsize=7,
+                    color="white" if fraction[i, j] > 0.5 else "black")
+    accuracy = np.diag(fraction)
+    ax.set_xticks(range(len(objects)), objects, rotation=60, ha="right", fontsize=8)
+    ax.set_yticks(range(len(objects)), [f"{o} ({a:.0%})" for o, a in zip(objects, accuracy, strict=True)], fontsize=8)
+    ax.set_xlabel("predicted object (nearest library view)")
+    ax.set_ylabel("true object (accuracy)")
+    ax.set_title(f"{title}\noverall accuracy {predictions['correct'].mean():.1%}", fontsize=9)
+    _save(fig, path)
+
+
+def plot_view_confusion(predictions: pd.DataFrame, path: str | Path, title: str) -> None:
+    """Fig. 3.5: true (object, azimuth) against the (object, azimuth) of the nearest library view."""
+    objects = sorted(set(predictions["object"]) | set(predictions["predicted_object"]))
+    position = {o: i for i, o in enumerate(objects)}
+    x = predictions["object"].map(position) + predictions["azimuth"] / 360.0
+    y = predictions["predicted_object"].map(position) + predictions["predicted_azimuth"] / 360.0
+    fig, ax = plt.subplots(figsize=(7.5, 7))
+    ax.scatter(x, y, s=2, c=np.where(predictions["correct"], "tab:blue", "tab:red"))
+    for k in range(len(objects) + 1):
+        ax.axhline(k, color="0.85", lw=0.5)
+        ax.axvline(k, color="0.85", lw=0.5)
+    ticks = np.arange(len(objects)) + 0.5
+    ax.set_xticks(ticks, objects, rotation=60, ha="right", fontsize=7)
+    ax.set_yticks(ticks, objects, fontsize=7)
+    ax.set_xlim(0, len(objects))
+    ax.set_ylim(0, len(objects))
+    ax.set_xlabel("true object, azimuth 0-360 deg within each cell")
+    ax.set_ylabel("nearest library view: object and azimuth")
+    ax.set_title(f"{title}: view-angle confusion (red: wrong object)", fontsize=9)
+    _save(fig, path)
+
+
+TEMPERATURE_HEADING = "Temperature at t_s = 1/lambda_2 (equilibrium = 1); star: source, dot: boundary origin"
+DERIVATIVE_HEADING = ("Source-position global derivative (eq. 5.12) at t_global = 1/lambda_2: large where a source "
+                      "would heat a loosely connected part (Fig. 5.7); star: the PVHK source")
+
+
+def plot_views(views: list, values: list, sources: list, path: str | Path, titles: list[str], *,
+               heading: str = TEMPERATURE_HEADING, cmap: str = "inferno") -> None:
+    """Partial views coloured by per-vertex ``values`` (e.g. temperature at t_s), source and boundary marked."""
+    if not views:
+        raise HeatdataError("no views to draw")
+    cols = min(4, len(views))
+    rows = int(np.ceil(len(views) / cols))
+    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 3.2 * rows), squeeze=False)
+    for ax, view, value, source, title in zip(axes.ravel(), views, values, sources, titles, strict=False):
+        p = view.pixels
+        collection = ax.tripcolor(p[:, 0], p[:, 1], view.faces, value, shading="gouraud", cmap=cmap)
+        b = np.append(view.boundary, view.boundary[0])
+        ax.plot(p[b, 0], p[b, 1], color="cyan", lw=0.8)
+        ax.plot(*p[view.boundary[0]], "o", color="cyan", ms=4)
+        ax.plot(*p[source], "*", color="lime", ms=12, mec="black")
+        ax.set_aspect("equal")
+        ax.invert_yaxis()
+        ax.set_axis_off()
+        ax.set_title(title, fontsize=8)
+        fig.colorbar(collection, ax=ax, fraction=0.04, pad=0.02)
+    for ax in axes.ravel()[len(views):]:
+        ax.set_axis_off()
+    fig.suptitle(f"{heading}\n{RENDERED_NOTE}", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def draw_example_views(catalog: pd.DataFrame, path: str | Path, *, elevation: float = 30.0, distance: float = 1.0,
+                       noise: bool = True, seed: int = 0, count: int = 8, image_scale: float = 1.0,
+                       derivative_path: str | Path | None = None) -> None:
+    """Render up to ``count`` catalogue objects at azimuth 30 deg and draw their PVHK temperatures.
+
+    With ``derivative_path``, also draw the global derivative of the same views (Fig. 5.7)
+    on the component holding the source.
+    """
+    from .catalog import load_catalog_model
+    from .descriptors import global_derivative, heat_kernel, pvhk
+    from .render import render_view
+    from .view import kinect_intrinsics
+
+    views, temps, sources, titles, components, derivatives, local_sources = [], [], [], [], [], [], []
+    for _, row in catalog.head(count).iterrows():
+        view = render_view(load_catalog_model(row), 30.0, elevation, distance, noise=noise, seed=seed,
+                           intrinsics=kinect_intrinsics(image_scale))
+        d = pvhk(view, 64, "closest")
+        views.append(view)
+        temps.append(heat_kernel(view, d.source, [d.time])[0])
+        sources.append(d.source)
+        titles.append(f"{row['object']} ({view.n_vertices} vertices)")
+        if derivative_path is not None:
+            component, local = view.component_of(d.source)
+            components.append(component)
+            local_sources.append(local)
+            derivatives.append(global_derivative(component, local))
+    plot_views(views, temps, sources, path, titles)
+    if derivative_path is not None:
+        plot_views(components, derivatives, local_sources, derivative_path, titles, heading=DERIVATIVE_HEADING,
+                   cmap="viridis")
