@@ -176,16 +176,21 @@ class Kind:
 
     def fit(self, spec: "DescriptorSpec", views: list) -> dict[str, np.ndarray]:
         """What the kind learns from library ``views``, as named arrays (only if :attr:`fitted`)."""
-        raise HeatdataError(f"a {self.name} is not fitted")
+        raise HeatdataError(f"{article(self.name)} {self.name} is not fitted")
 
     def candidates(self, view, sources: np.ndarray, spec: "DescriptorSpec", *, times=None, modes: int = 32
                    ) -> list[Descriptor]:
         """One descriptor per source vertex (only if :attr:`multi_source`)."""
-        raise ViewError(f"a {self.name} has no heat source: candidate descriptors (ch. 6) need one of "
+        raise ViewError(f"{article(self.name)} {self.name} has no heat source: candidate descriptors (ch. 6) need one of "
                         f"{', '.join(k for k, v in KINDS.items() if v.multi_source)}")
 
 
 KINDS: dict[str, Kind] = {}
+
+
+def article(name: str) -> str:
+    """'a' or 'an' before a kind's name as it is spoken letter by letter ("an esf", "a pvhk")."""
+    return "an" if name[:1].lower() in "aefhilmnorsx" else "a"
 
 
 def register(kind: Kind) -> Kind:
@@ -232,14 +237,14 @@ class DescriptorSpec:
         impl = kind_of(kind)
         names = [o.name for o in impl.options]
         if len(args) > len(names):
-            raise ViewError(f"a {kind} takes at most {len(names)} options ({', '.join(names)}), got {len(args)}")
+            raise ViewError(f"{article(kind)} {kind} takes at most {len(names)} options ({', '.join(names)}), got {len(args)}")
         for name, value in zip(names, args, strict=False):
             if name in given:
                 raise ViewError(f"{kind}: option {name} given twice")
             given[name] = value
         unknown = sorted(k for k, v in given.items() if k not in names and v is not None)
         if unknown:
-            raise ViewError(f"a {kind} takes no {', '.join(unknown)} (its options: {', '.join(names) or 'none'})")
+            raise ViewError(f"{article(kind)} {kind} takes no {', '.join(unknown)} (its options: {', '.join(names) or 'none'})")
         options = {}
         for option in impl.options:
             value = given.get(option.name, option.default)
@@ -257,7 +262,7 @@ class DescriptorSpec:
         options = object.__getattribute__(self, "options")
         if name in options:
             return options[name]
-        raise AttributeError(f"a {object.__getattribute__(self, 'kind')} spec has no option {name!r}")
+        raise AttributeError(f"{article(object.__getattribute__(self, 'kind'))} {object.__getattribute__(self, 'kind')} spec has no option {name!r}")
 
     def __setattr__(self, name, value):
         raise AttributeError("DescriptorSpec is immutable; use spec.replace(...)")
@@ -318,7 +323,7 @@ def fit_spec(spec: DescriptorSpec, library_views: list) -> DescriptorSpec:
 def distance(a: Descriptor, b: Descriptor) -> float:
     """The kind's own distance between two descriptors of one kind (eq. 3.1, 5.14 or a histogram distance)."""
     if a.kind != b.kind:
-        raise HeatdataError(f"no distance between a {a.kind} and a {b.kind} descriptor: compare one kind")
+        raise HeatdataError(f"no distance between {article(a.kind)} {a.kind} and {article(b.kind)} {b.kind} descriptor: compare one kind")
     impl = kind_of(a.kind)
     weights = {}
     if impl.weighted and a.weights is not None and b.weights is not None:
