@@ -14,7 +14,8 @@ import zlib
 import numpy as np
 import pandas as pd
 
-from .descriptors import CANDIDATES_RULE, Descriptor, DescriptorSpec, describe, object_time_scale, source_vertex
+from .descriptors import (CANDIDATES_RULE, Descriptor, DescriptorSpec, describe, fit_spec, object_time_scale,
+                          source_vertex)
 from .descriptors.heat import color_name
 from .errors import HeatdataError, SpectrumError, ViewError
 from .models import Model
@@ -275,3 +276,44 @@ def view_table_time_scales(frame: pd.DataFrame, specs: list[DescriptorSpec]) -> 
 
     library = frame[frame["split"] == "train"]
     return time_scale_table(frame_to_views(library), library[["split"]], specs)
+
+
+FIT_VIEWS_PER_OBJECT = 10  # library views per object a fitted kind (SI-HKS's codebook) learns from
+
+
+def fit_view_tables(frames: list[pd.DataFrame], spec: DescriptorSpec, *, per_object: int = FIT_VIEWS_PER_OBJECT
+                    ) -> DescriptorSpec:
+    """Workflow step: fit ``spec`` on up to ``per_object`` library views of each object, evenly spaced in azimuth.
+
+    ``frames`` are :data:`VIEW_SCHEMA` tables (one per object); only ``split = "train"`` rows are used.
+    """
+    from .library import library_subset
+    from .tables import frame_to_views
+
+    views = []
+    for frame in frames:
+        library = frame[frame["split"] == "train"]
+        if library.empty:
+            continue
+        count = min(per_object, library["azimuth"].nunique())
+        views += frame_to_views(library_subset(library, count).sort_values("azimuth"))
+    log.info("fitting %s on %d library views (%d per object at most)", spec.name, len(views), per_object)
+    return fit_spec(spec, views)
+
+
+def save_fitted(spec: DescriptorSpec, path) -> None:
+    """What a fitted spec learned, as a ``.npz`` of its named arrays."""
+    np.savez(path, **spec.fitted)
+
+
+def load_fitted(specs: list[DescriptorSpec], paths: dict) -> list[DescriptorSpec]:
+    """``specs`` with the fitted kinds' learned arrays read from ``paths`` (spec name -> ``.npz``)."""
+    out = []
+    for spec in specs:
+        if spec.impl.fitted:
+            if spec.name not in paths:
+                raise HeatdataError(f"{spec.name} must be fitted on the library views first (no fitted file given)")
+            with np.load(paths[spec.name]) as arrays:
+                spec = spec.with_fitted({k: arrays[k] for k in arrays.files})
+        out.append(spec)
+    return out

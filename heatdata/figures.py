@@ -48,11 +48,8 @@ def plot_precision(precision: pd.DataFrame, path: str | Path) -> None:
     _save(fig, path)
 
 
-def plot_isomap(descriptors: pd.DataFrame, descriptor: str, path: str | Path, n_neighbors: int = 8) -> None:
-    """2D Isomap of the library descriptors under their kind's distance, neighbouring view angles joined (Fig. 2.11).
-
-    ``descriptors`` needs the columns ``descriptor, kind, object, split, azimuth, values``.
-    """
+def _draw_isomap(ax, descriptors: pd.DataFrame, descriptor: str, n_neighbors: int = 8) -> str:
+    """Draw the 2D Isomap of ``descriptor``'s library views on ``ax``; returns the distance's name."""
     from sklearn.manifold import Isomap
 
     rows = descriptors[(descriptors["descriptor"] == descriptor) & (descriptors["split"] == "train")]
@@ -65,15 +62,66 @@ def plot_isomap(descriptors: pd.DataFrame, descriptor: str, path: str | Path, n_
     distances = impl.distance_matrix(values, values)
     distances = np.minimum(distances, distances.T)  # exact symmetry for the neighbour graph
     embedding = Isomap(n_neighbors=n_neighbors, n_components=2, metric="precomputed").fit_transform(distances)
-    fig, ax = plt.subplots(figsize=(7, 6))
     ax.set_prop_cycle(color=plt.cm.tab20.colors)
     for obj in rows["object"].unique():
         mask = (rows["object"] == obj).to_numpy()
         closed = np.vstack([embedding[mask], embedding[mask][:1]])  # azimuth wraps around
         ax.plot(closed[:, 0], closed[:, 1], "o-", ms=3, lw=0.8, label=obj)
-    ax.set_title(f"Isomap ({impl.distance_name}) of {descriptor} library descriptors;\n"
+    return impl.distance_name
+
+
+def plot_isomap(descriptors: pd.DataFrame, descriptor: str, path: str | Path, n_neighbors: int = 8) -> None:
+    """2D Isomap of the library descriptors under their kind's distance, neighbouring view angles joined (Fig. 2.11).
+
+    ``descriptors`` needs the columns ``descriptor, kind, object, split, azimuth, values``.
+    """
+    fig, ax = plt.subplots(figsize=(7, 6))
+    name = _draw_isomap(ax, descriptors, descriptor, n_neighbors)
+    ax.set_title(f"Isomap ({name}) of {descriptor} library descriptors;\n"
                  "lines join neighbouring view angles", fontsize=9)
     ax.legend(fontsize=6, ncol=2)
+    _save(fig, path)
+
+
+def plot_isomaps(descriptors: pd.DataFrame, names: list[str], objects: list[str], path: str | Path,
+                 n_neighbors: int = 8) -> None:
+    """Fig. 3.13: one 2D Isomap per descriptor of the library views of ``objects``, each under its own distance."""
+    chosen = descriptors[descriptors["object"].isin(objects)]
+    cols = min(4, len(names))
+    rows = int(np.ceil(len(names) / cols))
+    fig, axes = plt.subplots(rows, cols, figsize=(3.6 * cols, 3.4 * rows), squeeze=False)
+    for ax, name in zip(axes.ravel(), names, strict=False):
+        distance_name = _draw_isomap(ax, chosen, name, n_neighbors)
+        ax.set_title(f"{name}\n({distance_name})", fontsize=8)
+        ax.tick_params(labelsize=6)
+    for ax in axes.ravel()[len(names):]:
+        ax.set_axis_off()
+    handles, labels = axes.ravel()[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="upper center", ncol=len(labels), fontsize=8, frameon=False)
+    fig.suptitle("Library views of four objects, neighbouring view angles joined (cf. thesis Fig. 3.13)",
+                 fontsize=9, y=0.995)
+    fig.subplots_adjust(top=0.85)
+    _save(fig, path)
+
+
+def plot_holes(summary: pd.DataFrame, path: str | Path) -> None:
+    """Fig. 3.14-3.15: holed boxes recognized among solid boxes, and how far holes move each descriptor."""
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 0.9 + 0.42 * len(summary)))
+    y = np.arange(len(summary))
+    left.barh(y, 100 * summary["precision"], color="tab:blue")
+    left.set_yticks(y, summary["descriptor"], fontsize=8)
+    left.set_xlim(0, 100)
+    left.set_xlabel("holed-box views whose nearest solid view is their own box (%)")
+    right.barh(y, summary["median_ratio"], color="tab:orange")
+    right.axvline(1.0, color="0.3", lw=0.8, ls="--")
+    right.set_xscale("log")
+    right.set_yticks(y, [])
+    right.set_xlabel("median d(solid, holed) / d(solid, next view angle)")
+    for ax in (left, right):
+        ax.invert_yaxis()
+        ax.grid(axis="x", alpha=0.3)
+    fig.suptitle("Boxes with a round hole cut in every face, against the same boxes solid (cf. thesis Fig. 3.15)",
+                 fontsize=9)
     _save(fig, path)
 
 

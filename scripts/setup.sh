@@ -4,14 +4,22 @@
 #   2. a virtual environment at .venv/ with the exact pins of requirements.txt;
 #   3. heatdata itself, editable, with its `heatdata` command.
 # Safe to run again: steps already done are skipped.
-#   --tests   also install Debian's slurm-wlm and munge, for the test that runs the workflow on a real Slurm
+#   --baselines  also install Debian's pcl-tools, which the VFH baseline (thesis 3.6) runs
+#   --tests      also install pcl-tools (the VFH tests) and slurm-wlm and munge, for the test that runs the
+#                workflow on a real Slurm
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # libusb for `import open3d`; libgl1/libegl1/libgomp1 for its renderer core; libopengl0 for pymeshlab's
 # filter plugins; SuiteSparse headers to build scikit-sparse (CHOLMOD).
 packages=(libusb-1.0-0 libgl1 libegl1 libgomp1 libopengl0 libsuitesparse-dev)
-[ "${1:-}" = "--tests" ] && packages+=(slurm-wlm munge)
+for arg in "$@"; do
+    case "$arg" in
+        --tests) packages+=(pcl-tools slurm-wlm munge) ;;
+        --baselines) packages+=(pcl-tools) ;;
+        *) echo "setup: unknown option $arg (use --tests or --baselines)" >&2; exit 2 ;;
+    esac
+done
 missing=()
 for p in "${packages[@]}"; do
     dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -27,7 +27,8 @@ def tiny_config(**overrides):
         "descriptors": [{"kind": "pvhk", "samples": 32, "source": "center", "sampling": "polar"},
                         {"kind": "pvhk", "samples": 32, "source": "closest", "sampling": "arclength"},
                         {"kind": "ft-pvhk", "samples": 32, "source": "center", "sampling": "polar"},
-                        {"kind": "pvst", "samples": 32, "source": "center", "sampling": "polar"}],
+                        {"kind": "pvst", "samples": 32, "source": "center", "sampling": "polar"},
+                        {"kind": "esf", "triplets": 2000}, {"kind": "si-hks", "words": 8, "modes": 30}],
         "primary_descriptor": "pvhk/polar/center/32",
     }
     config.update(overrides)
@@ -42,12 +43,14 @@ def snakemake(workdir: Path, config: dict, *args: str) -> subprocess.CompletedPr
 
 
 COMPACT = {"enabled": True, "library_candidates": 12, "test_candidates": 8, "alphas": [0.25, 1.0]}
+COMPARISON = {"enabled": True, "isomap_objects": ["plastic-cup", "beer-mug"], "boxes": [[0.1, 0.15, 0.08]],
+              "azimuths": 3}
 
 
 @pytest.fixture(scope="module")
 def tiny_run(tmp_path_factory):
     workdir = tmp_path_factory.mktemp("workflow")
-    result = snakemake(workdir, tiny_config(compact=COMPACT))
+    result = snakemake(workdir, tiny_config(compact=COMPACT, comparison=COMPARISON))
     assert result.returncode == 0, result.stderr[-3000:]
     return workdir
 
@@ -59,10 +62,14 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     assert meta["views"]["train"] == 8 and meta["heatdata_version"]
     descriptors, _ = read_table(results / "descriptors.parquet")
     assert list(descriptors.columns) == DESCRIPTOR_SCHEMA.names
-    # per object: 14 views x 3 single descriptors, and an FT-PVHK per library view (its own object's
+    # per object: 14 views x 5 single descriptors, and an FT-PVHK per library view (its own object's
     # time scale) and per test view x object (every object's)
-    assert len(descriptors) == 2 * (14 * 3 + 8 + 6 * 2)
-    assert descriptors["values"].map(len).eq(32).all()
+    assert len(descriptors) == 2 * (14 * 5 + 8 + 6 * 2)
+    lengths = descriptors.groupby("kind")["values"].agg(lambda v: sorted(set(map(len, v))))
+    assert lengths.to_dict() == {"esf": [640], "ft-pvhk": [32], "pvhk": [32], "pvst": [32], "si-hks": [8]}
+    histograms = descriptors[descriptors["kind"].isin(["esf", "si-hks"])]
+    assert histograms[["sampling", "source_rule", "color_map"]].isna().all().all()
+    assert np.allclose(histograms["values"].map(sum), 1.0) and (results / "fitted" / "si-hks_words=8_modes=30.npz").is_file()
     pvhk = descriptors[descriptors["kind"] == "pvhk"]
     assert np.allclose(pvhk["time"] * pvhk["lambda2"], 1.0) and np.allclose(pvhk["time"], pvhk["t_global"])
     scales = pd.concat([pd.read_csv(p) for p in (results / "time_scales").glob("*.csv")]).set_index("object")
@@ -77,18 +84,21 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     predictions, _ = read_table(results / "evaluation" / "predictions.parquet")
     assert list(predictions.columns) == PREDICTION_SCHEMA.names
     assert sorted(predictions["library_size"].unique()) == [4, 8]
-    assert len(predictions) == 4 * 2 * 12  # descriptors x library sizes x test views
+    assert len(predictions) == 6 * 2 * 12  # descriptors x library sizes x test views
     precision = pd.read_csv(results / "evaluation" / "precision.csv")
     overall = precision[(precision["group"] == "all") & (precision["level"] == "object")]
-    assert len(overall) == 8 and overall["precision"].between(0, 1).all()
+    assert len(overall) == 12 and overall["precision"].between(0, 1).all()
     assert overall["precision"].max() > 0.8
     for figure in ("precision.png", "isomap.png", "views.png", "global_derivative.png", "confusion/view_angles.png",
                    "confusion/pvhk_polar_center_32_004_views.png", "confusion/pvst_polar_center_32_T0.75_008_views.png",
-                   "confusion/ft-pvhk_polar_center_32_004_views.png"):
+                   "confusion/ft-pvhk_polar_center_32_004_views.png", "confusion/esf_triplets=2000_008_views.png",
+                   "isomap_descriptors.png", "holes.png"):
         assert (results / "figures" / figure).stat().st_size > 10_000
     assert "not real sensor data" in (results / "summary.md").read_text()
     assert (results / "benchmarks" / "describe" / "beer-mug.tsv").is_file()
     assert (results / "logs" / "render" / "plastic-cup.log").read_text().count("views rendered") >= 1
+    holes = pd.read_csv(results / "comparison" / "holes.csv")
+    assert len(holes) == 6 * 3 and set(holes["box"]) == {"10x15x8 cm"} and (holes["d_hole"] > 0).all()
 
 
 def test_compact_libraries_and_their_precision(tiny_run):
@@ -110,13 +120,13 @@ def test_compact_libraries_and_their_precision(tiny_run):
 
 
 def test_rerun_with_nothing_changed_runs_no_job(tiny_run):
-    result = snakemake(tiny_run, tiny_config(compact=COMPACT), "--dry-run")
+    result = snakemake(tiny_run, tiny_config(compact=COMPACT, comparison=COMPARISON), "--dry-run")
     assert result.returncode == 0
     assert "Nothing to be done" in result.stdout + result.stderr
 
 
 def test_report_is_self_contained_html(tiny_run):
-    result = snakemake(tiny_run, tiny_config(compact=COMPACT), "--report", "results/report.html")
+    result = snakemake(tiny_run, tiny_config(compact=COMPACT, comparison=COMPARISON), "--report", "results/report.html")
     assert result.returncode == 0, result.stderr[-2000:]
     html = (tiny_run / "results" / "report.html").read_text(errors="replace")
     assert len(html) > 100_000 and "rendered" in html
@@ -131,6 +141,10 @@ def test_report_is_self_contained_html(tiny_run):
     ({"compact": {"enabled": True}, "library_sizes": [8, 1]}, "two or more views around the circle"),
     ({"compact": {"enabled": True}, "objects": ["beer-mug"]}, "give two or more objects"),
     ({"compact": {"enabled": True, "alphas": [1.5]}}, "1.5"),
+    ({"descriptors": [{"kind": "shot"}]}, "descriptors[0]: unknown descriptor kind 'shot'"),
+    ({"descriptors": [{"kind": "esf", "samples": 64}]}, "descriptors[0]: an esf takes no samples"),
+    ({"compact": {"enabled": True, "descriptor": {"kind": "esf"}}}, "compact.descriptor: an esf has no heat source"),
+    ({"comparison": {"enabled": True, "isomap_objects": ["unicorn"]}}, "comparison.isomap_objects: ['unicorn']"),
 ])
 def test_bad_config_is_rejected_before_any_job(tmp_path, overrides, message):
     result = snakemake(tmp_path, tiny_config(**overrides), "--dry-run")

@@ -5,6 +5,7 @@ from pathlib import Path
 import heatdata
 from heatdata.catalog import catalog_from_folder, read_catalog, sh3f_catalogs
 from heatdata.descriptors import DESCRIPTORS, DescriptorSpec
+from heatdata.descriptors.base import article
 from heatdata.errors import HeatdataError
 from snakemake.exceptions import WorkflowError
 
@@ -73,6 +74,15 @@ def descriptor_specs():
 
 SPECS = descriptor_specs()
 FIXED_TIME = any(s.impl.time_scaled for s in SPECS)  # needs the objects' time scales (Alg. 5.1)
+
+
+def file_name(descriptor):
+    """A descriptor name as a file name: pvhk/polar/center/64 -> pvhk_polar_center_64."""
+    return descriptor.replace("/", "_")
+
+
+# kinds learned on the library views (SI-HKS's codebook): one fit job each, before any describe job
+FITTED = {file_name(s.name): s for s in SPECS if s.impl.fitted}
 CATALOG = load_objects()
 OBJECTS = CATALOG.index.tolist()
 if config["compact"]["enabled"]:
@@ -81,12 +91,16 @@ if config["compact"]["enabled"]:
     except (HeatdataError, TypeError) as exc:
         _config_error(f"compact.descriptor: {exc}")
     if not COMPACT_SPEC.impl.multi_source:
-        _config_error(f"compact.descriptor: a {COMPACT_SPEC.kind} has no heat source to take candidates of (ch. 6)")
+        _config_error(f"compact.descriptor: {article(COMPACT_SPEC.kind)} {COMPACT_SPEC.kind} has no heat source to take candidates of (ch. 6)")
     if min(config["library_sizes"]) < 2:
         _config_error("compact: a compact library needs two or more views around the circle; "
                       f"library_sizes has {min(config['library_sizes'])}")
     if len(OBJECTS) < 2 and min(config["compact"]["alphas"]) < 1:
         _config_error("compact: alpha < 1 rewards distance to other objects (eq. 6.10); give two or more objects")
+if config["comparison"]["enabled"]:
+    missing = sorted(set(config["comparison"]["isomap_objects"]) - set(OBJECTS))
+    if missing:
+        _config_error(f"comparison.isomap_objects: {missing} are not among the run's objects")
 too_large = [s for s in config["library_sizes"] if s > config["views"]["train"]]
 if too_large:
     _config_error(f"library_sizes {too_large} exceed views.train = {config['views']['train']} rendered views")

@@ -1,4 +1,5 @@
-# Describe: the objects' time scales (Alg. 5.1, for FT-PVHK), descriptor tables one job per object,
+# Describe: the objects' time scales (Alg. 5.1, for FT-PVHK), the fitted kinds (SI-HKS's codebook, from
+# every object's library views), descriptor tables one job per object,
 # then one table for the run.
 
 
@@ -22,15 +23,41 @@ rule time_scale:
         "../scripts/time_scale.py"
 
 
+rule fit_descriptor:
+    input:
+        expand(f"{RESULTS}/views/{{object}}.parquet", object=OBJECTS),
+    output:
+        f"{RESULTS}/fitted/{{descriptor}}.npz",
+    params:
+        descriptor=lambda wildcards: FITTED[wildcards.descriptor].options,
+        kind=lambda wildcards: FITTED[wildcards.descriptor].kind,
+        version=VERSION,
+    wildcard_constraints:
+        descriptor="|".join(FITTED) or "no-fitted-kind",
+    log:
+        f"{RESULTS}/logs/fit/{{descriptor}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/fit/{{descriptor}}.tsv"
+    threads: 1
+    resources:
+        mem_mb=lambda wildcards, attempt: 4000 * attempt,
+        runtime=lambda wildcards, attempt: 60 * attempt,
+    script:
+        "../scripts/fit.py"
+
+
 rule describe:
     input:
         views=f"{RESULTS}/views/{{object}}.parquet",
+        # kinds learned on every object's library views (SI-HKS)
+        fitted=[f"{RESULTS}/fitted/{name}.npz" for name in FITTED],
         # a test view is described at every object's time scale (Alg. 5.2)
         time_scales=expand(f"{RESULTS}/time_scales/{{object}}.csv", object=OBJECTS) if FIXED_TIME else [],
     output:
         f"{RESULTS}/descriptors/{{object}}.parquet",
     params:
         descriptors=config["descriptors"],
+        fitted={s.name: f"{RESULTS}/fitted/{name}.npz" for name, s in FITTED.items()},
         version=VERSION,
     log:
         f"{RESULTS}/logs/describe/{{object}}.log",

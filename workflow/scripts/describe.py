@@ -1,15 +1,16 @@
-"""Describe one object's views (rule describe); FT-PVHK at the objects' time scales."""
+"""Describe one object's views (rule describe); FT-PVHK at the objects' time scales, fitted kinds as fitted."""
 import pandas as pd
 from threadpoolctl import threadpool_limits
 
-from heatdata.log import setup_logging
-from heatdata.dataset import describe_view_table
+from heatdata.dataset import describe_view_table, load_fitted
 from heatdata.descriptors import DescriptorSpec
+from heatdata.log import setup_logging
 from heatdata.tables import DESCRIPTOR_SCHEMA, read_table, write_table
 
 setup_logging(path=snakemake.log[0])
 views, meta = read_table(snakemake.input.views)
 specs = [DescriptorSpec(**d) for d in snakemake.params.descriptors]
+specs = load_fitted(specs, snakemake.params.fitted)
 scales = pd.concat([pd.read_csv(p) for p in snakemake.input.time_scales]) if snakemake.input.time_scales else None
 with threadpool_limits(snakemake.threads):
     table = describe_view_table(views, specs, scales)
