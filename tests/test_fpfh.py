@@ -30,3 +30,14 @@ def test_fpfh_options_and_small_views():
         hd.DescriptorSpec("fpfh", radius=-1)
     with pytest.raises(hd.ViewError, match="too few"):
         hd.describe(square_view(6), [hd.DescriptorSpec("fpfh")])
+
+
+def test_views_with_read_only_arrays():
+    """Views read from Parquet tables hold read-only arrays, which open3d refuses unless copied."""
+    plane = square_view(21, 0.004)
+    vertices, faces = plane.vertices.copy(), plane.faces.copy()
+    vertices.setflags(write=False)
+    faces.setflags(write=False)
+    frozen = hd.View(vertices=vertices, faces=faces, colors=plane.colors, intrinsics=plane.intrinsics)
+    (d,) = hd.describe(frozen, [hd.DescriptorSpec("fpfh")])
+    assert np.allclose(d.values, hd.describe(plane, [hd.DescriptorSpec("fpfh")])[0].values)

@@ -88,7 +88,7 @@ class ViewWork:
         def compute():
             import open3d as o3d
 
-            mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(self.view.vertices),
+            mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(np.array(self.view.vertices, np.float64)),
                                              o3d.utility.Vector3iVector(self.view.faces.astype(np.int32)))
             normals = np.asarray(mesh.compute_vertex_normals().vertex_normals, dtype=np.float64)
             facing_away = np.einsum("ij,ij->i", normals, self.view.vertices) > 0  # camera at the origin
