@@ -20,7 +20,7 @@ import pandas as pd
 
 from .catalog import import_sh3f, load_catalog_model, read_catalog
 from .dataset import describe_object, view_plan
-from .descriptors import COLOR_KIND, DEFAULT_KIND, DESCRIPTORS, KINDS, DescriptorSpec, describe, fit_spec
+from .descriptors import COLOR_KIND, DEFAULT_KIND, DESCRIPTORS, KINDS, DescriptorSpec, describe
 from .errors import HeatdataError
 from .evaluate import accuracy_table, classify
 from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_view_confusion
@@ -146,7 +146,9 @@ def cmd_describe(args: argparse.Namespace) -> None:
             raise HeatdataError(f"--option {item!r}: give KEY=VALUE")
         given[key] = _option_value(value)
     spec = DescriptorSpec(kind, **given)
-    spec = fit_spec(spec, [view]) if spec.impl.fitted else spec
+    if spec.impl.fitted:
+        raise HeatdataError(f"{args.view}: {spec.kind} is learned on library views first (heatdata.fit_spec, or the "
+                            "workflow's fit_descriptor rule); one saved view cannot describe itself")
     d = describe(view, [spec], times=None if args.time is None else [args.time])[0]
     out = {"descriptor": spec.name, "source": d.source, "time": d.time, "lambda2": d.lambda2,
            "repairs": list(view.repairs) + list(d.repairs), "values": np.round(d.values, 8).tolist()}
@@ -229,7 +231,7 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--no-noise", action="store_true")
     render.set_defaults(func=cmd_render)
 
-    desc = sub.add_parser("describe", help="PVHK, C-PVHK, FT-PVHK or PVST of a saved view",
+    desc = sub.add_parser("describe", help="any descriptor of a saved view (PVHK by default)",
                           description=cmd_describe.__doc__)
     desc.add_argument("view", type=Path, help=".npz view written by 'heatdata render'")
     desc.add_argument("--samples", type=int, help="boundary samples (default 64); 0: one per boundary vertex")

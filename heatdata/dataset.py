@@ -11,6 +11,7 @@ from __future__ import annotations
 import logging
 import time
 import zlib
+
 import numpy as np
 import pandas as pd
 

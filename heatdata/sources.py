@@ -9,6 +9,7 @@ sources, found by simplifying the view's mesh (the thesis: library views simplif
 from __future__ import annotations
 
 import logging
+
 import numpy as np
 from scipy.spatial import cKDTree
 

@@ -5,6 +5,7 @@ import json
 import numpy as np
 import pytest
 
+import heatdata as hd
 from heatdata.cli import main
 from heatdata.tables import DESCRIPTOR_SCHEMA, read_table
 
@@ -66,6 +67,15 @@ def test_render_describe_classify(demo_run, tmp_path, capsys):
     assert main(["describe", view, "--kind", "pvst", "--source", "center", "--threshold", "0.5"]) == 0
     assert json.loads(capsys.readouterr().out)["descriptor"] == "pvst/arclength/center/64/T0.5"
     assert main(["describe", view, "--kind", "ft-pvhk"]) == 1  # no --time: a clear error
+    assert main(["describe", view, "--kind", "esf", "--option", "triplets=2000"]) == 0
+    esf = json.loads(capsys.readouterr().out)
+    assert esf["descriptor"] == "esf/triplets=2000" and len(esf["values"]) == 640 and esf["source"] == -1
+    assert main(["describe", view, "--kind", "esf", "--samples", "16"]) == 1  # an esf takes no samples
+    assert main(["describe", view, "--kind", "esf", "--option", "seed"]) == 1  # not KEY=VALUE
+    assert main(["describe", view, "--kind", "si-hks"]) == 1  # learned on library views first
+    assert main(["kinds"]) == 0
+    listed = capsys.readouterr().out
+    assert all(f"{kind}:" in listed for kind in hd.DESCRIPTORS) and "triplets (default 20000)" in listed
     assert main(["classify", str(out / "descriptors.parquet"), "--descriptor", "pvhk/polar/center/64"]) == 0
     assert "pvhk/polar/center/64" in capsys.readouterr().out
 
