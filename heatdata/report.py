@@ -5,9 +5,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import pandas as pd
+import yaml
 
-from .figures import (RENDERED_NOTE, draw_example_views, plot_confusion, plot_isomap, plot_precision,
-                      plot_view_confusion)
+from .catalog import read_catalog
+from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_isomap, plot_precision, plot_view_confusion
+from .tables import read_table
+from .version import __version__
 
 
 def draw_report(descriptors_path, predictions_path, precision_path, catalog_path, output, *, primary: str,
@@ -17,12 +20,6 @@ def draw_report(descriptors_path, predictions_path, precision_path, catalog_path
     ``output`` has ``precision, confusion, isomap, views, global_derivative, summary``. The
     confusion folder holds one object confusion matrix per descriptor and library size.
     """
-    import yaml
-
-    from .version import __version__
-    from .catalog import read_catalog
-    from .tables import read_table
-
     counts, _ = read_table(descriptors_path, columns=["object", "view_id", "n_vertices"])
     predictions, _ = read_table(predictions_path)
     precision = pd.read_csv(precision_path)
