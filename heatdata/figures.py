@@ -62,8 +62,9 @@ def _draw_isomap(ax, descriptors: pd.DataFrame, descriptor: str, n_neighbors: in
     distances = impl.distance_matrix(values, values)
     distances = np.minimum(distances, distances.T)  # exact symmetry for the neighbour graph
     embedding = Isomap(n_neighbors=n_neighbors, n_components=2, metric="precomputed").fit_transform(distances)
-    ax.set_prop_cycle(color=plt.cm.tab20.colors)
-    for obj in rows["object"].unique():
+    objects = rows["object"].unique()
+    ax.set_prop_cycle(color=(plt.cm.tab10 if len(objects) <= 10 else plt.cm.tab20).colors)
+    for obj in objects:
         mask = (rows["object"] == obj).to_numpy()
         closed = np.vstack([embedding[mask], embedding[mask][:1]])  # azimuth wraps around
         ax.plot(closed[:, 0], closed[:, 1], "o-", ms=3, lw=0.8, label=obj)
@@ -97,10 +98,13 @@ def plot_isomaps(descriptors: pd.DataFrame, names: list[str], objects: list[str]
     for ax in axes.ravel()[len(names):]:
         ax.set_axis_off()
     handles, labels = axes.ravel()[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="upper center", ncol=len(labels), fontsize=8, frameon=False)
-    fig.suptitle("Library views of four objects, neighbouring view angles joined (cf. thesis Fig. 3.13)",
-                 fontsize=9, y=0.995)
-    fig.subplots_adjust(top=0.85)
+    spare = axes.ravel()[len(names):]
+    if len(spare):
+        spare[0].legend(handles, labels, loc="center", fontsize=9, title="object")
+    else:
+        axes.ravel()[0].legend(fontsize=6)
+    fig.suptitle(f"Library views of {len(objects)} objects, one Isomap per descriptor, neighbouring view angles "
+                 "joined (cf. thesis Fig. 3.13)", fontsize=9)
     _save(fig, path)
 
 
@@ -122,12 +126,12 @@ def plot_holes(summary: pd.DataFrame, path: str | Path) -> None:
         ax.grid(axis="x", alpha=0.3)
     fig.suptitle("Boxes with a round hole cut in every face, against the same boxes solid (cf. thesis Fig. 3.15)",
                  fontsize=9)
-    _save(fig, path)
+    _save(fig, path, note="Views are rendered from 3D models without sensor noise, not real sensor data.")
 
 
-def _save(fig, path: str | Path) -> None:
+def _save(fig, path: str | Path, note: str = RENDERED_NOTE) -> None:
     """Sign the figure as rendered data, save it and free it."""
-    fig.text(0.01, 0.005, RENDERED_NOTE, fontsize=6, color="grey")
+    fig.text(0.01, 0.005, note, fontsize=6, color="grey")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
