@@ -20,7 +20,7 @@ import pandas as pd
 
 from .catalog import import_sh3f, load_catalog_model, read_catalog
 from .dataset import describe_object, view_plan
-from .descriptors import COLOR_KIND, DEFAULT_KIND, DESCRIPTORS, KINDS, DescriptorSpec, describe
+from .descriptors import COLOR_KIND, DEFAULT_KIND, DESCRIPTORS, KINDS, DescriptorSpec, describe, file_name
 from .errors import HeatdataError
 from .evaluate import accuracy_table, classify
 from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_view_confusion
@@ -50,10 +50,6 @@ def _one_thread() -> None:
 def _describe_catalog_object(job: tuple) -> pd.DataFrame:
     row, plan, specs, noise = job
     return describe_object(load_catalog_model(row), plan, specs, noise=noise)
-
-
-def _safe(name: str) -> str:
-    return name.replace("/", "_")
 
 
 def cmd_demo(args: argparse.Namespace) -> None:
@@ -87,8 +83,8 @@ def cmd_demo(args: argparse.Namespace) -> None:
     accuracy.to_csv(out / "accuracy.csv")
     for spec in DEMO_SPECS:
         subset = predictions[predictions["descriptor"] == spec.name]
-        plot_confusion(subset, out / f"confusion_objects_{_safe(spec.name)}.png", spec.name)
-        plot_view_confusion(subset, out / f"confusion_views_{_safe(spec.name)}.png", spec.name)
+        plot_confusion(subset, out / f"confusion_objects_{file_name(spec.name)}.png", spec.name)
+        plot_view_confusion(subset, out / f"confusion_views_{file_name(spec.name)}.png", spec.name)
     draw_example_views(catalog, out / "views.png", elevation=args.elevation, distance=args.distance,
                        noise=not args.no_noise, seed=args.seed)
     summary = _summary_markdown(accuracy, descriptors, args, time.perf_counter() - start)

@@ -8,6 +8,7 @@ import pandas as pd
 import yaml
 
 from .catalog import read_catalog
+from .descriptors import file_name
 from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_isomap, plot_precision, plot_view_confusion
 from .tables import read_table
 from .version import __version__
@@ -26,7 +27,7 @@ def draw_report(descriptors_path, predictions_path, precision_path, catalog_path
     plot_precision(precision, output.precision)
     Path(output.confusion).mkdir(parents=True, exist_ok=True)
     for (name, size), rows in predictions.groupby(["descriptor", "library_size"]):
-        plot_confusion(rows, Path(output.confusion) / f"{name.replace('/', '_')}_{size:03d}_views.png",
+        plot_confusion(rows, Path(output.confusion) / f"{file_name(name)}_{size:03d}_views.png",
                        f"{name}, {size} library views per object")
     chosen = predictions[predictions["descriptor"] == primary]
     largest = chosen[chosen["library_size"] == chosen["library_size"].max()]

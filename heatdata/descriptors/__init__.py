@@ -11,7 +11,8 @@ kind registers itself by being a module in it.
 import importlib
 import pkgutil
 
-from .base import KINDS, Descriptor, DescriptorSpec, Kind, Option, available, distance, fit_spec, kind_of, register
+from .base import (KINDS, Descriptor, DescriptorSpec, Kind, Option, available, distance, file_name, fit_spec, kind_of,
+                   register)
 from .boundary import COLOR_MAPS, SAMPLINGS, SOURCE_RULES, color_rates, sample_boundary, source_vertex
 from .compute import describe
 from .heat import (CANDIDATES_RULE, COLOR_KIND, DEFAULT_KIND, c_pvhk, ft_pvhk, global_derivative, object_time_scale,
@@ -27,7 +28,7 @@ DESCRIPTORS = available()
 
 __all__ = [
     "available", "c_pvhk", "CANDIDATES_RULE", "COLOR_KIND", "COLOR_MAPS", "color_rates", "DEFAULT_KIND", "describe",
-    "Descriptor", "DESCRIPTORS", "DescriptorSpec", "distance", "fit_spec", "ft_pvhk", "global_derivative",
+    "Descriptor", "DESCRIPTORS", "DescriptorSpec", "distance", "file_name", "fit_spec", "ft_pvhk", "global_derivative",
     "heat_kernel", "heat_operator", "Kind", "kind_of", "KINDS", "object_time_scale", "Option", "part_weights",
     "pvhk", "pvst", "PVST_THRESHOLD", "register", "sample_boundary", "SAMPLINGS", "source_vertex", "SOURCE_RULES",
     "view_time_scale", "ViewWork",

@@ -306,6 +306,11 @@ class DescriptorSpec:
         return f"DescriptorSpec({self.kind!r}{', ' if options else ''}{options}{', fitted' if self.fitted else ''})"
 
 
+def file_name(descriptor: str) -> str:
+    """A descriptor name as a file name: ``pvhk/polar/center/64`` -> ``pvhk_polar_center_64``."""
+    return descriptor.replace("/", "_")
+
+
 def _rebuild(kind: str, options: dict, fitted) -> DescriptorSpec:
     return DescriptorSpec(kind, fitted=fitted, **options)
 

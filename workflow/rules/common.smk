@@ -4,7 +4,7 @@ from pathlib import Path
 
 import heatdata
 from heatdata.catalog import catalog_from_folder, read_catalog, sh3f_catalogs
-from heatdata.descriptors import DESCRIPTORS, DescriptorSpec
+from heatdata.descriptors import DESCRIPTORS, DescriptorSpec, file_name
 from heatdata.descriptors.base import article
 from heatdata.errors import HeatdataError
 from snakemake.exceptions import WorkflowError
@@ -74,11 +74,6 @@ def descriptor_specs():
 
 SPECS = descriptor_specs()
 FIXED_TIME = any(s.impl.time_scaled for s in SPECS)  # needs the objects' time scales (Alg. 5.1)
-
-
-def file_name(descriptor):
-    """A descriptor name as a file name: pvhk/polar/center/64 -> pvhk_polar_center_64."""
-    return descriptor.replace("/", "_")
 
 
 # kinds learned on the library views (SI-HKS's codebook): one fit job each, before any describe job
