@@ -28,7 +28,7 @@ import csv
 import logging
 import re
 import zipfile
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 
 import numpy as np
 import pandas as pd
@@ -157,11 +157,16 @@ def sh3f_entries(sh3f_path: str | Path) -> pd.DataFrame:
     indices = sorted({int(k.split("#")[1]) for k in props if k.startswith("name#")})
     rows = []
     for i in indices:
+        model = props.get(f"model#{i}", "").lstrip("/")
+        if ".." in PurePosixPath(model).parts or "\\" in model:  # untrusted: it must stay inside the library
+            log.warning("%s: furniture #%d (%s) left out: its model path %r leads outside the library", sh3f_path,
+                        i, props[f"name#{i}"], model)
+            continue
         rows.append({
             "index": i,
             "name": props[f"name#{i}"],
             "category": props.get(f"category#{i}", ""),
-            "model": props.get(f"model#{i}", "").lstrip("/"),
+            "model": model,
             "width": float(props[f"width#{i}"]) / 100.0,
             "depth": float(props[f"depth#{i}"]) / 100.0,
             "height": float(props[f"height#{i}"]) / 100.0,
@@ -219,12 +224,15 @@ def sh3f_catalogs(sh3f_paths: list[str | Path], *, name_pattern: str | None = No
 def extract_sh3f_model(sh3f_path: str | Path, model: str, out_dir: str | Path) -> Path:
     """Extract one model's folder (OBJ, MTL, textures, licence) from a ``.sh3f``; return the OBJ path."""
     folder = str(Path(model).parent) + "/"
+    root = Path(out_dir).resolve()
     try:
         with zipfile.ZipFile(sh3f_path) as archive:
             members = [n for n in archive.namelist() if n.startswith(folder) and not n.endswith("/")]
             if model not in members:
                 raise ModelError(f"{sh3f_path}: no model {model!r} in the library")
-            for member in members:
+            for member in members:  # untrusted names: nothing is written outside out_dir
+                if not (root / member).resolve().is_relative_to(root):
+                    raise ModelError(f"{sh3f_path}: member {member!r} would be written outside {out_dir}")
                 archive.extract(member, out_dir)
     except (OSError, zipfile.BadZipFile) as exc:
         raise ModelError(f"{sh3f_path}: cannot extract {model!r} ({exc})") from exc

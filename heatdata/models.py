@@ -50,6 +50,9 @@ class Model:
         Object class (e.g. ``"mug"``).
     source : str
         The file the model was read from.
+    repairs : list of str
+        What loading could not use, e.g. a texture that is missing or outside the model's
+        folder (the Kd colour stands in); every view rendered from the model carries them.
     """
 
     name: str
@@ -61,6 +64,7 @@ class Model:
     textures: list = field(default_factory=list)
     label: str = ""
     source: str = ""
+    repairs: list = field(default_factory=list)
 
     @property
     def extents(self) -> np.ndarray:
@@ -94,12 +98,39 @@ def _material_color_and_texture(visual) -> tuple[np.ndarray, np.ndarray | None]:
     return color, _image_to_array(getattr(material, "image", None))
 
 
-def _read_scene(path: Path) -> trimesh.Scene:
+class _FolderResolver(trimesh.resolvers.FilePathResolver):
+    """trimesh's file resolver, confined to the model's folder: a model file, its MTL and texture names
+    are untrusted input, so a name that leads outside the folder (``../``, an absolute path, a link)
+    is refused, and every refused or missing file is noted for the model's repairs."""
+
+    def __init__(self, path: Path):
+        super().__init__(str(path))
+        self.root = Path(self.parent).resolve()
+        self.notes: list[str] = []
+
+    def get(self, name: str):
+        clean = name.strip()
+        target = (self.root / clean).resolve()
+        if not target.is_relative_to(self.root):
+            self.notes.append(f"refused {clean!r}: it is outside the model's folder")
+            raise OSError(self.notes[-1])
+        if not target.is_file():
+            self.notes.append(f"missing {clean!r} in the model's folder")
+            raise OSError(self.notes[-1])
+        return target.read_bytes()
+
+
+def _read_scene(path: Path) -> tuple[trimesh.Scene, list[str]]:
+    """The file's scene and what its resolver refused or missed (MTL, textures)."""
+    resolver = _FolderResolver(path)
     try:
-        loaded = trimesh.load(str(path), force="scene", process=False)
+        loaded = trimesh.load(str(path), force="scene", process=False, resolver=resolver)
     except Exception as exc:  # trimesh raises many types on corrupt input
         raise ModelError(f"{path}: cannot read the model file ({type(exc).__name__}: {exc})") from exc
-    return loaded
+    notes = [f"{path.name}: {note}; the material's colour is used instead" for note in dict.fromkeys(resolver.notes)]
+    for note in notes:
+        log.warning("%s", note)
+    return loaded, notes
 
 
 def load_model(
@@ -145,7 +176,7 @@ def load_model(
         raise ModelError(f"{path}: unsupported model type {path.suffix!r} (use one of {', '.join(SUPPORTED_SUFFIXES)})")
     if path.stat().st_size == 0:
         raise ModelError(f"{path}: the model file is empty")
-    scene = _read_scene(path)
+    scene, repairs = _read_scene(path)
     meshes = [g for g in scene.dump(concatenate=False) if isinstance(g, trimesh.Trimesh) and len(g.faces)]
     if not meshes:
         raise ModelError(f"{path}: the model has no triangle faces")
@@ -202,6 +233,7 @@ def load_model(
         textures=textures,
         label=label,
         source=str(path),
+        repairs=repairs,
     )
     log.debug("loaded %s: %d vertices, %d faces, %d textures, extents %s m",
               path, len(model.vertices), len(model.faces), len(textures), np.round(model.extents, 3))

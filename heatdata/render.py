@@ -184,5 +184,6 @@ def render_view(
         raise RenderError(f"{name}: the visible surface has no triangle ({int(valid.sum())} pixels)")
     view = View.from_arrays(
         vertices, faces, colors, intrinsics=k, view_id=name, object_id=model.name, label=model.label,
-        azimuth=float(azimuth), elevation=float(elevation), distance=float(distance), pose=pose)
+        azimuth=float(azimuth), elevation=float(elevation), distance=float(distance), pose=pose,
+        repairs=list(model.repairs))
     return view.largest_component()

@@ -59,6 +59,28 @@ def test_import_and_load(tmp_path):
     assert len(hd.read_catalog(out / "catalog.csv")) == 2 and len(again) == 2
 
 
+def test_entries_leading_outside_the_library_are_left_out(tmp_path, caplog):
+    """A .sh3f is untrusted: an entry whose model path climbs out is not imported, and nothing is written outside."""
+    path = make_sh3f(tmp_path)
+    with zipfile.ZipFile(path, "a") as archive:
+        props = archive.read("PluginFurnitureCatalog.properties").decode("latin-1")
+        archive.writestr("../../escape/quad.obj", (tmp_path / "src" / "quad.obj").read_text())
+    escaped = props + "\nname#3=Escaping mug\nmodel#3=../../escape/quad.obj\nwidth#3=1\ndepth#3=1\nheight#3=1\n"
+    rebuilt = tmp_path / "Escape.sh3f"
+    with zipfile.ZipFile(path) as source, zipfile.ZipFile(rebuilt, "w") as archive:
+        for item in source.infolist():
+            if item.filename != "PluginFurnitureCatalog.properties":
+                archive.writestr(item, source.read(item))
+        archive.writestr("PluginFurnitureCatalog.properties", escaped)
+    out = tmp_path / "deep" / "out"
+    table = hd.import_sh3f(rebuilt, out, name_pattern="mug")
+    assert table["name"].tolist() == ["Coffee mug"] and "leads outside the library" in caplog.text
+    assert not any(".." in f for f in hd.read_catalog(out / "catalog.csv")["file"])
+    assert not (tmp_path / "escape").exists() and not (out / "escape").exists()
+    with pytest.raises(hd.ModelError, match="outside"):
+        hd.catalog.extract_sh3f_model(rebuilt, "../../escape/quad.obj", tmp_path / "x")
+
+
 def test_import_errors(tmp_path):
     with pytest.raises(hd.ModelError, match="no furniture matches"):
         hd.import_sh3f(make_sh3f(tmp_path), tmp_path / "m", name_pattern="piano")

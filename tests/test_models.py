@@ -80,3 +80,21 @@ def test_corrupt_file(tmp_path, suffix):
     path.write_bytes(bytes(np.random.default_rng(0).integers(0, 256, 500, dtype=np.uint8)))
     with pytest.raises(hd.ModelError, match=str(path.name)):
         hd.load_model(path)
+
+
+@pytest.mark.parametrize("texture, note", [("../secret.png", "refused '../secret.png'"),
+                                           ("/etc/passwd", "refused '/etc/passwd'"),
+                                           ("../../../../etc/passwd", "refused '../../../../etc/passwd'"),
+                                           ("nothere.png", "missing 'nothere.png'")])
+def test_textures_outside_the_model_folder_are_refused_and_recorded(tmp_path, caplog, texture, note):
+    """A model's MTL is untrusted: nothing outside the model's folder is read, and the view says what it lacks."""
+    folder = tmp_path / "model"
+    folder.mkdir()
+    obj = write_textured_quad(folder)
+    (tmp_path / "secret.png").write_bytes((folder / "tex.png").read_bytes())  # readable if the path escaped
+    (folder / "quad.mtl").write_text(f"newmtl skin\nKd 1 0 0\nmap_Kd {texture}\n")
+    model = hd.load_model(obj)
+    assert model.textures == [] and np.allclose(model.corner_colors, [1, 0, 0])  # the Kd colour
+    assert len(model.repairs) == 1 and note in model.repairs[0] and note in caplog.text
+    view = hd.render_view(hd.load_model(obj, size=(0.2, 0.2, 0.0)), 0.0, 0.0, 1.0, noise=False)
+    assert any(note in r for r in view.repairs)
