@@ -2,7 +2,7 @@
 
 The fixture starts munged, slurmctld and slurmd without systemd, writes
 /etc/slurm/slurm.conf (job steps read the default path: the plugin clears SLURM_*
-variables inside jobs), runs a tiny config with ``workflow/profiles/slurm``, and stops
+variables inside jobs), runs a tiny config with ``profiles/slurm``, and stops
 every daemon it started by PID. It skips, saying why, where Slurm cannot start.
 """
 
@@ -95,7 +95,7 @@ def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
     (workdir / "config" / "config.yaml").write_text(yaml.safe_dump(config))
     result = subprocess.run(
         [str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(workdir),
-         "--workflow-profile", str(ROOT / "workflow" / "profiles" / "slurm")],
+         "--workflow-profile", str(ROOT / "profiles" / "slurm")],
         capture_output=True, text=True, timeout=900)
     assert result.returncode == 0, (result.stdout + result.stderr)[-4000:]
     submitted = (result.stdout + result.stderr).count("has been submitted with SLURM jobid")

@@ -14,7 +14,7 @@ import yaml
 from heatdata.tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, VIEW_SCHEMA, read_table
 
 ROOT = Path(__file__).resolve().parents[1]
-SNAKEFILE = ROOT / "workflow" / "Snakefile"
+SNAKEFILE = ROOT / "Snakefile"
 SNAKEMAKE = Path(sys.executable).parent / "snakemake"
 
 
@@ -186,6 +186,15 @@ def test_a_corrupt_model_fails_its_jobs_and_keep_going_finishes_the_rest(tmp_pat
         assert (tmp_path / "run" / "results" / "descriptors" / f"{obj}.parquet").is_file()
 
 
+def test_the_root_snakefile_plans_the_whole_run_with_the_default_profile(tmp_path):
+    """`snakemake` from the repository root runs the workflow, as the layout promises (not "Nothing to be done")."""
+    result = snakemake(tmp_path, tiny_config(), "--dry-run")
+    text = result.stdout + result.stderr
+    assert result.returncode == 0, text[-2000:]
+    assert "Using workflow specific profile profiles/default" in text and "Nothing to be done" not in text
+    assert "render" in text and "report_figures" in text
+
+
 def test_lint_has_only_the_conda_warning(tmp_path):
     result = snakemake(tmp_path, tiny_config(), "--lint")
     text = result.stdout + result.stderr
@@ -196,7 +205,7 @@ def test_lint_has_only_the_conda_warning(tmp_path):
 
 
 def test_profile_files_are_present():
-    slurm = yaml.safe_load((ROOT / "workflow/profiles/slurm/config.yaml").read_text())
+    slurm = yaml.safe_load((ROOT / "profiles/slurm/config.yaml").read_text())
     assert slurm["executor"] == "slurm" and slurm["slurm-status-command"] == "squeue"
     assert shutil.which("snakemake") or SNAKEMAKE.exists()
 
