@@ -27,7 +27,11 @@ winding. :func:`select_sources` therefore:
 
 from __future__ import annotations
 
+import contextlib
 import logging
+import os
+import sys
+import tempfile
 import time
 from dataclasses import dataclass, field
 
@@ -117,6 +121,27 @@ class _Graph:
         return self.costs[layer].shape[0]
 
 
+@contextlib.contextmanager
+def _solver_output_to_log(name: str):
+    """What the solver library prints from C to standard output (HiGHS's banner, once per process) goes to the
+    log at DEBUG: a library must not write to a user's stdout. The redirect is of the process's file
+    descriptor 1, for the duration of one solve."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    with tempfile.TemporaryFile() as sink:
+        os.dup2(sink.fileno(), 1)
+        try:
+            yield
+        finally:
+            sys.stdout.flush()
+            os.dup2(saved, 1)
+            os.close(saved)
+            sink.seek(0)
+            text = sink.read().decode(errors="replace").strip()
+            if text:
+                log.debug("%s: solver output: %s", name, text)
+
+
 def _solve(graph: _Graph, pool: list[set], fixed: int | None, excluded: list[int], name: str):
     """Column generation for the circulation LP: (value, {layer: (tails, heads, x)}).
 
@@ -153,7 +178,8 @@ def _solve(graph: _Graph, pool: list[set], fixed: int | None, excluded: list[int
         problem = cp.Problem(cp.Minimize(cost @ x), [conservation, cut, *branch])
         tic = time.perf_counter()
         try:
-            problem.solve(solver=SOLVER)
+            with _solver_output_to_log(name):
+                problem.solve(solver=SOLVER)
         except (cp.error.SolverError, ValueError) as exc:
             raise HeatdataError(f"{name}: the LP solver {SOLVER} failed on the source-selection LP: {exc}") from exc
         log.debug("%s: LP with %d edges: %.2f s (%s; compile %.2f s, solver %.2f s)", name, len(columns),

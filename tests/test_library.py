@@ -1,6 +1,8 @@
 """One source per library view around the circle: the LP of thesis 6.3 against a dynamic program."""
 
 import logging
+import subprocess
+import sys
 
 import numpy as np
 import pandas as pd
@@ -155,3 +157,12 @@ def test_an_lp_that_ends_infeasible_is_an_error_naming_the_object():
         library._solve(graph, dead_end, None, [], "chair-7")
     with pytest.raises(hd.HeatdataError, match="chair-7: the LP solver HIGHS failed"):
         library._solve(graph, [set(), set()], None, [], "chair-7")  # no edge at all
+
+
+def test_solver_output_goes_to_the_log_not_to_stdout():
+    """HiGHS prints a banner from C once per process: a fresh process shows whether it reaches stdout."""
+    code = ("import logging, numpy as np, heatdata as hd; logging.basicConfig(level=logging.DEBUG); "
+            "rng = np.random.default_rng(0); hd.select_sources([rng.random((6, 6)) for _ in range(5)])")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout == "" and "solver output: Running HiGHS" in done.stderr
