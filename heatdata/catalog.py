@@ -162,14 +162,17 @@ def sh3f_entries(sh3f_path: str | Path) -> pd.DataFrame:
             log.warning("%s: furniture #%d (%s) left out: its model path %r leads outside the library", sh3f_path,
                         i, props[f"name#{i}"], model)
             continue
+        try:
+            sizes = {key: float(props[f"{key}#{i}"]) / 100.0 for key in ("width", "depth", "height")}
+        except (KeyError, ValueError) as exc:
+            raise ModelError(f"{sh3f_path}: furniture #{i} ({props[f'name#{i}']}) has a missing or non-numeric "
+                             f"size ({exc}); width, depth and height are centimetres") from None
         rows.append({
             "index": i,
             "name": props[f"name#{i}"],
             "category": props.get(f"category#{i}", ""),
             "model": model,
-            "width": float(props[f"width#{i}"]) / 100.0,
-            "depth": float(props[f"depth#{i}"]) / 100.0,
-            "height": float(props[f"height#{i}"]) / 100.0,
+            **sizes,
             "rotation": props.get(f"modelRotation#{i}", ""),
             "creator": props.get(f"creator#{i}", ""),
         })
@@ -187,6 +190,11 @@ def sh3f_catalog(sh3f_path: str | Path, *, name_pattern: str | None = None, labe
     """
     sh3f_path = Path(sh3f_path)
     entries = sh3f_entries(sh3f_path)
+    for what, pattern in (("names", name_pattern), ("exclude", exclude_pattern)):
+        try:
+            re.compile(pattern or "")
+        except re.error as exc:
+            raise ModelError(f"{what} {pattern!r} is not a regular expression: {exc}") from None
     if name_pattern:
         entries = entries[entries["name"].str.contains(name_pattern, case=False, regex=True)]
     if exclude_pattern:
@@ -245,6 +253,7 @@ def import_sh3f(
     *,
     name_pattern: str | None = None,
     label: str | None = None,
+    exclude_pattern: str | None = None,
 ) -> pd.DataFrame:
     """Extract models of a Sweet Home 3D furniture library into a catalogue folder.
 
@@ -259,6 +268,8 @@ def import_sh3f(
         Case-insensitive regular expression on the furniture name (e.g. ``"chair|stool"``).
     label : str, optional
         Class for every imported object; by default the lower-cased furniture name.
+    exclude_pattern : str, optional
+        Case-insensitive regular expression of furniture names to leave out (e.g. ``"bench"``).
 
     Returns
     -------
@@ -266,7 +277,9 @@ def import_sh3f(
         The catalogue rows written for this library.
     """
     out_dir = Path(out_dir)
-    table = sh3f_catalog(sh3f_path, name_pattern=name_pattern, label=label)
+    table = sh3f_catalog(sh3f_path, name_pattern=name_pattern, label=label, exclude_pattern=exclude_pattern)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise ModelError(f"{out_dir}: the output folder is a file")
     out_dir.mkdir(parents=True, exist_ok=True)
     for model in table["file"]:
         extract_sh3f_model(sh3f_path, model, out_dir)

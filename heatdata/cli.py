@@ -121,10 +121,14 @@ def _summary_markdown(accuracy: pd.DataFrame, descriptors: pd.DataFrame, args: a
 
 def cmd_render(args: argparse.Namespace) -> None:
     """Render one partial view of a model file to a .npz view file."""
+    out = Path(args.out)
+    if out.suffix != ".npz" or out.is_dir():
+        raise HeatdataError(f"{out}: the view is written to a .npz file; give a file name ending in .npz")
     model = load_model(args.model, size=tuple(args.size) if args.size else None, scale=args.scale)
     view = render_view(model, args.azimuth, args.elevation, args.distance, noise=not args.no_noise, seed=args.seed)
-    view.save(args.out)
-    print(json.dumps({"view": str(args.out), "vertices": view.n_vertices, "faces": len(view.faces),
+    out.parent.mkdir(parents=True, exist_ok=True)
+    view.save(out)
+    print(json.dumps({"view": str(out), "vertices": view.n_vertices, "faces": len(view.faces),
                       "boundary": len(view.boundary), "repairs": view.repairs}))
 
 
@@ -188,8 +192,22 @@ def cmd_kinds(args: argparse.Namespace) -> None:
 
 def cmd_import_sh3f(args: argparse.Namespace) -> None:
     """Extract a Sweet Home 3D furniture library into a catalogue folder."""
-    table = import_sh3f(args.sh3f, args.out, name_pattern=args.names, label=args.label)
+    table = import_sh3f(args.sh3f, args.out, name_pattern=args.names, label=args.label, exclude_pattern=args.exclude)
     print(f"{len(table)} models in {Path(args.out) / 'catalog.csv'}")
+
+
+def _number(low: float | None = None, *, positive: bool = False, whole: bool = False):
+    """An argparse type: a finite number (above ``low``; > 0 with ``positive``; an integer with ``whole``)."""
+    def parse(text: str):
+        try:
+            value = int(text) if whole else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a {'whole ' if whole else ''}number") from None
+        if not np.isfinite(value) or (positive and value <= 0) or (low is not None and value < low):
+            need = "a positive" if positive else "a finite" if low is None else f"a number >= {low:g}:"
+            raise argparse.ArgumentTypeError(f"{text!r}: need {need} number")
+        return value
+    return parse
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -206,25 +224,30 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--catalog", type=Path, default=DEFAULT_CATALOG, help="catalogue CSV (default: embedded)")
     demo.add_argument("--objects", help="comma-separated object ids (default: all in the catalogue)")
     demo.add_argument("--out", default="results/demo", help="output folder (default: results/demo)")
-    demo.add_argument("--train", type=int, default=40, help="library views per object (default 40)")
-    demo.add_argument("--test", type=int, default=120, help="test views per object (default 120)")
-    demo.add_argument("--elevation", type=float, default=30.0, help="view elevation, degrees (default 30)")
-    demo.add_argument("--distance", type=float, default=1.0, help="camera distance, metres (default 1)")
+    demo.add_argument("--train", type=_number(1, whole=True), default=40, help="library views per object (default 40)")
+    demo.add_argument("--test", type=_number(1, whole=True), default=120, help="test views per object (default 120)")
+    demo.add_argument("--elevation", type=_number(), default=30.0, help="view elevation, degrees (default 30)")
+    demo.add_argument("--distance", type=_number(positive=True), default=1.0,
+                      help="camera distance, metres (default 1)")
     demo.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
     demo.add_argument("--no-noise", action="store_true", help="render without sensor noise")
-    demo.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="processes (default: all cores)")
+    demo.add_argument("--jobs", type=_number(1, whole=True), default=os.cpu_count() or 1,
+                      help="processes (default: all cores)")
     demo.set_defaults(func=cmd_demo)
 
     render = sub.add_parser("render", help="render one partial view of a model", description=cmd_render.__doc__)
     render.add_argument("model", type=Path, help="OBJ, PLY, STL, OFF or GLB file")
-    render.add_argument("--out", type=Path, required=True, help="output .npz view")
-    render.add_argument("--azimuth", type=float, default=0.0)
-    render.add_argument("--elevation", type=float, default=30.0)
-    render.add_argument("--distance", type=float, default=1.0)
-    render.add_argument("--size", type=float, nargs=3, metavar=("W", "H", "D"), help="real size in metres")
-    render.add_argument("--scale", type=float, default=1.0, help="file units to metres (default 1)")
-    render.add_argument("--seed", type=int, default=0)
-    render.add_argument("--no-noise", action="store_true")
+    render.add_argument("--out", type=Path, required=True, help="output .npz view (its folder is created)")
+    render.add_argument("--azimuth", type=_number(), default=0.0,
+                        help="camera azimuth about the model's +y axis, degrees (default 0)")
+    render.add_argument("--elevation", type=_number(), default=30.0, help="camera elevation, degrees (default 30)")
+    render.add_argument("--distance", type=_number(positive=True), default=1.0,
+                        help="camera distance from the model's centre, metres (default 1)")
+    render.add_argument("--size", type=_number(0.0), nargs=3, metavar=("W", "H", "D"),
+                        help="real size in metres (width x, height y, depth z)")
+    render.add_argument("--scale", type=_number(positive=True), default=1.0, help="file units to metres (default 1)")
+    render.add_argument("--seed", type=_number(0, whole=True), default=0, help="seed of the sensor noise (default 0)")
+    render.add_argument("--no-noise", action="store_true", help="render without the Kinect noise of thesis 2.6.1")
     render.set_defaults(func=cmd_render)
 
     desc = sub.add_parser("describe", help="any descriptor of a saved view (PVHK by default)",
@@ -259,6 +282,7 @@ def build_parser() -> argparse.ArgumentParser:
     imp.add_argument("out", type=Path)
     imp.add_argument("--names", help="regular expression on the furniture names")
     imp.add_argument("--label", help="class for every imported model (default: its name)")
+    imp.add_argument("--exclude", help="regular expression of furniture names to leave out")
     imp.set_defaults(func=cmd_import_sh3f)
     return parser
 

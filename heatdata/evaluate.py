@@ -19,6 +19,9 @@ from .recognition import classify_candidates, nearest_neighbours
 
 log = logging.getLogger(__name__)
 
+#: what :func:`classify` reads of a descriptor table
+CLASSIFY_COLUMNS = ("object", "label", "view_id", "split", "azimuth", "descriptor", "kind", "values")
+
 
 def classify(descriptors: pd.DataFrame, descriptor: str, *, library: str = "train", queries: str = "test"
              ) -> pd.DataFrame:
@@ -44,6 +47,9 @@ def classify(descriptors: pd.DataFrame, descriptor: str, *, library: str = "trai
     DataFrame
         One row per query view, columns of :data:`heatdata.tables.PREDICTION_SCHEMA`.
     """
+    missing = sorted(set(CLASSIFY_COLUMNS) - set(descriptors.columns))
+    if missing:
+        raise HeatdataError(f"descriptor {descriptor!r}: the table lacks column(s) {', '.join(missing)}")
     rows = descriptors[descriptors["descriptor"] == descriptor]
     lib, query = rows[rows["split"] == library], rows[rows["split"] == queries]
     if lib.empty or query.empty:

@@ -170,6 +170,11 @@ def load_model(
         triangle.
     """
     path = Path(path)
+    if size is not None and (np.shape(size) != (3,) or not np.all(np.isfinite(size)) or np.any(np.asarray(size) < 0)):
+        raise ModelError(f"{path}: size must be three finite lengths >= 0 in metres (a negative one mirrors the "
+                         f"model), got {size}")
+    if not (np.isfinite(scale) and scale > 0):
+        raise ModelError(f"{path}: scale must be a positive number, got {scale}")
     if not path.is_file():
         raise ModelError(f"{path}: no such model file")
     if path.suffix.lower() not in SUPPORTED_SUFFIXES:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import logging
+import zipfile
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -137,16 +138,19 @@ class View:
     @classmethod
     def load(cls, path) -> "View":
         """Read a view written by :meth:`save`."""
+        if not zipfile.is_zipfile(path):
+            raise ViewError(f"{path}: not a readable .npz view file (not a zip archive: truncated, or not written by "
+                            "heatdata render)")
         try:
-            with np.load(path) as data:
+            with np.load(path, allow_pickle=False) as data:
                 view_id, object_id, label = (str(x) for x in data["ids"])
                 azimuth, elevation, distance = (float(x) for x in data["angle"])
                 return cls.from_arrays(
                     data["vertices"], data["faces"], data["colors"], intrinsics=json.loads(str(data["intrinsics"])),
                     view_id=view_id, object_id=object_id, label=label, azimuth=azimuth, elevation=elevation,
                     distance=distance, pose=data["pose"], repairs=json.loads(str(data["repairs"])))
-        except (OSError, KeyError, ValueError) as exc:
-            raise ViewError(f"{path}: not a readable heatdata view ({exc})") from exc
+        except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+            raise ViewError(f"{path}: not a readable heatdata view ({type(exc).__name__}: {exc})") from exc
 
     # -- structure ---------------------------------------------------------------
 

@@ -1,9 +1,11 @@
 """The heatdata command: the demo job end to end on a small plan, and its exit codes."""
 
 import json
+import zipfile
 
 import numpy as np
 import pytest
+import trimesh
 
 import heatdata as hd
 from heatdata.cli import main
@@ -49,8 +51,6 @@ def test_demo_is_reproducible(demo_run, tmp_path):
 def test_render_describe_classify(demo_run, tmp_path, capsys):
     _, out = demo_run
     model = tmp_path.parent / "model.ply"
-    import trimesh
-
     trimesh.creation.box(extents=(0.2, 0.1, 0.15)).export(model)
     assert main(["render", str(model), "--azimuth", "30", "--out", str(tmp_path / "v.npz")]) == 0
     rendered = json.loads(capsys.readouterr().out)
@@ -88,3 +88,58 @@ def test_exit_codes(tmp_path, caplog):
     with pytest.raises(SystemExit) as usage:
         main(["render"])
     assert usage.value.code == 2
+
+
+def write_sh3f(path, props):
+    with zipfile.ZipFile(path, "w") as archive:
+        archive.writestr("PluginFurnitureCatalog.properties", props)
+    return path
+
+
+@pytest.mark.parametrize("args, code, message", [
+    (["render", "{model}", "--scale", "nan", "--out", "{tmp}/a.npz"], 2, "need a positive number"),
+    (["render", "{model}", "--azimuth", "nan", "--out", "{tmp}/a.npz"], 2, "need a finite number"),
+    (["render", "{model}", "--size", "-0.154", "0.165", "0.102", "--out", "{tmp}/a.npz"], 2, "need a number >= 0"),
+    (["render", "{model}", "--out", "{tmp}/a.txt"], 1, "ending in .npz"),
+    (["render", "{model}", "--out", "{tmp}"], 1, "ending in .npz"),
+    (["describe", "{tmp}/truncated.npz"], 1, "not a zip archive: truncated"),
+    (["describe", "{model}"], 1, "not a readable .npz view file"),
+    (["import-sh3f", "{tmp}/nowidth.sh3f", "{tmp}/out"], 1, "missing or non-numeric size"),
+    (["import-sh3f", "{tmp}/badwidth.sh3f", "{tmp}/out"], 1, "missing or non-numeric size"),
+    (["import-sh3f", "{tmp}/good.sh3f", "{tmp}/out", "--names", "("], 1, "is not a regular expression"),
+    (["import-sh3f", "{tmp}/good.sh3f", "{tmp}/afile"], 1, "the output folder is a file"),
+    (["demo", "--jobs", "0"], 2, "need a number >= 1"),
+    (["classify", "{tmp}/nolabel.parquet"], 1, "lacks column(s) label"),
+])
+def test_bad_command_lines_are_one_clear_line(demo_run, tmp_path, capsys, caplog, args, code, message):
+    """Each used to end in a traceback (or, for --size and --out, in a mirrored model or a renamed file)."""
+    _, out = demo_run
+    box = tmp_path / "box.ply"
+    trimesh.creation.box(extents=(0.2, 0.1, 0.15)).export(box)
+    assert main(["render", str(box), "--out", str(tmp_path / "v.npz")]) == 0
+    (tmp_path / "truncated.npz").write_bytes((tmp_path / "v.npz").read_bytes()[:300])
+    size = "width#1=12\ndepth#1=8\nheight#1=10\n"
+    write_sh3f(tmp_path / "nowidth.sh3f", "name#1=Mug\nmodel#1=m/q.obj\ndepth#1=1\nheight#1=1\n")
+    write_sh3f(tmp_path / "badwidth.sh3f", "name#1=Mug\nmodel#1=m/q.obj\nwidth#1=wide\ndepth#1=1\nheight#1=1\n")
+    write_sh3f(tmp_path / "good.sh3f", "name#1=Mug\nmodel#1=m/q.obj\n" + size)
+    (tmp_path / "afile").write_text("")
+    table, _ = read_table(out / "descriptors.parquet")
+    table.drop(columns=["label"]).to_parquet(tmp_path / "nolabel.parquet")
+    capsys.readouterr()
+    argv = [a.format(model=box, tmp=tmp_path) for a in args]
+    if code == 2:
+        with pytest.raises(SystemExit) as usage:
+            main(argv)
+        assert usage.value.code == 2 and message in capsys.readouterr().err
+    else:
+        assert main(argv) == 1
+        assert message in caplog.text and "Traceback" not in caplog.text
+    assert not (tmp_path / "a.txt.npz").exists() and not (tmp_path.parent / f"{tmp_path.name}.npz").exists()
+
+
+def test_render_creates_the_output_folder(tmp_path, capsys):
+    trimesh.creation.box(extents=(0.2, 0.1, 0.15)).export(tmp_path / "box.ply")
+    assert main(["render", str(tmp_path / "box.ply"), "--out", str(tmp_path / "new" / "deep" / "v.npz")]) == 0
+    assert json.loads(capsys.readouterr().out)["view"] == str(tmp_path / "new" / "deep" / "v.npz")
+    with pytest.raises(hd.ModelError, match="mirrors"):
+        hd.load_model(tmp_path / "box.ply", size=(-0.1, 0.1, 0.1))
