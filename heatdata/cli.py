@@ -146,6 +146,8 @@ def cmd_describe(args: argparse.Namespace) -> None:
             raise HeatdataError(f"--option {item!r}: give KEY=VALUE")
         given[key] = _option_value(value)
     spec = DescriptorSpec(kind, **given)
+    if args.time is not None and not spec.impl.time_scaled:
+        raise HeatdataError(f"--time is the fixed time of a time-scaled kind (ft-pvhk); a {spec.kind} takes none")
     if spec.impl.fitted:
         raise HeatdataError(f"{args.view}: {spec.kind} is learned on library views first (heatdata.fit_spec, or the "
                             "workflow's fit_descriptor rule); one saved view cannot describe itself")

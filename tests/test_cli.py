@@ -110,6 +110,7 @@ def write_sh3f(path, props):
     (["import-sh3f", "{tmp}/good.sh3f", "{tmp}/afile"], 1, "the output folder is a file"),
     (["demo", "--jobs", "0"], 2, "need a number >= 1"),
     (["classify", "{tmp}/nolabel.parquet"], 1, "lacks column(s) label"),
+    (["describe", "{tmp}/v.npz", "--time", "0.01"], 1, "--time is the fixed time of a time-scaled kind"),
 ])
 def test_bad_command_lines_are_one_clear_line(demo_run, tmp_path, capsys, caplog, args, code, message):
     """Each used to end in a traceback (or, for --size and --out, in a mirrored model or a renamed file)."""

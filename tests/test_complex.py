@@ -199,3 +199,17 @@ def test_specs_check_kinds_and_thresholds(square):
         hd.DescriptorSpec("pvhk", threshold=0.5)
     with pytest.raises(hd.ViewError, match="times="):
         hd.describe(square, [hd.DescriptorSpec("ft-pvhk")])
+
+
+def test_empty_or_bad_times_and_tiny_thresholds_are_clear_errors(square):
+    for times in ([], [0.0], [float("nan")]):
+        with pytest.raises(hd.ViewError, match="positive finite times"):
+            hd.heat_kernel(square, "center", times=times)
+        with pytest.raises(hd.ViewError, match="positive finite times"):
+            hd.describe(square, [hd.DescriptorSpec("ft-pvhk")], times=times)
+    with pytest.raises(hd.ViewError, match="positive finite times"):
+        hd.candidate_descriptors(square, [220], hd.DescriptorSpec("ft-pvhk"), times=[])
+    with pytest.raises(hd.ViewError, match="at least 0.01"):  # 1e-9 gave a false "does not reach T"
+        hd.DescriptorSpec("pvst", threshold=1e-9)
+    d = hd.pvst(square, 16, threshold=0.01, source="center")
+    assert np.all(np.isfinite(d.values)) and d.repairs == ()

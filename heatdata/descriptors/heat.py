@@ -65,6 +65,14 @@ COLOR_MAP = Option("color_map", None, "colour map of 3.4.2 (c1, c2, c3, c4, hue)
 BOUNDARY_OPTIONS = (SAMPLES, SOURCE, SAMPLING)
 
 
+def checked_times(times, what: str) -> tuple:
+    """Diffusion times as a tuple of positive finite floats; a clear error for an empty or bad list."""
+    values = np.atleast_1d(np.asarray(times, dtype=np.float64)) if np.size(times) else np.array([])
+    if values.ndim != 1 or len(values) == 0 or not np.all(np.isfinite(values)) or np.any(values <= 0):
+        raise ViewError(f"{what}: times must be one or more positive finite times, got {list(np.ravel(times))}")
+    return tuple(float(t) for t in values)
+
+
 def color_name(color_map) -> str | None:
     """A colour map as it is recorded: its name, or a function's ``__name__``."""
     return color_map if isinstance(color_map, (str, type(None))) else getattr(color_map, "__name__", "custom")
@@ -192,7 +200,7 @@ class FixedTimePVHK(HeatKind):
         if chosen is None:
             raise ViewError(f"{work.view.name}: the ft-pvhk {spec.name} needs times= (the object's time scale, "
                             "Alg. 5.1)")
-        return tuple(float(t) for t in np.atleast_1d(chosen))
+        return checked_times(chosen, f"{work.view.name}: the ft-pvhk {spec.name}")
 
     def weights(self, work, connected, op, spec, context):
         if not context.get("part_weights", True):
@@ -203,7 +211,7 @@ class FixedTimePVHK(HeatKind):
     def spectrum_times(self, spectrum, spec, times) -> tuple:
         if times is None:
             raise ViewError(f"the ft-pvhk {spec.name} needs times= (the object's time scale, Alg. 5.1)")
-        return tuple(float(t) for t in np.atleast_1d(times))
+        return checked_times(times, f"the ft-pvhk {spec.name}")
 
 
 for _kind in (PVHK(), ColorPVHK(), FixedTimePVHK()):

@@ -36,6 +36,7 @@ PVST_EARLY_CHUNK = 256.0
 # Convergence tolerance of the PVST's heat models on normalized temperatures: the crossing times
 # come out within ~1e-6 relative of a dense reference (benchmarks/bench_pvst.py), the target being 1e-3.
 PVST_TOL = 1e-4
+MIN_THRESHOLD = 100 * PVST_TOL  # thresholds closer to the model's error give crossings of noise
 
 
 def _chunk_model(op: HeatOperator, source: int, boundary: np.ndarray, t0: float, t1: float, late: bool):
@@ -116,9 +117,13 @@ class PVST(BoundaryKind):
     multi_source = True
 
     def validate(self, options: dict) -> dict:
-        if options["threshold"] >= 1.0:
-            raise ViewError(f"pvst: option threshold is a fraction of the equilibrium in (0, 1), got "
-                            f"{options['threshold']}")
+        threshold = options["threshold"]
+        if threshold >= 1.0:
+            raise ViewError(f"pvst: option threshold is a fraction of the equilibrium in (0, 1), got {threshold}")
+        if threshold < MIN_THRESHOLD:
+            raise ViewError(f"pvst: option threshold must be at least {MIN_THRESHOLD:g}: the heat models are "
+                            f"converged to {PVST_TOL:g} of the equilibrium, too coarse to place a crossing of "
+                            f"{threshold:g}")
         return options
 
     def label(self, options: Mapping) -> str:

@@ -50,6 +50,8 @@ def heat_kernel(view: View, source: int | str = "closest", times=None, *, color_
     (len(times), n) float64
         Temperatures divided by the equilibrium temperature (equilibrium = 1).
     """
+    if times is not None and (np.size(times) == 0 or not np.all(np.isfinite(times)) or np.any(np.asarray(times) <= 0)):
+        raise ViewError(f"{view.name}: times must be one or more positive finite times, got {list(np.ravel(times))}")
     rates = None if color_map is None else color_rates(view, color_map)
     op = heat_operator(view, rates)
     times = [1.0 / lambda2(op)] if times is None else times
