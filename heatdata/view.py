@@ -22,6 +22,7 @@ from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse import csgraph
 from scipy.sparse.csgraph import connected_components
 
 from .errors import ViewError
@@ -29,6 +30,7 @@ from .errors import ViewError
 log = logging.getLogger(__name__)
 
 MIN_VERTICES = 30
+ZERO_AREA = 1e-10  # faces below this fraction of the median face area (twice the area) are degenerate
 KINECT_INTRINSICS = {"fx": 580.0, "fy": 580.0, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480}
 
 
@@ -88,7 +90,13 @@ class View:
         """
         name = kwargs.get("view_id") or "view"
         vertices = np.asarray(vertices, dtype=np.float64)
-        faces = np.asarray(faces, dtype=np.int64)
+        raw_faces = np.asarray(faces)
+        if raw_faces.dtype.kind == "f" and not np.all(raw_faces == np.round(raw_faces)):
+            raise ViewError(f"{name}: faces must be whole vertex indices, got e.g. "
+                            f"{raw_faces[raw_faces != np.round(raw_faces)][0]}")
+        if raw_faces.dtype.kind not in "iuf":
+            raise ViewError(f"{name}: faces must be integer vertex indices, got {raw_faces.dtype}")
+        faces = raw_faces.astype(np.int64)
         if vertices.ndim != 2 or vertices.shape[1] != 3:
             raise ViewError(f"{name}: vertices must be (n, 3), got {vertices.shape}")
         if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
@@ -99,6 +107,11 @@ class View:
             bad = int((~np.isfinite(vertices)).any(axis=1).sum())
             raise ViewError(f"{name}: {bad} vertices have NaN or infinite coordinates")
         colors = np.full((len(vertices), 3), 0.5) if colors is None else np.asarray(colors, dtype=np.float64)
+        if colors.shape != vertices.shape:
+            raise ViewError(f"{name}: colors must be (n, 3) RGB for the {len(vertices)} vertices, got {colors.shape}")
+        if not np.all(np.isfinite(colors)):
+            bad = int((~np.isfinite(colors)).any(axis=1).sum())
+            raise ViewError(f"{name}: {bad} vertices have NaN or infinite colours")
         repairs = list(kwargs.pop("repairs", []))
         unique, first, inverse = np.unique(vertices, axis=0, return_index=True, return_inverse=True)
         if len(unique) < len(vertices):
@@ -116,6 +129,21 @@ class View:
             log.warning("%s: %s", name, message)
             repairs.append(message)
             faces = faces[~degenerate]
+        p = vertices[faces]
+        area2 = np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+        flat = area2 <= ZERO_AREA * max(float(np.median(area2)), np.finfo(float).tiny)
+        if flat.any():
+            message = f"dropped {int(flat.sum())} zero-area faces (collinear vertices)"
+            log.warning("%s: %s", name, message)
+            repairs.append(message)
+            faces = faces[~flat]
+        if len(faces) == 0:
+            raise ViewError(f"{name}: no face with a non-zero area")
+        faces, flipped = _consistent_winding(faces)
+        if flipped:
+            message = f"reversed {flipped} faces whose winding disagreed with their neighbours'"
+            log.warning("%s: %s", name, message)
+            repairs.append(message)
         used = np.zeros(len(vertices), bool)
         used[faces.ravel()] = True
         if not used.all():
@@ -252,6 +280,49 @@ class View:
     def boundary(self) -> np.ndarray:
         """(b,) int64: the outer boundary loop, counter-clockwise, origin on the +x axis."""
         return _outer_boundary(self)
+
+
+def _consistent_winding(faces: np.ndarray) -> tuple[np.ndarray, int]:
+    """Faces wound consistently with their neighbours, and how many were reversed.
+
+    Two faces sharing an edge agree when they traverse it in opposite directions. A
+    breadth-first pass over each connected patch of faces sets every face's winding from
+    its parent's; per patch, the winding most of the given faces had is kept.
+    """
+    m = len(faces)
+    half = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    owner = np.tile(np.arange(m), 3)
+    key = np.minimum(half[:, 0], half[:, 1]) * (int(faces.max()) + 1) + np.maximum(half[:, 0], half[:, 1])
+    order = np.argsort(key, kind="stable")
+    key, owner, forward = key[order], owner[order], (half[:, 0] < half[:, 1])[order]
+    pair = np.flatnonzero((key[:-1] == key[1:]) & ((np.r_[True, key[1:-1] != key[:-2]]) &
+                                                     (np.r_[key[2:] != key[1:-1], True])))  # edges of exactly 2 faces
+    a, b = owner[pair], owner[pair + 1]
+    parity = (forward[pair] == forward[pair + 1]).astype(np.int8)  # same direction: one of the two is reversed
+    if not parity.any():  # consistent already (every rendered view)
+        return faces, 0
+    graph = sp.coo_matrix((parity + 1, (a, b)), shape=(m, m)).tocsr()
+    graph = graph + graph.T
+    flip = np.zeros(m, dtype=bool)
+    seen = np.zeros(m, dtype=bool)
+    for root in range(m):
+        if seen[root]:
+            continue
+        patch, parent = csgraph.breadth_first_order(graph, root, directed=False, return_predecessors=True)
+        children = patch[1:]
+        reverse = (np.asarray(graph[parent[children], children]).ravel() == 2).tolist()
+        state = flip.tolist()
+        for node, up, rev in zip(children.tolist(), parent[children].tolist(), reverse, strict=True):
+            state[node] = state[up] ^ rev  # BFS order: a parent is set before its children
+        flip = np.array(state)
+        seen[patch] = True
+        if flip[patch].sum() * 2 > len(patch):  # keep the majority's winding
+            flip[patch] = ~flip[patch]
+    if not flip.any():
+        return faces, 0
+    faces = faces.copy()
+    faces[flip] = faces[flip][:, ::-1]
+    return faces, int(flip.sum())
 
 
 def _compact(vertices, colors, faces, keep):

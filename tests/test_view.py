@@ -89,3 +89,38 @@ def test_loading_a_corrupt_view(tmp_path):
     path.write_bytes(b"not a zip")
     with pytest.raises(hd.ViewError, match="not a readable"):
         hd.View.load(path)
+
+
+def test_inconsistent_winding_is_made_consistent_and_recorded(caplog):
+    """Every third face of a grid reversed gave an outer boundary of 42 instead of 76 vertices, PVHK off by 0.30."""
+    vertices, faces = grid_mesh(20, 20)
+    good = hd.View.from_arrays(vertices, faces)
+    flipped = faces.copy()
+    flipped[::3] = flipped[::3, ::-1]
+    view = hd.View.from_arrays(vertices, flipped)
+    assert len(view.boundary) == len(good.boundary) == 76
+    assert view.repairs == [f"reversed {len(faces[::3])} faces whose winding disagreed with their neighbours'"]
+    assert np.array_equal(hd.pvhk(view, 64, "center").values, hd.pvhk(good, 64, "center").values)
+    assert "winding" in caplog.text and hd.View.from_arrays(vertices, faces).repairs == []
+
+
+def test_bad_colours_and_face_indices_are_errors():
+    vertices, faces = grid_mesh(8, 8)
+    colors = np.full((len(vertices), 3), 0.5)
+    colors[3, 0] = np.nan
+    with pytest.raises(hd.ViewError, match="1 vertices have NaN or infinite colours"):
+        hd.View.from_arrays(vertices, faces, colors)
+    with pytest.raises(hd.ViewError, match=r"colors must be \(n, 3\)"):
+        hd.View.from_arrays(vertices, faces, np.full((len(vertices) - 1, 3), 0.5))
+    fractional = faces.astype(float)
+    fractional[0, 0] += 0.7
+    with pytest.raises(hd.ViewError, match="whole vertex indices"):
+        hd.View.from_arrays(vertices, fractional)
+    assert hd.View.from_arrays(vertices, faces.astype(float)).n_vertices == 64  # whole floats are indices
+
+
+def test_zero_area_faces_are_dropped_and_recorded():
+    vertices, faces = grid_mesh(8, 8)
+    row = np.arange(3)  # three collinear vertices of the grid's first row
+    view = hd.View.from_arrays(vertices, np.vstack([faces, row]))
+    assert view.repairs == ["dropped 1 zero-area faces (collinear vertices)"] and len(view.faces) == len(faces)
