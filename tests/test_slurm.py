@@ -95,7 +95,7 @@ def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
     (workdir / "config" / "config.yaml").write_text(yaml.safe_dump(config))
     result = subprocess.run(
         [str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(workdir),
-         "--workflow-profile", str(ROOT / "profiles" / "slurm")],
+         "--workflow-profile", str(ROOT / "profiles" / "slurm"), "--slurm-no-account"],  # no accounting here
         capture_output=True, text=True, timeout=900)
     assert result.returncode == 0, (result.stdout + result.stderr)[-4000:]
     submitted = (result.stdout + result.stderr).count("has been submitted with SLURM jobid")

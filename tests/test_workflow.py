@@ -207,6 +207,8 @@ def test_lint_has_only_the_conda_warning(tmp_path):
 def test_profile_files_are_present():
     slurm = yaml.safe_load((ROOT / "profiles/slurm/config.yaml").read_text())
     assert slurm["executor"] == "slurm" and slurm["slurm-status-command"] == "squeue"
+    # account and partition are the user's (--default-resources slurm_account=... slurm_partition=...)
+    assert "slurm-no-account" not in slurm and "slurm_partition" not in slurm["default-resources"]
     assert shutil.which("snakemake") or SNAKEMAKE.exists()
 
 
