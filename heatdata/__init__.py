@@ -26,7 +26,8 @@ from .view import View, kinect_intrinsics
 # importable as ``heatdata.distance`` (``from heatdata.distance import mhd_matrix``).
 
 __all__ = [
-    "accuracy_by", "c_pvhk", "chi_square_matrix", "DESCRIPTORS", "distance", "fit_spec", "library_subset", "camera_pose", "candidate_descriptors", "candidate_sources", "catalog_from_folder",
+    "accuracy_by", "c_pvhk", "camera_pose", "candidate_descriptors", "candidate_sources", "catalog_from_folder",
+    "chi_square_matrix", "DESCRIPTORS", "distance", "fit_spec", "library_subset",
     "classify_candidates", "COLOR_MAPS", "combined_costs", "confusion_matrix", "consecutive_costs", "describe",
     "Descriptor", "DescriptorSpec", "eigen_spectrum", "first_crossings", "ft_pvhk", "global_derivative",
     "heat_kernel", "heat_model", "HeatdataError", "HeatModel", "HeatOperator", "import_sh3f", "kinect_intrinsics",

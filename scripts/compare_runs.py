@@ -23,7 +23,8 @@ TABLES = {"descriptors.parquet": ["view_id", "descriptor", "time_object"],
 def same_column(a, b) -> bool:
     if len(a) and isinstance(a.iloc[0], (np.ndarray, list, type(None))):
         return all((u is None) == (v is None) and (u is None or np.array_equal(
-            np.asarray(u), np.asarray(v), equal_nan=np.asarray(u).dtype.kind == "f")) for u, v in zip(a, b, strict=True))
+            np.asarray(u), np.asarray(v), equal_nan=np.asarray(u).dtype.kind == "f"))
+            for u, v in zip(a, b, strict=True))
     return np.array_equal(a.to_numpy(), b.to_numpy(), equal_nan=a.dtype.kind == "f")
 
 

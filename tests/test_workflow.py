@@ -69,7 +69,8 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     assert lengths.to_dict() == {"esf": [640], "ft-pvhk": [32], "pvhk": [32], "pvst": [32], "si-hks": [8]}
     histograms = descriptors[descriptors["kind"].isin(["esf", "si-hks"])]
     assert histograms[["sampling", "source_rule", "color_map"]].isna().all().all()
-    assert np.allclose(histograms["values"].map(sum), 1.0) and (results / "fitted" / "si-hks_words=8_modes=30.npz").is_file()
+    assert np.allclose(histograms["values"].map(sum), 1.0)
+    assert (results / "fitted" / "si-hks_words=8_modes=30.npz").is_file()
     pvhk = descriptors[descriptors["kind"] == "pvhk"]
     assert np.allclose(pvhk["time"] * pvhk["lambda2"], 1.0) and np.allclose(pvhk["time"], pvhk["t_global"])
     scales = pd.concat([pd.read_csv(p) for p in (results / "time_scales").glob("*.csv")]).set_index("object")

@@ -181,7 +181,8 @@ class Kind:
     def candidates(self, view, sources: np.ndarray, spec: "DescriptorSpec", *, times=None, modes: int = 32
                    ) -> list[Descriptor]:
         """One descriptor per source vertex (only if :attr:`multi_source`)."""
-        raise ViewError(f"{article(self.name)} {self.name} has no heat source: candidate descriptors (ch. 6) need one of "
+        raise ViewError(f"{article(self.name)} {self.name} has no heat source: candidate descriptors (ch. 6) "
+                        "need one of "
                         f"{', '.join(k for k, v in KINDS.items() if v.multi_source)}")
 
 
@@ -220,8 +221,8 @@ class DescriptorSpec:
     ``DescriptorSpec("pvhk", 64, "center", "polar")`` takes options positionally in the
     kind's order, or by name: ``DescriptorSpec("esf", seed=3)``. An option given as None
     takes its default (``samples=None`` means one value per boundary vertex); None for an
-    option the kind does not have is ignored. A fitted kind's spec carries what :func:`fit_spec` learned in
-    :attr:`fitted` (not part of its name or equality).
+    option the kind does not have is ignored. A fitted kind's spec carries what
+    :func:`fit_spec` learned in :attr:`fitted` (not part of its name or equality).
 
     Attributes
     ----------
@@ -237,14 +238,16 @@ class DescriptorSpec:
         impl = kind_of(kind)
         names = [o.name for o in impl.options]
         if len(args) > len(names):
-            raise ViewError(f"{article(kind)} {kind} takes at most {len(names)} options ({', '.join(names)}), got {len(args)}")
+            raise ViewError(f"{article(kind)} {kind} takes at most {len(names)} options ({', '.join(names)}), "
+                            f"got {len(args)}")
         for name, value in zip(names, args, strict=False):
             if name in given:
                 raise ViewError(f"{kind}: option {name} given twice")
             given[name] = value
         unknown = sorted(k for k, v in given.items() if k not in names and v is not None)
         if unknown:
-            raise ViewError(f"{article(kind)} {kind} takes no {', '.join(unknown)} (its options: {', '.join(names) or 'none'})")
+            raise ViewError(f"{article(kind)} {kind} takes no {', '.join(unknown)} "
+                            f"(its options: {', '.join(names) or 'none'})")
         options = {}
         for option in impl.options:
             value = given.get(option.name, option.default)
@@ -262,7 +265,8 @@ class DescriptorSpec:
         options = object.__getattribute__(self, "options")
         if name in options:
             return options[name]
-        raise AttributeError(f"{article(object.__getattribute__(self, 'kind'))} {object.__getattribute__(self, 'kind')} spec has no option {name!r}")
+        kind = object.__getattribute__(self, "kind")
+        raise AttributeError(f"{article(kind)} {kind} spec has no option {name!r}")
 
     def __setattr__(self, name, value):
         raise AttributeError("DescriptorSpec is immutable; use spec.replace(...)")
@@ -328,7 +332,8 @@ def fit_spec(spec: DescriptorSpec, library_views: list) -> DescriptorSpec:
 def distance(a: Descriptor, b: Descriptor) -> float:
     """The kind's own distance between two descriptors of one kind (eq. 3.1, 5.14 or a histogram distance)."""
     if a.kind != b.kind:
-        raise HeatdataError(f"no distance between {article(a.kind)} {a.kind} and {article(b.kind)} {b.kind} descriptor: compare one kind")
+        raise HeatdataError(f"no distance between {article(a.kind)} {a.kind} and {article(b.kind)} {b.kind} "
+                            "descriptor: compare one kind")
     impl = kind_of(a.kind)
     weights = {}
     if impl.weighted and a.weights is not None and b.weights is not None:

@@ -28,7 +28,8 @@ class FPFH(HistogramKind):
 
         view = work.view
         self.check_points(view)
-        cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(np.array(view.vertices, np.float64)))  # a copy: open3d refuses read-only arrays (views read from Parquet)
+        points = np.array(view.vertices, np.float64)  # a copy: open3d refuses read-only arrays (views from Parquet)
+        cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
         cloud.normals = o3d.utility.Vector3dVector(work.normals())
         search = o3d.geometry.KDTreeSearchParamHybrid(radius=spec.radius, max_nn=spec.max_nn)
         features = np.asarray(o3d.pipelines.registration.compute_fpfh_feature(cloud, search).data)  # (33, n)

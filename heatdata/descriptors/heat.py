@@ -49,7 +49,8 @@ def _source(value):
 
 def _color_map(value):
     if isinstance(value, str) and value not in COLOR_MAPS:
-        raise ValueError(f"must be a colour map: one of {', '.join(COLOR_MAPS)} or a function of (n, 3) RGB, got {value!r}")
+        raise ValueError(f"must be a colour map: one of {', '.join(COLOR_MAPS)} or a function of (n, 3) RGB, "
+                         f"got {value!r}")
     if not isinstance(value, str) and not callable(value):
         raise TypeError(f"must be a colour map name or a function, got {value!r}")
     return value

@@ -11,7 +11,8 @@ from heatdata.tables import read_table
 setup_logging(path=snakemake.log[0])
 comparison = snakemake.params.comparison
 specs = load_fitted([DescriptorSpec(**d) for d in snakemake.params.descriptors], snakemake.params.fitted)
-library, _ = read_table(snakemake.input.descriptors, columns=["descriptor", "kind", "object", "split", "azimuth", "values"],
+library, _ = read_table(snakemake.input.descriptors,
+                        columns=["descriptor", "kind", "object", "split", "azimuth", "values"],
                         filters=[("split", "==", "train"), ("object", "in", comparison["isomap_objects"])])
 plot_isomaps(library, [s.name for s in specs], comparison["isomap_objects"], snakemake.output.isomaps)
 with threadpool_limits(snakemake.threads):
