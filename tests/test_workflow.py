@@ -154,6 +154,19 @@ def test_bad_config_is_rejected_before_any_job(tmp_path, overrides, message):
     assert not (tmp_path / "results").exists()
 
 
+def test_config_from_the_command_line_is_read_by_the_schema_and_errors_are_one_line(tmp_path):
+    """Snakemake hands nested --config values over as strings: '4' failed 'is not of type integer'. A misspelled
+    key printed the whole schema (over 500 lines)."""
+    result = snakemake(tmp_path, tiny_config(), "--dry-run", "--config", 'views={"train": 8, "test": 3}')
+    assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
+    result = snakemake(tmp_path, tiny_config(), "--dry-run", "--config", "colour=1")
+    text = result.stdout + result.stderr
+    assert result.returncode != 0 and "config error: the config: Additional properties are not allowed" in text
+    assert len(text.splitlines()) < 30
+    result = snakemake(tmp_path, tiny_config(), "--dry-run", "--config", 'views={"train": "many"}')
+    assert "config error: views.train: 'many' is not of type 'integer'" in result.stdout + result.stderr
+
+
 def make_models_dir(root: Path, classes: dict) -> Path:
     for cls, names in classes.items():
         (root / cls).mkdir(parents=True, exist_ok=True)

@@ -1,0 +1,34 @@
+# The config, read as the schema types it and validated against it before any rule is defined; an error is one
+# line naming the key.
+import jsonschema
+import yaml
+from snakemake.exceptions import WorkflowError
+from snakemake.utils import validate
+
+SCHEMA = yaml.safe_load(open(workflow.source_path("../schemas/config.schema.yaml")))
+
+
+def typed(value, schema):
+    """--config key={...} hands nested values over as strings (YAML's BaseLoader): read them by the schema's types."""
+    if isinstance(value, dict):
+        return {k: typed(v, schema.get("properties", {}).get(k, {})) for k, v in value.items()}
+    if isinstance(value, list):
+        return [typed(v, schema.get("items", {})) for v in value]
+    types = schema.get("type", [])
+    if isinstance(value, str) and {"integer", "number", "boolean"} & set([types] if isinstance(types, str) else types):
+        parsed = yaml.safe_load(value)
+        return value if parsed is None or isinstance(parsed, (str, dict, list)) else parsed
+    return value
+
+
+config.update(typed(dict(config), SCHEMA))
+try:
+    validate(config, "../schemas/config.schema.yaml")
+except WorkflowError as exc:  # one line naming the key, not the whole schema
+    cause = exc.__cause__ or exc.__context__
+    while cause is not None and not isinstance(cause, jsonschema.ValidationError):
+        cause = cause.__cause__ or cause.__context__
+    if cause is None:
+        raise
+    key = ".".join(str(part) for part in cause.absolute_path) or "the config"
+    raise WorkflowError(f"config error: {key}: {cause.message}") from None
