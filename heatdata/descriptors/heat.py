@@ -25,7 +25,7 @@ from ..view import View
 from .base import Descriptor, DescriptorSpec, Kind, Option, integer, one_of, register
 from .boundary import COLOR_MAPS, SAMPLINGS, SOURCE_RULES, color_rates, sample_boundary
 from .compute import describe
-from .work import WEIGHT_MODES, ViewWork, heat_operator
+from .work import WEIGHT_MODES, ViewWork, checked_times, heat_operator
 
 log = logging.getLogger(__name__)
 
@@ -64,14 +64,6 @@ SAMPLING = Option("sampling", "arclength", "boundary sampling (2.3.3): arclength
 COLOR_MAP = Option("color_map", None, "colour map of 3.4.2 (c1, c2, c3, c4, hue) or a function of RGB",
                    _color_map)
 BOUNDARY_OPTIONS = (SAMPLES, SOURCE, SAMPLING)
-
-
-def checked_times(times, what: str) -> tuple:
-    """Diffusion times as a tuple of positive finite floats; a clear error for an empty or bad list."""
-    values = np.atleast_1d(np.asarray(times, dtype=np.float64)) if np.size(times) else np.array([])
-    if values.ndim != 1 or len(values) == 0 or not np.all(np.isfinite(values)) or np.any(values <= 0):
-        raise ViewError(f"{what}: times must be one or more positive finite times, got {list(np.ravel(times))}")
-    return tuple(float(t) for t in values)
 
 
 def color_name(color_map) -> str | None:
@@ -198,9 +190,6 @@ class FixedTimePVHK(HeatKind):
     def times(self, work, op, spec, context) -> tuple:
         times = context.get("times")
         chosen = times.get(spec.name) if isinstance(times, Mapping) else times
-        if chosen is None:
-            raise ViewError(f"{work.view.name}: the ft-pvhk {spec.name} needs times= (the object's time scale, "
-                            "Alg. 5.1)")
         return checked_times(chosen, f"{work.view.name}: the ft-pvhk {spec.name}")
 
     def weights(self, work, connected, op, spec, context):
@@ -210,8 +199,6 @@ class FixedTimePVHK(HeatKind):
         return weights, work.lambda2(op), notes
 
     def spectrum_times(self, spectrum, spec, times) -> tuple:
-        if times is None:
-            raise ViewError(f"the ft-pvhk {spec.name} needs times= (the object's time scale, Alg. 5.1)")
         return checked_times(times, f"the ft-pvhk {spec.name}")
 
 

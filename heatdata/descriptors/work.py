@@ -30,6 +30,16 @@ def heat_operator(view: View, rates: np.ndarray | None = None) -> HeatOperator:
     return HeatOperator(laplacian(view.vertices, view.edges, view.name), rates, view.name)
 
 
+def checked_times(times, what: str) -> tuple:
+    """Diffusion times as a tuple of positive finite floats; a clear error, naming ``what``, for none or a bad list."""
+    if times is None:
+        raise ViewError(f"{what} needs times= (the object's time scale, Alg. 5.1)")
+    values = np.atleast_1d(np.asarray(times, dtype=np.float64)) if np.size(times) else np.array([])
+    if values.ndim != 1 or len(values) == 0 or not np.all(np.isfinite(values)) or np.any(values <= 0):
+        raise ViewError(f"{what}: times must be one or more positive finite times, got {list(np.ravel(times))}")
+    return tuple(float(t) for t in values)
+
+
 def heat_kernel(view: View, source: int | str = "closest", times=None, *, color_map=None,
                 tol: float = 1e-7) -> np.ndarray:
     """Temperatures over the whole view after a unit pulse at ``source`` (eq. 2.5-2.6, 2.11).
@@ -50,8 +60,7 @@ def heat_kernel(view: View, source: int | str = "closest", times=None, *, color_
     (len(times), n) float64
         Temperatures divided by the equilibrium temperature (equilibrium = 1).
     """
-    if times is not None and (np.size(times) == 0 or not np.all(np.isfinite(times)) or np.any(np.asarray(times) <= 0)):
-        raise ViewError(f"{view.name}: times must be one or more positive finite times, got {list(np.ravel(times))}")
+    times = None if times is None else checked_times(times, view.name)
     rates = None if color_map is None else color_rates(view, color_map)
     op = heat_operator(view, rates)
     times = [1.0 / lambda2(op)] if times is None else times
