@@ -1,9 +1,11 @@
 """heatdata: heat-diffusion descriptors of partial 3D views (Brandao 2015).
 
 >>> import heatdata as hd
->>> model = hd.load_model("mug.obj", size=(0.12, 0.10, 0.08))
+>>> model = hd.load_model("data/models/beer-mug/beerGlass.obj", size=(0.154, 0.165, 0.102))
 >>> view = hd.render_view(model, azimuth=30.0, elevation=45.0, distance=1.0, noise=True, seed=0)
 >>> d = hd.pvhk(view, samples=64, source="closest")
+
+The README's "Using the library" runs a whole example (recognition, the baselines, a compact library).
 """
 
 from .catalog import catalog_from_folder, import_sh3f, load_catalog_model, read_catalog

@@ -40,6 +40,7 @@ import pandas as pd
 import scipy.sparse as sp
 from scipy.spatial.distance import cdist
 
+from .descriptors import stack_values
 from .distance import _check_finite
 from .errors import HeatdataError
 
@@ -336,6 +337,19 @@ def cyclic_dp(edge_costs: list) -> tuple[np.ndarray, float]:
     return choice, float(best[start, start])
 
 
+def _stacked_views(views: list, name: str) -> list[np.ndarray]:
+    """One object's candidate descriptors per view, each as a finite (n_i, M) array of one M."""
+    views = [stack_values(values, f"{name} view {i}") for i, values in enumerate(views)]
+    if not views:
+        raise HeatdataError(f"{name}: no library views")
+    lengths = sorted({v.shape[1] for v in views})
+    if len(lengths) > 1:
+        raise HeatdataError(f"{name}: views have descriptors of different lengths {lengths}")
+    for i, values in enumerate(views):
+        _check_finite(values, f"{name} view {i}")
+    return views
+
+
 def consecutive_costs(views: list[np.ndarray]) -> list[np.ndarray]:
     """c of eq. 6.6: the L1 distance from each candidate of view i to each of view i+1 (the last to the first).
 
@@ -345,15 +359,15 @@ def consecutive_costs(views: list[np.ndarray]) -> list[np.ndarray]:
 
     Parameters
     ----------
-    views : list of K (n_i, M) arrays
-        Candidate descriptors of one object's library views, in azimuth order.
+    views : list of K (n_i, M) arrays, or of K lists of Descriptor
+        Candidate descriptors of one object's library views, in azimuth order (one
+        :func:`heatdata.candidate_descriptors` list per view will do).
 
     Returns
     -------
     list of K (n_i, n_{i+1}) float64
     """
-    for i, values in enumerate(views):
-        _check_finite(values, f"view {i}")
+    views = _stacked_views(views, "library")
     return [cdist(views[i], views[(i + 1) % len(views)], "cityblock") for i in range(len(views))]
 
 
@@ -369,7 +383,7 @@ def other_object_distances(candidates: dict[str, list[np.ndarray]], *, block: in
 
     Parameters
     ----------
-    candidates : dict from object to a list of (n_i, M) arrays
+    candidates : dict from object to a list of (n_i, M) arrays (or of lists of Descriptor)
         The extended library: every candidate descriptor of every library view.
     block : int
         Candidates per batch (the work array is block x the other objects' candidates).
@@ -380,9 +394,11 @@ def other_object_distances(candidates: dict[str, list[np.ndarray]], *, block: in
     """
     if len(candidates) < 2:
         raise HeatdataError(f"distances to other objects need two or more objects, got {list(candidates)}")
+    candidates = {obj: _stacked_views(views, obj) for obj, views in candidates.items()}
+    lengths = {obj: views[0].shape[1] for obj, views in candidates.items()}
+    if len(set(lengths.values())) > 1:
+        raise HeatdataError(f"objects have descriptors of different lengths {lengths}: describe them with one spec")
     stacked = {obj: np.vstack(views) for obj, views in candidates.items()}
-    for obj, values in stacked.items():
-        _check_finite(values, obj)
     rho = {}
     for obj, views in candidates.items():
         others = np.vstack([d for other, d in stacked.items() if other != obj])

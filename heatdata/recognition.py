@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from .descriptors import stack_values
 from .distance import SHORTLIST, mhd_matrix, nearest_pair_mhd
 from .errors import HeatdataError
 
@@ -25,8 +26,8 @@ def nearest_neighbours(queries: np.ndarray, library: np.ndarray, *, distance=mhd
 
     Parameters
     ----------
-    queries : (Q, M) float
-    library : (N, M') float
+    queries : (Q, M) float, or a list of Descriptor
+    library : (N, M') float, or a list of Descriptor
     distance : callable
         ``distance(queries, library, **kwargs)`` -> (Q, N), e.g. a kind's
         :meth:`heatdata.descriptors.Kind.distance_matrix`; default :func:`heatdata.mhd_matrix`.
@@ -36,7 +37,7 @@ def nearest_neighbours(queries: np.ndarray, library: np.ndarray, *, distance=mhd
     NearestNeighbours
         ``index`` (Q,) int and ``distance`` (Q,) float.
     """
-    d = distance(queries, library, **kwargs)
+    d = distance(stack_values(queries, "queries"), stack_values(library, "library"), **kwargs)
     index = np.argmin(d, axis=1)
     return NearestNeighbours(index=index, distance=d[np.arange(len(index)), index])
 
@@ -49,9 +50,10 @@ def classify_candidates(candidates: np.ndarray, library: np.ndarray, labels: np.
 
     Parameters
     ----------
-    candidates : (s, M) float
-        The observed view's descriptors, one per candidate source.
-    library : (N, M) float
+    candidates : (s, M) float, or a list of Descriptor
+        The observed view's descriptors, one per candidate source
+        (:func:`heatdata.candidate_descriptors`).
+    library : (N, M) float, or a list of Descriptor
     labels : (N,)
         Object (or class) of each library descriptor.
     shortlist : int or None
@@ -62,6 +64,8 @@ def classify_candidates(candidates: np.ndarray, library: np.ndarray, labels: np.
     label, candidate, item, distance
         The predicted label, which candidate and which library descriptor matched, and their distance.
     """
+    candidates, library = stack_values(candidates, "candidates"), stack_values(library, "library")
+    labels = np.asarray(labels)
     if len(labels) != len(library):
         raise HeatdataError(f"{len(labels)} labels for {len(library)} library descriptors")
     candidate, item, distance = nearest_pair_mhd(candidates, library, shortlist=shortlist)

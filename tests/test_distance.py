@@ -99,3 +99,17 @@ def test_nearest_pair_over_a_set_of_candidates():
         hd.classify_candidates(candidates, library, np.arange(49))
     with pytest.raises(hd.HeatdataError, match="NaN"):
         hd.nearest_pair_mhd(np.full((1, 32), np.nan), library)
+
+
+def test_recognition_takes_the_descriptor_lists_the_api_returns(disc, square):
+    spec = hd.DescriptorSpec("pvhk", 32, "center", "polar")
+    library = hd.describe(disc, [spec]) + hd.describe(square, [spec])
+    nn = hd.nearest_neighbours(hd.describe(square, [spec]), library)
+    assert nn.index.tolist() == [1] and nn.distance[0] == 0.0
+    candidates = hd.candidate_descriptors(square, hd.candidate_sources(square, 5), spec)
+    label, _, item, _ = hd.classify_candidates(candidates, library, ["disc", "square"])
+    assert (label, item) == ("square", 1)
+    with pytest.raises(hd.HeatdataError, match="several kinds"):
+        hd.classify_candidates(candidates, library + hd.describe(disc, [hd.DescriptorSpec("esf")]), ["a"] * 3)
+    with pytest.raises(hd.HeatdataError, match="candidates: nothing to stack"):
+        hd.classify_candidates([], library, ["disc", "square"])

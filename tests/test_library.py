@@ -166,3 +166,19 @@ def test_solver_output_goes_to_the_log_not_to_stdout():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout == "" and "solver output: Running HiGHS" in done.stderr
+
+
+def test_ch6_costs_take_the_descriptor_lists_candidate_descriptors_returns(disc, square):
+    spec = hd.DescriptorSpec("pvhk", 32, "center", "polar")
+    per_view = [hd.candidate_descriptors(v, hd.candidate_sources(v, 5), spec) for v in (disc, square, disc)]
+    arrays = [np.stack([d.values for d in zs]) for zs in per_view]
+    for got, want in zip(library.consecutive_costs(per_view), library.consecutive_costs(arrays)):
+        np.testing.assert_array_equal(got, want)
+    rho = library.other_object_distances({"a": per_view, "b": per_view[:1]})
+    assert [len(r) for r in rho["a"]] == [len(zs) for zs in per_view]
+    with pytest.raises(hd.HeatdataError, match="different lengths"):
+        library.consecutive_costs([arrays[0], arrays[1][:, :16]])
+    with pytest.raises(hd.HeatdataError, match="different lengths"):
+        library.other_object_distances({"a": arrays, "b": [arrays[0][:, :16]]})
+    with pytest.raises(hd.HeatdataError, match="library view 1: nothing to stack"):
+        library.consecutive_costs([arrays[0], []])

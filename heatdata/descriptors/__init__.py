@@ -12,7 +12,7 @@ import importlib
 import pkgutil
 
 from .base import (KINDS, Descriptor, DescriptorSpec, Kind, Option, available, distance, file_name, fit_spec, kind_of,
-                   register)
+                   register, stack_values)
 from .boundary import COLOR_MAPS, SAMPLINGS, SOURCE_RULES, color_rates, sample_boundary, source_vertex
 from .compute import describe
 from .heat import (CANDIDATES_RULE, COLOR_KIND, DEFAULT_KIND, c_pvhk, ft_pvhk, global_derivative, object_time_scale,
@@ -31,5 +31,5 @@ __all__ = [
     "Descriptor", "DESCRIPTORS", "DescriptorSpec", "distance", "file_name", "fit_spec", "ft_pvhk", "global_derivative",
     "heat_kernel", "heat_operator", "Kind", "kind_of", "KINDS", "object_time_scale", "Option", "part_weights",
     "pvhk", "pvst", "PVST_THRESHOLD", "register", "sample_boundary", "SAMPLINGS", "source_vertex", "SOURCE_RULES",
-    "view_time_scale", "ViewWork",
+    "stack_values", "view_time_scale", "ViewWork",
 ]

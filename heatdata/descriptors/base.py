@@ -329,6 +329,44 @@ def fit_spec(spec: DescriptorSpec, library_views: list) -> DescriptorSpec:
     return spec.with_fitted(spec.impl.fit(spec, views))
 
 
+def stack_values(items, what: str = "descriptors") -> np.ndarray:
+    """Descriptor values as one (n, M) float64 array.
+
+    Parameters
+    ----------
+    items : (n, M) array, or a sequence of :class:`Descriptor` or of (M,) arrays
+        What the API hands out: a stacked array, :func:`heatdata.describe`'s or
+        :func:`heatdata.candidate_descriptors`'s list of descriptors.
+    what : str
+        Named in errors.
+
+    Raises
+    ------
+    HeatdataError
+        Nothing to stack, descriptors of different kinds or lengths, or not 2-D.
+    """
+    if isinstance(items, Descriptor):
+        items = [items]
+    if isinstance(items, np.ndarray):
+        values = items
+    else:
+        items = list(items)
+        if not items:
+            raise HeatdataError(f"{what}: nothing to stack (an empty list)")
+        kinds = {d.kind for d in items if isinstance(d, Descriptor)}
+        if len(kinds) > 1:
+            raise HeatdataError(f"{what}: descriptors of several kinds ({', '.join(sorted(kinds))}); stack one kind")
+        rows = [np.asarray(d.values if isinstance(d, Descriptor) else d, dtype=np.float64) for d in items]
+        lengths = sorted({r.shape for r in rows})
+        if len(lengths) > 1:
+            raise HeatdataError(f"{what}: descriptors of different shapes {lengths}; sample them at one length")
+        values = np.stack(rows)
+    values = np.asarray(values, dtype=np.float64)
+    if values.ndim != 2 or values.shape[0] == 0:
+        raise HeatdataError(f"{what}: expected descriptors (n, M) with n >= 1, got shape {values.shape}")
+    return values
+
+
 def distance(a: Descriptor, b: Descriptor) -> float:
     """The kind's own distance between two descriptors of one kind (eq. 3.1, 5.14 or a histogram distance)."""
     if a.kind != b.kind:
