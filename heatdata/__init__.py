@@ -1,14 +1,14 @@
 """heatdata: heat-diffusion descriptors of partial 3D views (Brandao 2015).
 
 >>> import heatdata as hd
->>> model = hd.load_model("data/models/beer-mug/beerGlass.obj", size=(0.154, 0.165, 0.102))
+>>> model = hd.load_model(hd.embedded_catalog().parent / "beer-mug/beerGlass.obj", size=(0.154, 0.165, 0.102))
 >>> view = hd.render_view(model, azimuth=30.0, elevation=45.0, distance=1.0, noise=True, seed=0)
 >>> d = hd.pvhk(view, samples=64, source="closest")
 
 The README's "Using the library" runs a whole example (recognition, the baselines, a compact library).
 """
 
-from .catalog import catalog_from_folder, import_sh3f, load_catalog_model, read_catalog
+from .catalog import catalog_from_folder, embedded_catalog, import_sh3f, load_catalog_model, read_catalog
 from .distance import chi_square_matrix, mhd, mhd_matrix, nearest_pair_mhd, weighted_mhd
 from .descriptors import (COLOR_MAPS, DESCRIPTORS, Descriptor, DescriptorSpec, c_pvhk, describe, distance, fit_spec,
                           ft_pvhk, global_derivative, heat_kernel, object_time_scale, part_weights, pvhk, pvst,
@@ -16,7 +16,7 @@ from .descriptors import (COLOR_MAPS, DESCRIPTORS, Descriptor, DescriptorSpec, c
 from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
 from .library import combined_costs, consecutive_costs, library_subset, other_object_distances, select_sources
 from .models import Model, load_model
-from .recognition import accuracy_by, classify_candidates, confusion_matrix, nearest_neighbours
+from .recognition import precision_by, classify_candidates, confusion_matrix, nearest_neighbours
 from .render import camera_pose, render_view
 from .sources import candidate_descriptors, candidate_sources
 from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat,
@@ -28,8 +28,8 @@ from .view import View, kinect_intrinsics
 # importable as ``heatdata.distance`` (``from heatdata.distance import mhd_matrix``).
 
 __all__ = [
-    "accuracy_by", "c_pvhk", "camera_pose", "candidate_descriptors", "candidate_sources", "catalog_from_folder",
-    "chi_square_matrix", "DESCRIPTORS", "distance", "fit_spec", "library_subset",
+    "precision_by", "c_pvhk", "camera_pose", "candidate_descriptors", "candidate_sources", "catalog_from_folder",
+    "chi_square_matrix", "DESCRIPTORS", "distance", "embedded_catalog", "fit_spec", "library_subset",
     "classify_candidates", "COLOR_MAPS", "combined_costs", "confusion_matrix", "consecutive_costs", "describe",
     "Descriptor", "DescriptorSpec", "eigen_spectrum", "first_crossings", "ft_pvhk", "global_derivative",
     "heat_kernel", "heat_model", "HeatdataError", "HeatModel", "HeatOperator", "import_sh3f", "kinect_intrinsics",

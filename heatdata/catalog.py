@@ -43,6 +43,18 @@ CATALOG_COLUMNS = ["object", "label", "file", "width", "height", "depth", "rotat
 SH3F_LICENCES = {"blendswap-cc-0": "CC0-1.0"}
 
 
+def embedded_catalog() -> Path:
+    """The catalogue of the embedded CC0 models: ``data/models/`` of the repository, or of an installed wheel.
+
+    A wheel ships the repository's ``data/`` folder as ``heatdata/embedded/`` (pyproject.toml).
+    """
+    package = Path(__file__).resolve().parent
+    for folder in (package / "embedded", package.parent / "data"):
+        if (folder / "models" / "catalog.csv").is_file():
+            return folder / "models" / "catalog.csv"
+    raise ModelError(f"no embedded models next to {package} (expected embedded/models/ or ../data/models/)")
+
+
 def read_catalog(path: str | Path) -> pd.DataFrame:
     """Read and check a catalogue CSV.
 

@@ -17,14 +17,15 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from tqdm.contrib.logging import logging_redirect_tqdm
 
-from .catalog import import_sh3f, load_catalog_model, read_catalog
+from .catalog import embedded_catalog, import_sh3f, load_catalog_model, read_catalog
 from .dataset import describe_object, view_plan
 from .descriptors import COLOR_KIND, DEFAULT_KIND, DESCRIPTORS, KINDS, DescriptorSpec, describe, file_name
 from .errors import HeatdataError
-from .evaluate import accuracy_table, classify
+from .evaluate import classify, evaluate_library_sizes, precision_by_object, precision_table
 from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_view_confusion
-from .log import setup_logging
+from .log import progress, setup_logging
 from .models import load_model
 from .render import render_view
 from .tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, read_table, write_table
@@ -33,7 +34,6 @@ from .view import View
 
 log = logging.getLogger("heatdata")
 
-DEFAULT_CATALOG = Path(__file__).resolve().parents[1] / "data" / "models" / "catalog.csv"
 DEMO_SPECS = [DescriptorSpec(DEFAULT_KIND, 64, source, sampling)
               for source in ("closest", "center") for sampling in ("arclength", "polar")]
 DEMO_SPECS.append(DescriptorSpec(COLOR_KIND, 64, "center", "polar", "c3"))
@@ -52,9 +52,14 @@ def _describe_catalog_object(job: tuple) -> pd.DataFrame:
     return describe_object(load_catalog_model(row), plan, specs, noise=noise)
 
 
+def _classify_job(job: tuple) -> pd.DataFrame:
+    return classify(*job)
+
+
 def cmd_demo(args: argparse.Namespace) -> None:
     """Render the embedded objects, describe every view, classify the test views."""
     start = time.perf_counter()
+    args.catalog = args.catalog or embedded_catalog()
     catalog = read_catalog(args.catalog)
     if args.objects:
         wanted = args.objects.split(",")
@@ -69,32 +74,36 @@ def cmd_demo(args: argparse.Namespace) -> None:
     log.info("describing %d views of %d objects (%d descriptors each) with %d processes",
              len(plan), len(catalog), len(DEMO_SPECS), args.jobs)
     with get_context("spawn").Pool(args.jobs, initializer=_one_thread) as pool:
-        descriptors = pd.concat(pool.map(_describe_catalog_object, jobs, chunksize=1), ignore_index=True)
+        described = pool.imap(_describe_catalog_object, jobs, chunksize=1)
+        descriptors = pd.concat(progress(described, total=len(jobs), desc="describing", unit="object"),
+                                ignore_index=True)
         log.info("classifying %d test views per descriptor against %d library views",
                  (plan["split"] == "test").sum(), (plan["split"] == "train").sum())
         subsets = [(descriptors[descriptors["descriptor"] == spec.name], spec.name) for spec in DEMO_SPECS]
-        predictions = pd.concat(pool.starmap(classify, subsets, chunksize=1), ignore_index=True)
+        classified = pool.imap(_classify_job, subsets, chunksize=1)
+        predictions = pd.concat(progress(classified, total=len(subsets), desc="classifying", unit="descriptor"),
+                                ignore_index=True)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     run = {k: v for k, v in vars(args).items() if k != "func"}
     write_table(descriptors, out / "descriptors.parquet", DESCRIPTOR_SCHEMA, run)
     write_table(predictions, out / "predictions.parquet", PREDICTION_SCHEMA, run)
-    accuracy = accuracy_table(predictions)
-    accuracy.to_csv(out / "accuracy.csv")
+    precision = precision_by_object(predictions)
+    precision.to_csv(out / "precision.csv")
     for spec in DEMO_SPECS:
         subset = predictions[predictions["descriptor"] == spec.name]
         plot_confusion(subset, out / f"confusion_objects_{file_name(spec.name)}.png", spec.name)
         plot_view_confusion(subset, out / f"confusion_views_{file_name(spec.name)}.png", spec.name)
     draw_example_views(catalog, out / "views.png", elevation=args.elevation, distance=args.distance,
                        noise=not args.no_noise, seed=args.seed)
-    summary = _summary_markdown(accuracy, descriptors, args, time.perf_counter() - start)
+    summary = _summary_markdown(precision, descriptors, args, time.perf_counter() - start)
     (out / "summary.md").write_text(summary)
     print(summary)
 
 
-def _summary_markdown(accuracy: pd.DataFrame, descriptors: pd.DataFrame, args: argparse.Namespace,
+def _summary_markdown(precision: pd.DataFrame, descriptors: pd.DataFrame, args: argparse.Namespace,
                       seconds: float) -> str:
-    overall = accuracy.loc["all"].sort_values(ascending=False)
+    overall = precision.loc["all"].sort_values(ascending=False)
     lines = [
         "# heatdata demo: nearest-neighbour recognition of the embedded objects",
         "",
@@ -109,13 +118,13 @@ def _summary_markdown(accuracy: pd.DataFrame, descriptors: pd.DataFrame, args: a
         f"{descriptors.groupby('view_id')['seconds'].sum().mean() * 1e3:.0f} ms",
         f"- heatdata {__version__}; wall time {seconds:.0f} s with {args.jobs} processes",
         "",
-        "## Accuracy (fraction of test views whose nearest library view is the same object)",
+        "## Object precision (fraction of test views whose nearest library view is the same object)",
         "",
-        "| descriptor | accuracy |",
+        "| descriptor | precision |",
         "|---|---|",
     ]
     lines += [f"| {name} | {value:.1%} |" for name, value in overall.items()]
-    lines += ["", "## Per object", "", accuracy.map(lambda v: f"{v:.1%}").to_markdown(), ""]
+    lines += ["", "## Per object", "", precision.map(lambda v: f"{v:.1%}").to_markdown(), ""]
     return "\n".join(lines)
 
 
@@ -167,10 +176,35 @@ def cmd_classify(args: argparse.Namespace) -> None:
     if unknown:
         known = sorted(set(descriptors["descriptor"]))
         raise HeatdataError(f"{args.descriptors}: no descriptor {unknown}; it has {known}")
-    predictions = pd.concat([classify(descriptors, name) for name in names], ignore_index=True)
+    train = descriptors[descriptors["split"] == "train"].groupby("object")["azimuth"].nunique()
+    sizes = args.library_size or [None]
+    jobs = [(name, size) for name in names for size in sizes]
+    parts = []
+    for name, size in progress(jobs, desc="classifying", unit="library"):
+        if size is None:  # every train view
+            parts.append(classify(descriptors, name).assign(library_size=int(train.max())))
+        else:
+            parts.append(evaluate_library_sizes(descriptors, name, [size]))
+    predictions = pd.concat(parts, ignore_index=True)
     if args.out:
         write_table(predictions, args.out, PREDICTION_SCHEMA, {"descriptors": str(args.descriptors)})
-    print(accuracy_table(predictions).loc[["all"]].to_string())
+    print(_precision_lines(predictions, every_view=args.library_size is None))
+
+
+def _precision_lines(predictions: pd.DataFrame, every_view: bool) -> str:
+    """The object and class precision of each descriptor and library size, as a labelled table."""
+    table = precision_table(predictions)
+    table = table[table["group"] == "all"].pivot_table(index=["descriptor", "library_size"], columns="level",
+                                                        values="precision")
+    table = table.reset_index().rename(columns={"library_size": "library views", "object": "object precision",
+                                                "class": "class precision"})
+    table = table[["descriptor", "library views", "object precision", "class precision"]]
+    for column in ("object precision", "class precision"):
+        table[column] = table[column].map(lambda v: f"{v:.1%}")
+    library = "every train view of each object" if every_view else "library views per object evenly spaced in azimuth"
+    head = (f"nearest-neighbour precision of {predictions['view_id'].nunique()} test views "
+            f"({library}; object: the nearest library view is the same object, class: the same class)")
+    return head + "\n" + table.to_string(index=False)
 
 
 def _option_value(text: str):
@@ -223,7 +257,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     demo = sub.add_parser("demo", help="render, describe and classify the embedded objects without Snakemake",
                           description=cmd_demo.__doc__)
-    demo.add_argument("--catalog", type=Path, default=DEFAULT_CATALOG, help="catalogue CSV (default: embedded)")
+    demo.add_argument("--catalog", type=Path, help="catalogue CSV (default: the embedded models)")
     demo.add_argument("--objects", help="comma-separated object ids (default: all in the catalogue)")
     demo.add_argument("--out", default="results/demo", help="output folder (default: results/demo)")
     demo.add_argument("--train", type=_number(1, whole=True), default=40, help="library views per object (default 40)")
@@ -267,10 +301,13 @@ def build_parser() -> argparse.ArgumentParser:
     desc.add_argument("--threshold", type=float, help="the pvst's threshold T_a (default 0.75 of equilibrium)")
     desc.set_defaults(func=cmd_describe)
 
-    cls = sub.add_parser("classify", help="nearest-neighbour accuracy of a descriptor table",
+    cls = sub.add_parser("classify", help="nearest-neighbour precision of a descriptor table",
                          description=cmd_classify.__doc__)
     cls.add_argument("descriptors", type=Path, help="descriptors.parquet")
     cls.add_argument("--descriptor", help="descriptor name (default: every one in the table)")
+    cls.add_argument("--library-size", type=_number(1, whole=True), action="append", metavar="N",
+                     help="library views per object, evenly spaced in azimuth among the train views "
+                     "(repeatable; default: every train view)")
     cls.add_argument("--out", type=Path, help="write predictions.parquet here")
     cls.set_defaults(func=cmd_classify)
 
@@ -294,7 +331,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     setup_logging(args.verbose)
     try:
-        args.func(args)
+        with logging_redirect_tqdm(loggers=[logging.root]):  # log lines print above a progress bar
+            args.func(args)
     except HeatdataError as exc:
         log.error("%s", exc)
         return 1

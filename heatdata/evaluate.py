@@ -225,8 +225,8 @@ def precision_table(predictions: pd.DataFrame) -> pd.DataFrame:
     return pd.concat(frames, ignore_index=True)[["level", "group", "descriptor", "library_size", "precision"]]
 
 
-def accuracy_table(predictions: pd.DataFrame) -> pd.DataFrame:
-    """Per-object accuracy (rows) for each descriptor (columns), with an ``all`` row."""
+def precision_by_object(predictions: pd.DataFrame) -> pd.DataFrame:
+    """Object precision per object (rows) for each descriptor (columns), with an ``all`` row."""
     per = predictions.pivot_table(index="object", columns="descriptor", values="correct", aggfunc="mean")
     per.loc["all"] = predictions.groupby("descriptor")["correct"].mean()
     return per

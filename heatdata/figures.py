@@ -138,7 +138,7 @@ def _save(fig, path: str | Path, note: str = RENDERED_NOTE) -> None:
 
 
 def plot_confusion(predictions: pd.DataFrame, path: str | Path, title: str) -> None:
-    """Object confusion matrix, rows true, columns predicted, with per-object accuracy."""
+    """Object confusion matrix, rows true, columns predicted, with per-object precision."""
     objects = sorted(set(predictions["object"]) | set(predictions["predicted_object"]))
     counts = confusion_matrix(predictions["object"], predictions["predicted_object"], objects).to_numpy()
     fraction = counts / np.maximum(counts.sum(axis=1, keepdims=True), 1)
@@ -148,12 +148,12 @@ def plot_confusion(predictions: pd.DataFrame, path: str | Path, title: str) -> N
         if n:
             ax.text(j, i, str(n), ha="center", va="center", fontsize=7,
                     color="white" if fraction[i, j] > 0.5 else "black")
-    accuracy = np.diag(fraction)
+    precision = np.diag(fraction)
     ax.set_xticks(range(len(objects)), objects, rotation=60, ha="right", fontsize=8)
-    ax.set_yticks(range(len(objects)), [f"{o} ({a:.0%})" for o, a in zip(objects, accuracy, strict=True)], fontsize=8)
+    ax.set_yticks(range(len(objects)), [f"{o} ({a:.0%})" for o, a in zip(objects, precision, strict=True)], fontsize=8)
     ax.set_xlabel("predicted object (nearest library view)")
-    ax.set_ylabel("true object (accuracy)")
-    ax.set_title(f"{title}\noverall accuracy {predictions['correct'].mean():.1%}", fontsize=9)
+    ax.set_ylabel("true object (precision)")
+    ax.set_title(f"{title}\nobject precision {predictions['correct'].mean():.1%}", fontsize=9)
     _save(fig, path)
 
 

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import logging
 import sys
+from collections.abc import Iterable
+
+from tqdm import tqdm
 
 log = logging.getLogger("heatdata")
 
@@ -25,3 +28,12 @@ def setup_logging(verbose: bool = False, path: str | None = None) -> None:
     logging.getLogger("trimesh").setLevel(logging.WARNING)
     if not verbose:  # per-view repairs are summarized per object and recorded in the tables
         logging.getLogger("heatdata.view").setLevel(logging.WARNING)
+
+
+def progress(items: Iterable, *, total: int | None = None, desc: str, unit: str) -> Iterable:
+    """``items`` with a progress bar (count, rate, ETA) on stderr; silent when stderr is not a terminal.
+
+    The command line runs under ``tqdm.contrib.logging.logging_redirect_tqdm``, so log lines
+    print above the bar instead of through it.
+    """
+    return tqdm(items, total=total, desc=desc, unit=unit, file=sys.stderr, disable=None, dynamic_ncols=True)

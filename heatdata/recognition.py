@@ -80,8 +80,8 @@ def confusion_matrix(true: pd.Series, predicted: pd.Series, labels: list | None 
     return table
 
 
-def accuracy_by(true: pd.Series, predicted: pd.Series) -> pd.Series:
-    """Fraction of correct predictions per true label, plus ``"all"``."""
+def precision_by(true: pd.Series, predicted: pd.Series) -> pd.Series:
+    """Precision: the fraction of correct predictions per true label, plus ``"all"``."""
     correct = pd.Series(np.asarray(true) == np.asarray(predicted), index=np.asarray(true))
     per = correct.groupby(level=0).mean()
     per["all"] = correct.mean()

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Set up heatdata on a fresh Debian machine (Python 3.11, pip, root; no GPU needed):
 #   1. the Debian libraries open3d, pymeshlab and scikit-sparse need, when missing;
-#   2. a virtual environment at .venv/ with the exact pins of requirements.txt;
-#   3. heatdata itself, editable, with its `heatdata` command.
+#   2. a virtual environment at .venv/ with the exact pins of requirements.txt, every indirect
+#      dependency held to constraints.txt (with --tests, also requirements-test.txt);
+#   3. heatdata itself, editable, with its `heatdata` command (built offline with the pinned setuptools).
 # Safe to run again: steps already done are skipped.
 #   --baselines  also install Debian's pcl-tools, which the VFH baseline (thesis 3.6) runs
 #   --tests      also install pcl-tools (the VFH tests) and slurm-wlm and munge, for the test that runs the
@@ -13,9 +14,10 @@ cd "$(dirname "$0")/.."
 # libusb for `import open3d`; libgl1/libegl1/libgomp1 for its renderer core; libopengl0 for pymeshlab's
 # filter plugins; SuiteSparse headers to build scikit-sparse (CHOLMOD).
 packages=(libusb-1.0-0 libgl1 libegl1 libgomp1 libopengl0 libsuitesparse-dev)
+requirements=(-r requirements.txt)
 for arg in "$@"; do
     case "$arg" in
-        --tests) packages+=(pcl-tools slurm-wlm munge) ;;
+        --tests) packages+=(pcl-tools slurm-wlm munge); requirements+=(-r requirements-test.txt) ;;
         --baselines) packages+=(pcl-tools) ;;
         *) echo "setup: unknown option $arg (use --tests or --baselines)" >&2; exit 2 ;;
     esac
@@ -39,12 +41,13 @@ if [ ! -x .venv/bin/python ]; then
 fi
 
 stamp=.venv/.heatdata-requirements
-want=$(cat requirements.txt pyproject.toml | sha256sum | cut -d' ' -f1)
+want=$(echo "${requirements[*]}" | cat - requirements*.txt constraints.txt pyproject.toml | sha256sum | cut -d' ' -f1)
 if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
     echo "setup: installing pinned dependencies into .venv (a few minutes the first time)"
-    .venv/bin/python -m pip install --quiet --disable-pip-version-check --upgrade pip
-    .venv/bin/python -m pip install --quiet --disable-pip-version-check -r requirements.txt
-    .venv/bin/python -m pip install --quiet --disable-pip-version-check --no-deps -e .
+    pip=(.venv/bin/python -m pip install --quiet --disable-pip-version-check)
+    "${pip[@]}" -c constraints.txt --upgrade pip
+    "${pip[@]}" -c constraints.txt "${requirements[@]}"
+    "${pip[@]}" --no-deps --no-build-isolation -e .
     echo "$want" > "$stamp"
 fi
 .venv/bin/python -c "import open3d, pymeshlab, sksparse.cholmod, heatdata" || {

@@ -1,6 +1,15 @@
 """The heatdata command: the demo job end to end on a small plan, and its exit codes."""
 
+import contextlib
+import fcntl
 import json
+import os
+import pty
+import re
+import struct
+import subprocess
+import sys
+import termios
 import zipfile
 
 import numpy as np
@@ -32,10 +41,11 @@ def test_demo_writes_tables_figures_and_summary(demo_run):
     predictions, _ = read_table(out / "predictions.parquet")
     assert len(predictions) == 5 * 2 * 6
     assert predictions["correct"].mean() > 0.8
-    for name in ("summary.md", "accuracy.csv", "views.png",
+    for name in ("summary.md", "precision.csv", "views.png",
                  "confusion_objects_pvhk_arclength_closest_64.png", "confusion_views_pvhk_polar_center_64.png"):
         assert (out / name).stat().st_size > 0
-    assert "not real sensor data" in (out / "summary.md").read_text()
+    summary = (out / "summary.md").read_text()
+    assert "not real sensor data" in summary and "accuracy" not in summary.lower()
 
 
 def test_demo_is_reproducible(demo_run, tmp_path):
@@ -77,7 +87,44 @@ def test_render_describe_classify(demo_run, tmp_path, capsys):
     listed = capsys.readouterr().out
     assert all(f"{kind}:" in listed for kind in hd.DESCRIPTORS) and "triplets (default 20000)" in listed
     assert main(["classify", str(out / "descriptors.parquet"), "--descriptor", "pvhk/polar/center/64"]) == 0
-    assert "pvhk/polar/center/64" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "precision of 12 test views (every train view" in printed
+    assert re.search(r"descriptor +library views +object precision +class precision", printed)
+    assert re.search(r"pvhk/polar/center/64 +6 +\d+\.\d% +\d+\.\d%", printed)
+
+
+def test_classify_library_sizes(demo_run, tmp_path, capsys):
+    _, out = demo_run
+    table = str(out / "descriptors.parquet")
+    assert main(["classify", table, "--descriptor", "pvhk/polar/center/64", "--library-size", "2",
+                 "--library-size", "6", "--out", str(tmp_path / "p.parquet")]) == 0
+    printed = capsys.readouterr().out
+    assert re.search(r"pvhk/polar/center/64 +2 ", printed) and re.search(r"pvhk/polar/center/64 +6 ", printed)
+    predictions, _ = read_table(tmp_path / "p.parquet")
+    assert sorted(predictions["library_size"].unique()) == [2, 6] and len(predictions) == 2 * 12
+    every, _ = read_table(out / "predictions.parquet")
+    every = every[every["descriptor"] == "pvhk/polar/center/64"].set_index("view_id")["predicted_view_id"]
+    six = predictions[predictions["library_size"] == 6].set_index("view_id")["predicted_view_id"]
+    assert six.sort_index().equals(every.sort_index())  # 6 of 6 train views: the whole library
+    assert main(["classify", table, "--library-size", "7"]) == 1  # more than the 6 train views
+
+
+def test_long_commands_show_a_progress_bar_on_a_terminal_only(demo_run):
+    _, out = demo_run
+    command = [sys.executable, "-m", "heatdata.cli", "classify", str(out / "descriptors.parquet")]
+    primary, secondary = pty.openpty()
+    fcntl.ioctl(secondary, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 120, 0, 0))  # a 120-column terminal
+    run = subprocess.run(command, stdout=subprocess.PIPE, stderr=secondary, timeout=120)
+    os.close(secondary)
+    on_terminal = b""
+    with contextlib.suppress(OSError):  # the pty reads EIO once drained
+        while chunk := os.read(primary, 65536):
+            on_terminal += chunk
+    os.close(primary)
+    assert run.returncode == 0
+    assert re.search(rb"classifying: 100%.*5/5", on_terminal)
+    piped = subprocess.run(command, capture_output=True, timeout=120)
+    assert piped.returncode == 0 and b"classifying" not in piped.stderr and b"%|" not in piped.stderr
 
 
 def test_exit_codes(tmp_path, caplog):

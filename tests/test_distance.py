@@ -68,8 +68,8 @@ def test_nearest_neighbours_and_confusion():
     assert nn.index.tolist() == [0, 1, 0]
     table = hd.confusion_matrix(["a", "b", "b"], ["a", "b", "a"])
     assert table.loc["b", "a"] == 1 and table.loc["a", "a"] == 1
-    accuracy = hd.accuracy_by(np.array(["a", "b", "b"]), np.array(["a", "b", "a"]))
-    assert accuracy["a"] == 1.0 and accuracy["b"] == 0.5 and accuracy["all"] == pytest.approx(2 / 3)
+    precision = hd.precision_by(np.array(["a", "b", "b"]), np.array(["a", "b", "a"]))
+    assert precision["a"] == 1.0 and precision["b"] == 0.5 and precision["all"] == pytest.approx(2 / 3)
 
 
 def test_bad_input():
