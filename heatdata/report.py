@@ -42,7 +42,7 @@ def draw_report(descriptors_path, predictions_path, precision_path, catalog_path
     table = precision[(precision["group"] == "all")].pivot_table(
         index=["level", "descriptor"], columns="library_size", values="precision")
     Path(output.summary).write_text("\n".join([
-        "# heatdata run", "", RENDERED_NOTE, "",
+        "# heatdata run", "", RENDERED_NOTE, "", *class_note(read_catalog(catalog_path)),
         f"- heatdata {__version__}; {counts['object'].nunique()} objects, "
         f"{counts['view_id'].nunique()} views (mean "
         f"{counts.drop_duplicates('view_id')['n_vertices'].mean():.0f} vertices)",
@@ -51,3 +51,16 @@ def draw_report(descriptors_path, predictions_path, precision_path, catalog_path
         table.map(lambda v: f"{v:.1%}").to_markdown(), "",
         "## Run parameters", "", "```yaml", yaml.safe_dump(dict(config), sort_keys=False).strip(), "```", "",
     ]))
+
+
+def class_note(catalog: pd.DataFrame) -> list[str]:
+    """The summary's lines on classes: when every class holds one object, class precision is object precision."""
+    per_class = catalog.groupby("label")["object"].nunique()
+    if per_class.max() == 1:
+        return [f"Each of the {len(per_class)} classes holds one object: the run recognizes objects, and class "
+                "precision equals object precision.", ""]
+    lonely = sorted(per_class[per_class == 1].index)
+    if lonely:
+        return [f"Classes with one object ({', '.join(lonely)}): their class precision equals their object "
+                "precision.", ""]
+    return []

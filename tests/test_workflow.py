@@ -71,6 +71,9 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     assert histograms[["sampling", "source_rule", "color_map"]].isna().all().all()
     assert np.allclose(histograms["values"].map(sum), 1.0)
     assert (results / "fitted" / "si-hks_words=8_modes=30.npz").is_file()
+    for log in ("logs/classify/pvhk_polar_center_32-8.log", "benchmarks/classify/esf_triplets=2000-4.tsv",
+                "logs/classify/pvst_polar_center_32_T0.75-4.log"):
+        assert (results / log).is_file(), log  # named by descriptor, not by index
     pvhk = descriptors[descriptors["kind"] == "pvhk"]
     assert np.allclose(pvhk["time"] * pvhk["lambda2"], 1.0) and np.allclose(pvhk["time"], pvhk["t_global"])
     scales = pd.concat([pd.read_csv(p) for p in (results / "time_scales").glob("*.csv")]).set_index("object")
@@ -181,9 +184,19 @@ def test_models_dir_checks(tmp_path):
     empty.mkdir()
     result = snakemake(tmp_path / "run1", tiny_config(objects=[], models_dir=str(empty)), "--dry-run")
     assert result.returncode != 0 and "no mesh files" in result.stdout + result.stderr
-    lonely = make_models_dir(tmp_path / "lonely", {"boxes": ["a", "b"], "cups": ["c"]})
-    result = snakemake(tmp_path / "run2", tiny_config(objects=[], models_dir=str(lonely)), "--dry-run")
-    assert result.returncode != 0 and "['cups'] have a single object" in result.stdout + result.stderr
+
+
+def test_one_object_per_class_recognizes_objects_and_says_so(tmp_path):
+    models = make_models_dir(tmp_path / "models", {"boxes": ["a"], "crates": ["c"], "bins": ["e"]})
+    config = tiny_config(objects=[], models_dir=str(models), views={"train": 4, "test": 3}, library_sizes=[4])
+    config["descriptors"] = config["descriptors"][:1]
+    result = snakemake(tmp_path / "run", config)
+    assert result.returncode == 0, result.stderr[-3000:]
+    results = tmp_path / "run" / "results"
+    summary = (results / "summary.md").read_text()
+    assert "Each of the 3 classes holds one object" in summary and "class precision equals object precision" in summary
+    precision = pd.read_csv(results / "evaluation" / "precision.csv").query("group == 'all'")
+    assert precision.groupby("level")["precision"].first().nunique() == 1  # class precision = object precision
 
 
 def test_a_corrupt_model_fails_its_jobs_and_keep_going_finishes_the_rest(tmp_path):

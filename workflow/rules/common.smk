@@ -1,5 +1,6 @@
 # Shared helpers: the catalogue of objects, descriptor specs and config checks made before any job runs.
 import json
+import re
 from pathlib import Path
 
 import heatdata
@@ -34,11 +35,6 @@ def load_objects():
             table["path"] = [f"{RESULTS}/models/{o}/{f}" for o, f in zip(table["object"], table["file"])]
         elif config["models_dir"]:
             table = catalog_from_folder(config["models_dir"], scale=config["models_scale"])
-            sizes = table["label"].value_counts()
-            lonely = sorted(sizes[sizes < 2].index)
-            if lonely:
-                _config_error(f"models_dir: class(es) {lonely} have a single object; a class needs two or "
-                              "more objects to be told apart from object identity (add models or merge classes)")
         else:
             table = read_catalog(config["catalog"])
     except HeatdataError as exc:
@@ -73,6 +69,8 @@ def descriptor_specs():
 
 
 SPECS = descriptor_specs()
+# the descriptors by file name (pvhk/polar/center/64 -> pvhk_polar_center_64): the classify jobs' wildcard
+SPEC_FILES = {file_name(s.name): s for s in SPECS}
 FIXED_TIME = any(s.impl.time_scaled for s in SPECS)  # needs the objects' time scales (Alg. 5.1)
 
 

@@ -33,7 +33,7 @@ rule fit_descriptor:
         kind=lambda wildcards: FITTED[wildcards.descriptor].kind,
         version=VERSION,
     wildcard_constraints:
-        descriptor="|".join(FITTED) or "no-fitted-kind",
+        descriptor="|".join(map(re.escape, FITTED)) or "no-fitted-kind",
     log:
         f"{RESULTS}/logs/fit/{{descriptor}}.log",
     benchmark:

@@ -8,10 +8,10 @@ rule classify:
     output:
         temp(f"{RESULTS}/evaluation/parts/{{descriptor}}-{{size}}.parquet"),
     params:
-        descriptor=lambda wildcards: SPECS[int(wildcards.descriptor)].name,
+        descriptor=lambda wildcards: SPEC_FILES[wildcards.descriptor].name,
         version=VERSION,
     wildcard_constraints:
-        descriptor=r"\d+",
+        descriptor="|".join(map(re.escape, SPEC_FILES)),
         size=r"\d+",
     log:
         f"{RESULTS}/logs/classify/{{descriptor}}-{{size}}.log",
@@ -28,7 +28,7 @@ rule classify:
 rule evaluate:
     input:
         expand(f"{RESULTS}/evaluation/parts/{{descriptor}}-{{size}}.parquet",
-               descriptor=range(len(SPECS)), size=config["library_sizes"]),
+               descriptor=SPEC_FILES, size=config["library_sizes"]),
     output:
         predictions=f"{RESULTS}/evaluation/predictions.parquet",
         precision=report(f"{RESULTS}/evaluation/precision.csv", caption="../report/precision_table.rst",
