@@ -1,5 +1,6 @@
 """The Snakemake workflow: a tiny DAG end to end, config checks, failures, lint, reruns."""
 
+import re
 import shutil
 import subprocess
 import sys
@@ -258,3 +259,29 @@ def test_objects_from_a_sweet_home_library(tmp_path):
     assert sorted(catalog["label"]) == ["coffee cup", "plastic cup"]
     assert set(catalog["licence"]) == {"CC0-1.0"}
     assert (tmp_path / "results" / "models" / catalog["object"][0]).is_dir()
+
+
+def schema_keys(node: dict, prefix: str = "") -> list[str]:
+    keys = []
+    for key, value in node.get("properties", {}).items():
+        keys.append(prefix + key)
+        keys += schema_keys(value, prefix + key + ".")
+    return keys
+
+
+def test_config_readme_describes_every_key_and_file():
+    schema = yaml.safe_load((ROOT / "workflow" / "schemas" / "config.schema.yaml").read_text())
+    readme = (ROOT / "config" / "README.md").read_text()
+    keys = schema_keys(schema)
+    assert len(keys) > 30
+    assert [k for k in keys if f"| `{k}` |" not in readme] == []
+    assert [p.name for p in (ROOT / "config").glob("*.yaml") if f"`{p.name}`" not in readme] == []
+
+
+def test_smoke_config_plans_a_small_run(tmp_path):
+    result = subprocess.run([str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(ROOT), "--cores", "2",
+                             "--configfile", "config/smoke.yaml", "--config", f"results={tmp_path}/smoke", "--dry-run"],
+                            capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
+    assert f"{tmp_path}/smoke/summary.md" in result.stdout
+    assert re.search(r"describe +3\b", result.stdout) and re.search(r"classify +4\b", result.stdout)
