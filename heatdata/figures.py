@@ -14,6 +14,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.ticker import PercentFormatter  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from .descriptors import kind_of  # noqa: E402
@@ -23,28 +24,131 @@ from .recognition import confusion_matrix  # noqa: E402
 RENDERED_NOTE = "Views are rendered from 3D models with simulated Kinect noise, not real sensor data."
 
 
-def plot_precision(precision: pd.DataFrame, path: str | Path) -> None:
-    """Precision against library size: all views per descriptor, and per object (Fig. 3.7, 5.13)."""
+def plot_precision(precision: pd.DataFrame, path: str | Path, primary: str | None = None) -> None:
+    """Object precision (%) against library size: every test view per descriptor, and per object (Fig. 3.7, 5.13).
+
+    The per-object panel shows ``primary`` (default: the descriptor with the best precision).
+    """
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
     overall = precision[(precision["group"] == "all") & (precision["level"] == "object")]
+    sizes = sorted(overall["library_size"].unique())
     for name, rows in overall.groupby("descriptor"):
         rows = rows.sort_values("library_size")
-        left.plot(rows["library_size"], rows["precision"], "o-", label=name)
-    left.set_xlabel("library views per object")
-    left.set_ylabel("precision (all test views)")
+        left.plot(rows["library_size"], 100 * rows["precision"], "o-", label=name)
+    left.set_ylabel("object precision, all test views (%)")
     left.legend(fontsize=7)
-    left.grid(alpha=0.3)
-    best = overall.sort_values("precision").iloc[-1]["descriptor"]
+    primary = primary or overall.sort_values("precision").iloc[-1]["descriptor"]
     objects = precision[(precision["level"] == "object") & (precision["group"] != "all")
-                        & (precision["descriptor"] == best)]
+                        & (precision["descriptor"] == primary)]
     right.set_prop_cycle(color=plt.cm.tab20.colors)
     for name, rows in objects.groupby("group"):
         rows = rows.sort_values("library_size")
-        right.plot(rows["library_size"], rows["precision"], ".-", label=name)
-    right.set_xlabel("library views per object")
-    right.set_ylabel(f"precision per object ({best})")
+        right.plot(rows["library_size"], 100 * rows["precision"], ".-", label=name)
+    right.set_ylabel(f"object precision per object (%)\n{primary}", fontsize=9)
     right.legend(fontsize=6, ncol=2)
-    right.grid(alpha=0.3)
+    for ax in (left, right):
+        ax.set_xticks(sizes, [str(s) for s in sizes])
+        ax.set_xlabel("library views per object")
+        ax.yaxis.set_major_formatter(PercentFormatter(100, decimals=0))
+        ax.grid(alpha=0.3)
+    _save(fig, path)
+
+
+POSITION_LABELS = {"polar": "polar angle / 2 pi (counter-clockwise from +x in the image)",
+                   "arclength": "arc length from the boundary origin / boundary length",
+                   None: "bin / number of bins"}
+
+
+def plot_descriptor_curves(descriptors: pd.DataFrame, descriptor: str, path: str | Path, *, objects: int = 8,
+                           azimuths: tuple = (0.0, 90.0, 180.0, 270.0)) -> None:
+    """A descriptor's values against their positions for library views at a few azimuths (thesis Fig. 2.5, 3.3).
+
+    For a boundary kind the curve is the temperature (or PVST time) along the boundary;
+    for a histogram kind, the histogram.
+    """
+    rows = descriptors[(descriptors["descriptor"] == descriptor) & (descriptors["split"] == "train")]
+    if rows.empty:
+        raise HeatdataError(f"no library views of {descriptor} to draw")
+    names = rows["object"].drop_duplicates().tolist()[:objects]
+    impl = kind_of(rows["kind"].iloc[0])
+    cols = min(4, len(names))
+    lines = int(np.ceil(len(names) / cols))
+    fig, axes = plt.subplots(lines, cols, figsize=(3.3 * cols, 2.8 * lines), squeeze=False, sharey=True)
+    sampling = rows["sampling"].iloc[0]
+    for ax, obj in zip(axes.ravel(), names, strict=False):
+        views = rows[rows["object"] == obj]
+        for azimuth in azimuths:
+            nearest = views.iloc[int(np.argmin(np.abs((views["azimuth"] - azimuth + 180) % 360 - 180)))]
+            ax.plot(nearest["positions"], nearest["values"], lw=1, label=f"{nearest['azimuth']:.0f} deg")
+        ax.set_title(obj, fontsize=8)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=6, title="azimuth", title_fontsize=6)
+    for ax in axes[-1]:
+        ax.set_xlabel(POSITION_LABELS.get(sampling, POSITION_LABELS[None]), fontsize=7)
+    for ax in axes[:, 0]:
+        ax.set_ylabel(impl.value_label, fontsize=7)
+    for ax in axes.ravel()[len(names):]:
+        ax.set_axis_off()
+    fig.suptitle(f"{descriptor} of library views at four azimuths", fontsize=9)
+    _save(fig, path)
+
+
+def _draw_mesh(ax, view, title: str) -> None:
+    """A partial view in image coordinates, faces in their vertices' mean colour."""
+    from matplotlib.collections import PolyCollection
+
+    p = view.pixels
+    colours = np.clip(view.colors[view.faces].mean(axis=1), 0, 1)
+    ax.add_collection(PolyCollection(p[view.faces], facecolors=colours, edgecolors=colours, linewidths=0.3))
+    b = np.append(view.boundary, view.boundary[0])
+    ax.plot(p[b, 0], p[b, 1], color="tab:cyan", lw=0.8)
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    ax.invert_yaxis()
+    ax.set_axis_off()
+    ax.set_title(title, fontsize=8)
+
+
+def plot_misclassified(predictions: pd.DataFrame, descriptors: pd.DataFrame, views: dict, path: str | Path,
+                       descriptor: str, *, count: int = 6) -> None:
+    """Misclassified test views beside their nearest library view, and both descriptors.
+
+    Parameters
+    ----------
+    predictions : DataFrame
+        One descriptor's predictions at one library size.
+    descriptors : DataFrame
+        The descriptor rows (``view_id``, ``positions``, ``values``) of those views.
+    views : dict from view id to View
+        At least the misclassified test views and their nearest library views.
+    """
+    wrong = predictions[~predictions["correct"]].sort_values(["object", "azimuth"])
+    wrong = pd.concat([wrong.groupby("object").head(1), wrong]).drop_duplicates("view_id").head(count)
+    if wrong.empty:
+        fig, ax = plt.subplots(figsize=(6, 1.5))
+        ax.text(0.5, 0.5, f"{descriptor}: every test view's nearest library view is its own object",
+                ha="center", va="center", fontsize=9)
+        ax.set_axis_off()
+        _save(fig, path)
+        return
+    curves = descriptors[descriptors["descriptor"] == descriptor].drop_duplicates("view_id").set_index("view_id")
+    impl = kind_of(curves["kind"].iloc[0])
+    fig, axes = plt.subplots(len(wrong), 3, figsize=(10, 2.6 * len(wrong)), squeeze=False,
+                             gridspec_kw={"width_ratios": [1, 1, 1.6]})
+    for (left, middle, right), (_, row) in zip(axes, wrong.iterrows(), strict=True):
+        test, nearest = row["view_id"], row["predicted_view_id"]
+        _draw_mesh(left, views[test], f"test: {row['object']} at {row['azimuth']:.1f} deg")
+        _draw_mesh(middle, views[nearest], f"nearest: {row['predicted_object']} at {row['predicted_azimuth']:.0f} deg")
+        for view_id, colour, label in ((test, "black", "test view"), (nearest, "tab:red", "nearest library view")):
+            right.plot(curves.loc[view_id, "positions"], curves.loc[view_id, "values"], color=colour, lw=1,
+                       label=label)
+        right.set_ylabel(impl.value_label, fontsize=7)
+        right.set_title(f"distance {row['distance']:.4g} ({impl.distance_name})", fontsize=8)
+        right.legend(fontsize=6)
+        right.grid(alpha=0.3)
+    axes[-1, 2].set_xlabel(POSITION_LABELS.get(curves["sampling"].iloc[0], POSITION_LABELS[None]), fontsize=7)
+    fig.suptitle(f"{descriptor}: misclassified test views ({(~predictions['correct']).sum()} of {len(predictions)}; "
+                 f"{len(wrong)} shown, one per object first)", fontsize=9)
     _save(fig, path)
 
 
@@ -137,23 +241,27 @@ def _save(fig, path: str | Path, note: str = RENDERED_NOTE) -> None:
     plt.close(fig)
 
 
-def plot_confusion(predictions: pd.DataFrame, path: str | Path, title: str) -> None:
-    """Object confusion matrix, rows true, columns predicted, with per-object precision."""
-    objects = sorted(set(predictions["object"]) | set(predictions["predicted_object"]))
-    counts = confusion_matrix(predictions["object"], predictions["predicted_object"], objects).to_numpy()
+def plot_confusion(predictions: pd.DataFrame, path: str | Path, title: str, level: str = "object") -> None:
+    """Confusion matrix of objects (or of classes, ``level="class"``): rows true, columns predicted, with precision."""
+    true, predicted = ("object", "predicted_object") if level == "object" else ("label", "predicted_label")
+    names = sorted(set(predictions[true]) | set(predictions[predicted]) - {""})
+    counts = confusion_matrix(predictions[true], predictions[predicted], names).to_numpy()
     fraction = counts / np.maximum(counts.sum(axis=1, keepdims=True), 1)
-    fig, ax = plt.subplots(figsize=(max(5.0, 1.0 + 0.55 * len(objects)), max(4.5, 0.8 + 0.5 * len(objects))))
-    ax.imshow(fraction, cmap="Blues", vmin=0, vmax=1)
+    fig, ax = plt.subplots(figsize=(max(5.0, 1.6 + 0.55 * len(names)), max(4.5, 0.8 + 0.5 * len(names))))
+    image = ax.imshow(100 * fraction, cmap="Blues", vmin=0, vmax=100)
     for (i, j), n in np.ndenumerate(counts):
         if n:
             ax.text(j, i, str(n), ha="center", va="center", fontsize=7,
                     color="white" if fraction[i, j] > 0.5 else "black")
     precision = np.diag(fraction)
-    ax.set_xticks(range(len(objects)), objects, rotation=60, ha="right", fontsize=8)
-    ax.set_yticks(range(len(objects)), [f"{o} ({a:.0%})" for o, a in zip(objects, precision, strict=True)], fontsize=8)
-    ax.set_xlabel("predicted object (nearest library view)")
-    ax.set_ylabel("true object (precision)")
-    ax.set_title(f"{title}\nobject precision {predictions['correct'].mean():.1%}", fontsize=9)
+    ax.set_xticks(range(len(names)), names, rotation=60, ha="right", fontsize=8)
+    ax.set_yticks(range(len(names)), [f"{o} ({a:.0%})" for o, a in zip(names, precision, strict=True)], fontsize=8)
+    ax.set_xlabel(f"predicted {level} (nearest library view)")
+    ax.set_ylabel(f"true {level} ({level} precision)")
+    hit = (predictions[true] == predictions[predicted]).mean()
+    ax.set_title(f"{title}\n{level} precision {hit:.1%}; numbers: test views", fontsize=9)
+    fig.colorbar(image, ax=ax, fraction=0.04, pad=0.02, format=PercentFormatter(100, decimals=0)).set_label(
+        "share of the true row's test views", fontsize=8)
     _save(fig, path)
 
 
@@ -179,13 +287,14 @@ def plot_view_confusion(predictions: pd.DataFrame, path: str | Path, title: str)
     _save(fig, path)
 
 
-TEMPERATURE_HEADING = "Temperature at t_s = 1/lambda_2 (equilibrium = 1); star: source, dot: boundary origin"
+TEMPERATURE_LABEL = "temperature (equilibrium = 1)"
+DERIVATIVE_LABEL = "global derivative (eq. 5.12), 1/m^2"
 DERIVATIVE_HEADING = ("Source-position global derivative (eq. 5.12) at t_global = 1/lambda_2: large where a source "
-                      "would heat a loosely connected part (Fig. 5.7); star: the PVHK source")
+                      "would heat a loosely connected part (Fig. 5.7); star: the source")
 
 
-def plot_views(views: list, values: list, sources: list, path: str | Path, titles: list[str], *,
-               heading: str = TEMPERATURE_HEADING, cmap: str = "inferno") -> None:
+def plot_views(views: list, values: list, sources: list, path: str | Path, titles: list[str], *, heading: str,
+               colorbar_label: str = TEMPERATURE_LABEL, cmap: str = "inferno") -> None:
     """Partial views coloured by per-vertex ``values`` (e.g. temperature at t_s), source and boundary marked."""
     if not views:
         raise HeatdataError("no views to draw")
@@ -203,7 +312,7 @@ def plot_views(views: list, values: list, sources: list, path: str | Path, title
         ax.invert_yaxis()
         ax.set_axis_off()
         ax.set_title(title, fontsize=8)
-        fig.colorbar(collection, ax=ax, fraction=0.04, pad=0.02)
+        fig.colorbar(collection, ax=ax, fraction=0.04, pad=0.02).set_label(colorbar_label, fontsize=7)
     for ax in axes.ravel()[len(views):]:
         ax.set_axis_off()
     fig.suptitle(f"{heading}\n{RENDERED_NOTE}", fontsize=8)
@@ -214,11 +323,12 @@ def plot_views(views: list, values: list, sources: list, path: str | Path, title
 
 def draw_example_views(catalog: pd.DataFrame, path: str | Path, *, elevation: float = 30.0, distance: float = 1.0,
                        noise: bool = True, seed: int = 0, count: int = 8, image_scale: float = 1.0,
-                       derivative_path: str | Path | None = None) -> None:
-    """Render up to ``count`` catalogue objects at azimuth 30 deg and draw their PVHK temperatures.
+                       source: str = "closest", derivative_path: str | Path | None = None) -> None:
+    """Render up to ``count`` catalogue objects at azimuth 30 deg and draw the temperature of a PVHK.
 
-    With ``derivative_path``, also draw the global derivative of the same views (Fig. 5.7)
-    on the component holding the source.
+    ``source`` is the PVHK's source rule (the report passes its primary descriptor's). With
+    ``derivative_path``, also draw the global derivative of the same views (Fig. 5.7) on the
+    component holding the source.
     """
     from .catalog import load_catalog_model
     from .descriptors import global_derivative, heat_kernel, pvhk
@@ -229,7 +339,7 @@ def draw_example_views(catalog: pd.DataFrame, path: str | Path, *, elevation: fl
     for _, row in catalog.head(count).iterrows():
         view = render_view(load_catalog_model(row), 30.0, elevation, distance, noise=noise, seed=seed,
                            intrinsics=kinect_intrinsics(image_scale))
-        d = pvhk(view, 64, "closest")
+        d = pvhk(view, 64, source)
         views.append(view)
         temps.append(heat_kernel(view, d.source, [d.time])[0])
         sources.append(d.source)
@@ -239,7 +349,9 @@ def draw_example_views(catalog: pd.DataFrame, path: str | Path, *, elevation: fl
             components.append(component)
             local_sources.append(local)
             derivatives.append(global_derivative(component, local))
-    plot_views(views, temps, sources, path, titles)
+    plot_views(views, temps, sources, path, titles,
+               heading=f"Temperature at t_s = 1/lambda_2 after a pulse at the {source!r} source (star); "
+                       "dot: boundary origin")
     if derivative_path is not None:
         plot_views(components, derivatives, local_sources, derivative_path, titles, heading=DERIVATIVE_HEADING,
-                   cmap="viridis")
+                   colorbar_label=DERIVATIVE_LABEL, cmap="viridis")

@@ -1,56 +1,80 @@
-"""The workflow's report: its figures and its summary (rule report_figures)."""
+"""The workflow's report: its figures, tables and summary (rule report_figures)."""
 
 from __future__ import annotations
 
+import html
 from pathlib import Path
 
 import pandas as pd
 import yaml
 
 from .catalog import read_catalog
-from .descriptors import file_name
-from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_isomap, plot_precision, plot_view_confusion
-from .tables import read_table
+from .descriptors import DescriptorSpec, file_name
+from .figures import (RENDERED_NOTE, draw_example_views, plot_confusion, plot_descriptor_curves, plot_isomap,
+                      plot_misclassified, plot_precision, plot_view_confusion)
+from .tables import frame_to_views, read_table
 from .version import __version__
 
+#: the confusion matrices' file pattern inside the report's confusion folder (the report groups by it)
+CONFUSION_PATTERN = "{descriptor}/{level}_{size}_views.png"
 
-def draw_report(descriptors_path, predictions_path, precision_path, catalog_path, output, *, primary: str,
-                config: dict) -> None:
-    """Workflow step: the report's figures and summary.
 
-    ``output`` has ``precision, confusion, isomap, views, global_derivative, summary``. The
-    confusion folder holds one object confusion matrix per descriptor and library size.
+def draw_report(descriptors_path, predictions_path, precision_path, catalog_path, view_paths: list, output, *,
+                primary: str, config: dict) -> None:
+    """Workflow step: the report's figures, tables and summary.
+
+    ``output`` has ``precision, precision_table, confusion, view_angles, isomap, curves,
+    misclassified, views, global_derivative, summary, summary_html``. The confusion
+    folder holds an object and a class confusion matrix per descriptor and library size
+    (:data:`CONFUSION_PATTERN`).
     """
     counts, _ = read_table(descriptors_path, columns=["object", "view_id", "n_vertices"])
     predictions, _ = read_table(predictions_path)
     precision = pd.read_csv(precision_path)
-    plot_precision(precision, output.precision)
-    Path(output.confusion).mkdir(parents=True, exist_ok=True)
+    catalog = read_catalog(catalog_path)
+    plot_precision(precision, output.precision, primary)
     for (name, size), rows in predictions.groupby(["descriptor", "library_size"]):
-        plot_confusion(rows, Path(output.confusion) / f"{file_name(name)}_{size:03d}_views.png",
-                       f"{name}, {size} library views per object")
+        for level, plural in (("object", "objects"), ("class", "classes")):
+            path = Path(output.confusion) / CONFUSION_PATTERN.format(descriptor=file_name(name), level=plural,
+                                                                     size=size)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            plot_confusion(rows, path, f"{name}, {size} library views per object", level=level)
     chosen = predictions[predictions["descriptor"] == primary]
     largest = chosen[chosen["library_size"] == chosen["library_size"].max()]
-    plot_view_confusion(largest, Path(output.confusion) / "view_angles.png", primary)
-    library, _ = read_table(descriptors_path, columns=["descriptor", "kind", "object", "split", "azimuth", "values"],
-                            filters=[("descriptor", "==", primary), ("split", "==", "train")])
-    plot_isomap(library, primary, output.isomap)
-    views = config["views"]
-    draw_example_views(read_catalog(catalog_path), output.views, elevation=views["elevation"],
-                       distance=views["distance"], noise=views["noise"], seed=views["seed"],
-                       image_scale=views.get("image_scale", 1.0), derivative_path=output.global_derivative)
-    table = precision[(precision["group"] == "all")].pivot_table(
-        index=["level", "descriptor"], columns="library_size", values="precision")
-    Path(output.summary).write_text("\n".join([
-        "# heatdata run", "", RENDERED_NOTE, "", *class_note(read_catalog(catalog_path)),
-        f"- heatdata {__version__}; {counts['object'].nunique()} objects, "
-        f"{counts['view_id'].nunique()} views (mean "
-        f"{counts.drop_duplicates('view_id')['n_vertices'].mean():.0f} vertices)",
-        f"- views: {views}",
-        "", "## Precision (columns: library views per object)", "",
-        table.map(lambda v: f"{v:.1%}").to_markdown(), "",
-        "## Run parameters", "", "```yaml", yaml.safe_dump(dict(config), sort_keys=False).strip(), "```", "",
-    ]))
+    plot_view_confusion(largest, output.view_angles, primary)
+    primary_rows, _ = read_table(descriptors_path, filters=[("descriptor", "==", primary)])
+    plot_isomap(primary_rows, primary, output.isomap)
+    plot_descriptor_curves(primary_rows, primary, output.curves)
+    wrong = largest[~largest["correct"]]
+    needed = set(wrong["view_id"]) | set(wrong["predicted_view_id"])
+    frames = [read_table(p, filters=[("view_id", "in", sorted(needed))])[0] for p in view_paths] if needed else []
+    views = {v.view_id: v for frame in frames if len(frame) for v in frame_to_views(frame)}
+    plot_misclassified(largest, primary_rows, views, output.misclassified, primary)
+    spec = DescriptorSpec(**next(d for d in config["descriptors"] if DescriptorSpec(**d).name == primary))
+    source = spec.get("source") if isinstance(spec.get("source"), str) else "closest"
+    views_config = config["views"]
+    draw_example_views(catalog, output.views, elevation=views_config["elevation"],
+                       distance=views_config["distance"], noise=views_config["noise"], seed=views_config["seed"],
+                       image_scale=views_config.get("image_scale", 1.0), source=source,
+                       derivative_path=output.global_derivative)
+    table = precision_by_size(precision, [DescriptorSpec(**d).name for d in config["descriptors"]])
+    Path(output.precision_table).write_text(html_page("Precision (%, all test views)", [
+        ("", "text", ["Columns: library views per object. " + RENDERED_NOTE]), ("", "table", table)]))
+    sections = summary_sections(counts, catalog, table, config)
+    Path(output.summary).write_text(markdown("heatdata run", sections))
+    Path(output.summary_html).write_text(html_page("heatdata run", sections))
+
+
+def precision_by_size(precision: pd.DataFrame, order: list[str]) -> pd.DataFrame:
+    """Object and class precision of every descriptor (in ``order``) over all test views, per library size, in %."""
+    table = precision[precision["group"] == "all"].pivot_table(index=["level", "descriptor"], columns="library_size",
+                                                               values="precision")
+    rank = {name: k for k, name in enumerate(order)}
+    table = table.sort_index(key=lambda index: index.map({"object": 0, "class": 1}) if index.name == "level"
+                             else index.map(rank))
+    table.columns = [f"{size} views" for size in table.columns]
+    return table.reset_index().rename(columns={"level": "precision"}).map(
+        lambda v: f"{100 * v:.1f}" if isinstance(v, float) else v)
 
 
 def class_note(catalog: pd.DataFrame) -> list[str]:
@@ -58,9 +82,74 @@ def class_note(catalog: pd.DataFrame) -> list[str]:
     per_class = catalog.groupby("label")["object"].nunique()
     if per_class.max() == 1:
         return [f"Each of the {len(per_class)} classes holds one object: the run recognizes objects, and class "
-                "precision equals object precision.", ""]
+                "precision equals object precision."]
     lonely = sorted(per_class[per_class == 1].index)
     if lonely:
         return [f"Classes with one object ({', '.join(lonely)}): their class precision equals their object "
-                "precision.", ""]
+                "precision."]
     return []
+
+
+def summary_sections(counts: pd.DataFrame, catalog: pd.DataFrame, table: pd.DataFrame, config: dict) -> list:
+    """The run summary as ``(heading, form, body)`` sections (form: text, list, table or yaml).
+
+    Rendered by :func:`markdown` (``summary.md``) and :func:`html_page` (the report).
+    """
+    views = config["views"]
+    facts = [
+        f"heatdata {__version__}; {counts['object'].nunique()} objects in {catalog['label'].nunique()} classes, "
+        f"{counts['view_id'].nunique()} views (mean {counts.drop_duplicates('view_id')['n_vertices'].mean():.0f} "
+        "vertices).",
+        f"Views per object: {views['train']} library and {views['test']} test, at elevation {views['elevation']} deg "
+        f"and distance {views['distance']} m; Kinect depth noise {'on' if views['noise'] else 'off'} "
+        f"(seed {views['seed']}); image scale {views.get('image_scale', 1.0)}.",
+        "Object precision: the share of test views whose nearest library view is of the same object; class "
+        "precision: of the same class.",
+    ]
+    return [
+        ("", "text", [RENDERED_NOTE, *class_note(catalog)]),
+        ("Run", "list", facts),
+        ("Precision (%, all test views; columns: library views per object)", "table", table),
+        ("Run parameters", "yaml", yaml.safe_dump(dict(config), sort_keys=False).strip()),
+    ]
+
+
+def markdown(title: str, sections: list) -> str:
+    """Sections of :func:`summary_sections` as Markdown."""
+    lines = [f"# {title}", ""]
+    for heading, form, body in sections:
+        if heading:
+            lines += [f"## {heading}", ""]
+        if form == "table":
+            lines += [body.to_markdown(index=False, disable_numparse=True)]
+        elif form == "yaml":
+            lines += ["```yaml", body, "```"]
+        elif form == "list":
+            lines += [f"- {line}" for line in body]
+        else:
+            lines += "\n\n".join(body).splitlines()
+        lines.append("")
+    return "\n".join(lines)
+
+
+STYLE = ("body{font-family:sans-serif;font-size:14px;margin:1em;color:#222}table{border-collapse:collapse}"
+         "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}td:nth-child(-n+2),th:nth-child(-n+2)"
+         "{text-align:left}th{background:#f0f0f0}pre{background:#f7f7f7;padding:8px;font-size:12px}")
+
+
+def html_page(title: str, sections: list) -> str:
+    """Sections of :func:`summary_sections` as a small self-contained HTML page, shown inline in the report."""
+    parts = [f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
+             f"<style>{STYLE}</style></head><body><h1>{html.escape(title)}</h1>"]
+    for heading, form, body in sections:
+        if heading:
+            parts.append(f"<h2>{html.escape(heading)}</h2>")
+        if form == "table":
+            parts.append(body.to_html(index=False, border=0))
+        elif form == "yaml":
+            parts.append(f"<pre>{html.escape(body)}</pre>")
+        elif form == "list":
+            parts.append("<ul>" + "".join(f"<li>{html.escape(line)}</li>" for line in body) + "</ul>")
+        else:
+            parts += [f"<p>{html.escape(line)}</p>" for line in body]
+    return "".join(parts) + "</body></html>\n"

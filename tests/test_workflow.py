@@ -94,12 +94,19 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     overall = precision[(precision["group"] == "all") & (precision["level"] == "object")]
     assert len(overall) == 12 and overall["precision"].between(0, 1).all()
     assert overall["precision"].max() > 0.8
-    for figure in ("precision.png", "isomap.png", "views.png", "global_derivative.png", "confusion/view_angles.png",
-                   "confusion/pvhk_polar_center_32_004_views.png", "confusion/pvst_polar_center_32_T0.75_008_views.png",
-                   "confusion/ft-pvhk_polar_center_32_004_views.png", "confusion/esf_triplets=2000_008_views.png",
-                   "isomap_descriptors.png", "holes.png"):
+    for figure in ("precision.png", "isomap.png", "views.png", "global_derivative.png", "view_angles.png",
+                   "curves.png", "misclassified.png", "confusion/pvhk_polar_center_32/objects_4_views.png",
+                   "confusion/pvhk_polar_center_32/classes_8_views.png",
+                   "confusion/pvst_polar_center_32_T0.75/objects_8_views.png",
+                   "confusion/ft-pvhk_polar_center_32/objects_4_views.png",
+                   "confusion/esf_triplets=2000/classes_8_views.png", "isomap_descriptors.png", "holes.png"):
         assert (results / "figures" / figure).stat().st_size > 10_000
-    assert "not real sensor data" in (results / "summary.md").read_text()
+    summary = (results / "summary.md").read_text()
+    assert "not real sensor data" in summary and "('" not in summary and "{'" not in summary  # no Python reprs
+    assert "| object      | pvhk/polar/center/32 " in summary and "accuracy" not in summary.lower()
+    inline = (results / "figures" / "summary.html").read_text()
+    assert "<table" in inline and "pvhk/polar/center/32" in inline and "Run parameters" in inline
+    assert "<table" in (results / "figures" / "precision.html").read_text()
     assert (results / "benchmarks" / "describe" / "beer-mug.tsv").is_file()
     assert (results / "logs" / "render" / "plastic-cup.log").read_text().count("views rendered") >= 1
     holes = pd.read_csv(results / "comparison" / "holes.csv")
@@ -135,6 +142,9 @@ def test_report_is_self_contained_html(tiny_run):
     assert result.returncode == 0, result.stderr[-2000:]
     html = (tiny_run / "results" / "report.html").read_text(errors="replace")
     assert len(html) > 100_000 and "rendered" in html
+    # confusion matrices grouped by descriptor, labelled by matrix and library size, with their own captions
+    assert '"matrix": "classes", "library views": "8"' in html and "Confusion matrix of classes for" in html
+    assert "Misclassified test views of the primary descriptor" in html and "{{ snakemake" not in html
 
 
 @pytest.mark.parametrize("overrides, message", [

@@ -142,6 +142,8 @@ class Kind:
     weighted: bool = False
     #: what :meth:`distance_matrix` computes, for figure titles
     distance_name: str = ""
+    #: what ``Descriptor.values`` holds, with its unit, for figure axes
+    value_label: str = "value"
 
     def unavailable(self) -> str | None:
         """Why this machine cannot compute the kind (a missing tool), or None."""

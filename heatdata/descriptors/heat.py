@@ -99,6 +99,7 @@ class HeatKind(BoundaryKind):
     """PVHK-like kinds: the boundary temperature at one or more times, from a shared heat solve."""
 
     multi_source = True
+    value_label = "temperature (equilibrium = 1)"
 
     def times(self, work: ViewWork, op: HeatOperator, spec: DescriptorSpec, context: dict) -> tuple:
         """The times to read the temperature at; the PVHK's is t_s = 1/lambda_2 (2.3.1)."""

@@ -115,6 +115,7 @@ class PVST(BoundaryKind):
     options = BOUNDARY_OPTIONS + (Option("threshold", PVST_THRESHOLD, "threshold T_a, a fraction of the "
                                          "equilibrium temperature in (0, 1)", number(0.0, 1.0)),)
     multi_source = True
+    value_label = "time to reach T_a (m^2, the unit of t_s = 1/lambda_2)"
 
     def validate(self, options: dict) -> dict:
         threshold = options["threshold"]

@@ -8,6 +8,7 @@ from heatdata.catalog import catalog_from_folder, read_catalog, sh3f_catalogs
 from heatdata.descriptors import DESCRIPTORS, DescriptorSpec, file_name
 from heatdata.descriptors.base import article
 from heatdata.errors import HeatdataError
+from heatdata.report import CONFUSION_PATTERN
 from snakemake.exceptions import WorkflowError
 
 RESULTS = config["results"]

@@ -4,4 +4,5 @@ from heatdata.report import draw_report
 
 setup_logging(path=snakemake.log[0])
 draw_report(snakemake.input.descriptors, snakemake.input.predictions, snakemake.input.precision,
-            snakemake.input.catalog, snakemake.output, primary=snakemake.params.primary, config=snakemake.params.config)
+            snakemake.input.catalog, snakemake.input.views, snakemake.output, primary=snakemake.params.primary,
+            config=snakemake.params.config)
