@@ -152,6 +152,42 @@ def plot_misclassified(predictions: pd.DataFrame, descriptors: pd.DataFrame, vie
     _save(fig, path)
 
 
+def plot_multiview(summary: pd.DataFrame, path: str | Path, title: str) -> None:
+    """Thesis Fig. 4.8: accuracy, degrees travelled and comparisons against the number of particles.
+
+    ``summary`` is :func:`heatdata.multiview.trial_summary`; one line per library size,
+    bootstrap and policy.
+    """
+    fig, (acc, deg, comp) = plt.subplots(1, 3, figsize=(14, 4.2))
+    styles = {size: style for size, style in zip(sorted(summary["library_views"].unique()), ["-", "--", ":", "-."])}
+    colours = {("similarity", "fixed"): "tab:blue", ("angular", "fixed"): "tab:orange",
+               ("similarity", "active"): "tab:green", ("angular", "active"): "tab:red"}
+    for (size, boot, policy), rows in summary.groupby(["library_views", "bootstrap", "policy"]):
+        rows = rows.sort_values("particles")
+        label = f"{boot} bootstrap, {policy} steps, {size} library views"
+        style = dict(color=colours[(boot, policy)], ls=styles[size], marker="o", ms=3, label=label)
+        acc.plot(rows["particles"], 100 * rows["accuracy"], **style)
+        deg.plot(rows["particles"], rows["degrees"], **style)
+        comp.plot(rows["particles"], rows["comparisons"], **style)
+        if boot == "similarity" and policy == "fixed":
+            comp.plot(rows["particles"], rows["exhaustive"], color="grey", ls=styles[size], lw=1,
+                      label=f"exhaustive search, {size} library views")
+    acc.set_ylabel("accuracy: converged on the true object (%)")
+    acc.yaxis.set_major_formatter(PercentFormatter(100, decimals=0))
+    deg.set_ylabel("degrees travelled (mean)")
+    comp.set_ylabel("view comparisons (particles x stops, mean)")
+    for ax in (acc, deg, comp):
+        ax.set_xscale("log")
+        ticks = sorted(summary["particles"].unique())
+        ax.set_xticks(ticks, [str(t) for t in ticks])
+        ax.set_xlabel("particles")
+        ax.grid(alpha=0.3)
+    acc.legend(fontsize=6)
+    comp.legend(fontsize=6)
+    fig.suptitle(title, fontsize=9)
+    _save(fig, path)
+
+
 def _draw_isomap(ax, descriptors: pd.DataFrame, descriptor: str, n_neighbors: int = 8) -> str:
     """Draw the 2D Isomap of ``descriptor``'s library views on ``ax``; returns the distance's name."""
     from sklearn.manifold import Isomap

@@ -93,6 +93,37 @@ COMPACT_LIBRARY_SCHEMA = pa.schema([
 ])
 
 
+#: one run of Algorithm 4.1 (heatdata.multiview.multiview_trials)
+TRIAL_SCHEMA = pa.schema([
+    ("descriptor", pa.string()),
+    ("library_views", pa.int64()),
+    ("object", pa.string()),
+    ("start", pa.float64()),
+    ("particles", pa.int64()),
+    ("bootstrap", pa.string()),
+    ("policy", pa.string()),
+    ("repetition", pa.int64()),
+    ("estimate", pa.string()),
+    ("correct", pa.bool_()),
+    ("converged", pa.bool_()),
+    ("degrees", pa.float64()),
+    ("stops", pa.int64()),
+    ("restarts", pa.int64()),
+    ("comparisons", pa.int64()),
+    ("exhaustive", pa.int64()),
+    ("seconds", pa.float64()),
+])
+
+#: mu(s, s') of eq. 4.6 (heatdata.multiview.learn_similarity)
+SIMILARITY_SCHEMA = pa.schema([
+    ("library_views", pa.int64()),
+    ("object", pa.string()),
+    ("azimuth", pa.float64()),
+    ("similar_object", pa.string()),
+    ("similar_azimuth", pa.float64()),
+    ("similarity", pa.float64()),
+])
+
 def views_to_frame(views: list, plan: pd.DataFrame) -> pd.DataFrame:
     """Views as rows of :data:`VIEW_SCHEMA` (flattened arrays); ``plan`` gives split and seed in order."""
     return pd.DataFrame([{

@@ -1,0 +1,234 @@
+"""Multi-view recognition (thesis ch. 4) on small synthetic libraries with known answers.
+
+The library: a cup and a mug whose curves are identical except where the mug's handle
+shows (azimuths 90-180 deg), the ambiguity of thesis Fig. 4.2-4.3.
+"""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import heatdata as hd
+from heatdata.multiview import (appearance_model, learn_similarity, set_distance, similarity_matrix,
+                                stochastic_universal_sampling)
+
+ANGLES = np.arange(0.0, 360.0, 30.0)
+SAMPLES = 16
+
+
+def curve(obj: str, azimuth: float, noise: float = 0.0, rng=None) -> np.ndarray:
+    x = np.arange(SAMPLES) / SAMPLES
+    values = 1.0 + 0.1 * np.cos(2 * np.pi * x) + 0.02 * np.cos(np.radians(azimuth))
+    if obj == "mug" and 90 <= azimuth % 360 <= 180:
+        values = values + 0.3 * np.exp(-((x - 0.5) / 0.08) ** 2)  # the handle
+    if noise:
+        values = values + rng.normal(0, noise, SAMPLES)
+    return values
+
+
+def table(objects=("cup", "mug"), copies: int = 2, noise: float = 0.002, seed: int = 0) -> pd.DataFrame:
+    rng = np.random.default_rng(seed)
+    return pd.DataFrame([{"object": o, "azimuth": a, "kind": "pvhk", "values": curve(o, a, noise, rng)}
+                         for o in objects for a in ANGLES for _ in range(copies)])
+
+
+@pytest.fixture(scope="module")
+def library():
+    return table(seed=0)
+
+
+@pytest.fixture(scope="module")
+def similarity(library):
+    return learn_similarity(library, table(seed=1))
+
+
+def observe(obj, azimuth, seed):
+    rng = np.random.default_rng(seed)
+    return [curve(obj, azimuth, 0.002, rng) for _ in range(2)]
+
+
+def test_set_distance_is_eq_4_4():
+    assert set_distance(np.array([[1.0, 2.0], [3.0, 0.5]])) == pytest.approx(1.5)
+    assert set_distance(np.array([[1.0, 3.0]])) == pytest.approx(1.0)  # min(1, 1 + 3): sets of other sizes
+
+
+def test_alpha_is_the_mean_leave_one_out_distance_eq_4_5():
+    rows = pd.DataFrame({"object": "a", "azimuth": 0.0, "values": [np.zeros(8), np.full(8, 0.1)]})
+    model = appearance_model(pd.concat([rows, rows.assign(azimuth=90.0)]))
+    mhd = hd.mhd(np.zeros(8), np.full(8, 0.1))
+    np.testing.assert_allclose(model.alpha, [mhd, mhd])
+    single = appearance_model(pd.DataFrame({"object": "a", "azimuth": [0.0, 90.0, 180.0],
+                                            "values": [np.zeros(8), np.full(8, 0.1), np.full(8, 0.3)]}))
+    # one view per angle: the distance to the nearest neighbouring angle
+    np.testing.assert_allclose(single.alpha, [mhd, mhd, hd.mhd(np.full(8, 0.1), np.full(8, 0.3))])
+    assert appearance_model(rows, alpha=0.08).alpha.tolist() == [0.08]
+
+
+def test_similarity_is_high_between_look_alike_views(library, similarity):
+    model = appearance_model(library)
+    mu = similarity_matrix(model, similarity)
+    at = {(o, a): k for k, (o, a) in enumerate(zip(model.labels["object"], model.labels["azimuth"]))}
+    assert mu[at["mug", 0.0], at["cup", 0.0]] > 0.5 * mu[at["mug", 0.0], at["mug", 0.0]]  # handle hidden
+    assert mu[at["mug", 120.0], at["cup", 120.0]] < 1e-6 * mu[at["mug", 120.0], at["mug", 120.0]]  # handle seen
+    assert list(similarity.columns) == ["object", "azimuth", "similar_object", "similar_azimuth", "similarity"]
+
+
+def test_a_library_of_one_object_converges_at_once():
+    one = table(objects=("cup",))
+    f = hd.ParticleFilter(one, learn_similarity(one, table(objects=("cup",), seed=1)), particles=20, seed=0)
+    assert f.converged and f.estimate == "cup" and f.posterior() == {"cup": 1.0}
+    f.step(observe("cup", 60.0, 0), 0.0)
+    assert f.converged and f.estimate == "cup"
+
+
+def test_the_true_object_keeps_particles_while_ambiguous_then_wins(library, similarity):
+    f = hd.ParticleFilter(library, similarity, particles=60, seed=3)
+    azimuth = 270.0
+    f.step(observe("mug", azimuth, 10), 0.0)
+    for k in range(3):  # 270 -> 360: the handle stays hidden
+        azimuth += 30.0
+        f.step(observe("mug", azimuth, 11 + k), 30.0)
+        assert not f.converged and f.posterior()["mug"] > 0.2
+    for k in range(5):  # 30 -> 180: the handle comes into view
+        azimuth += 30.0
+        f.step(observe("mug", azimuth, 20 + k), 30.0)
+        if f.converged:
+            break
+    assert f.converged and f.estimate == "mug" and azimuth >= 90.0
+
+
+def test_the_baseline_bootstrap_runs_and_is_seeded(library, similarity):
+    runs = []
+    for _ in range(2):
+        f = hd.ParticleFilter(library, similarity, particles=40, bootstrap="angular", seed=5)
+        for k, a in enumerate((0.0, 45.0, 90.0, 135.0)):
+            f.step(observe("mug", a, k), 45.0 if k else 0.0)
+        runs.append((f.object.copy(), f.azimuth.copy(), f.posterior()))
+    assert np.array_equal(runs[0][0], runs[1][0]) and np.array_equal(runs[0][1], runs[1][1])
+    assert runs[0][2] == runs[1][2]
+
+
+def test_an_unexplained_observation_restarts_instead_of_dividing_by_zero(library, similarity):
+    f = hd.ParticleFilter(library, similarity, particles=30, seed=0)
+    f.object[:] = f.objects.index("cup")  # every particle on the cup: none explains the handle
+    f.step(observe("mug", 120.0, 1), 0.0)
+    assert f.restarts >= 1 and np.isfinite(f.log_w).all() and f.weights.sum() == pytest.approx(1.0)
+    far = [np.full(SAMPLES, 1e6)]  # nothing in the library is near: every likelihood underflows
+    f.step(far, 0.0)
+    assert np.isfinite(f.log_w).all() and f.weights.sum() == pytest.approx(1.0)
+
+
+def test_odometry_wraps_around_360(library, similarity):
+    a = hd.ParticleFilter(library, similarity, particles=10, seed=1)
+    b = hd.ParticleFilter(library, similarity, particles=10, seed=1)
+    obs = observe("cup", 0.0, 0)
+    a.step(obs, 370.0)
+    b.step(obs, -350.0)
+    np.testing.assert_allclose(a.azimuth, b.azimuth)
+    assert ((a.azimuth >= 0) & (a.azimuth < 360)).all()
+    with pytest.raises(hd.HeatdataError, match="finite angle"):
+        a.step(obs, float("nan"))
+
+
+def test_bad_observations_and_tables_are_clear_errors(library, similarity):
+    f = hd.ParticleFilter(library, similarity, particles=10, seed=0)
+    with pytest.raises(hd.HeatdataError, match="observations have 8 values, the library's pvhk descriptors 16"):
+        f.step([np.ones(8)], 0.0)
+    esf = hd.Descriptor(kind="esf", values=np.ones(SAMPLES), positions=np.zeros(SAMPLES), source=-1,
+                        time=np.nan, lambda2=np.nan, sampling=None)
+    with pytest.raises(hd.HeatdataError, match="observations are esf descriptors, the library's pvhk"):
+        f.step([esf], 0.0)
+    with pytest.raises(hd.HeatdataError, match="does not match the library"):
+        hd.ParticleFilter(library[library["azimuth"] < 300], similarity)
+    with pytest.raises(hd.HeatdataError, match="lack library object"):
+        learn_similarity(library, table(objects=("cup",), seed=1))
+    with pytest.raises(hd.HeatdataError, match="whole number"):
+        hd.ParticleFilter(library, similarity, particles=0)
+    with pytest.raises(hd.HeatdataError, match="lacks column"):
+        hd.ParticleFilter(library.drop(columns="values"), similarity)
+
+
+def test_best_move_looks_where_the_handle_shows(library, similarity):
+    f = hd.ParticleFilter(library, similarity, particles=80, seed=2)
+    f.step(observe("mug", 270.0, 0), 0.0)  # handle hidden: cup or mug
+    assert not f.converged
+    # -90 deg reaches 180 (handle in view); +90 deg reaches 0 (still hidden)
+    assert f.best_move([90.0, -90.0]) == -90.0
+
+
+def test_stochastic_universal_sampling_is_proportional():
+    rng = np.random.default_rng(0)
+    counts = np.bincount(stochastic_universal_sampling(np.array([1.0, 0.0, 3.0]), 8, rng), minlength=3)
+    assert counts.tolist() == [2, 0, 6]
+
+
+def views_every_3_degrees(objects=("cup", "mug"), seed=4) -> pd.DataFrame:
+    rng = np.random.default_rng(seed)
+    return pd.DataFrame([{"object": o, "azimuth": a, "kind": "pvhk", "values": curve(o, a, 0.002, rng)}
+                         for o in objects for a in np.arange(1.5, 360.0, 3.0)])
+
+
+def test_recognize_fixed_steps_and_the_active_policy(library, similarity):
+    tests = views_every_3_degrees()
+    model = appearance_model(library)
+    robot = hd.multiview.TableRobot(model, tests[tests["object"] == "mug"], per_stop=2)
+    assert robot.views(270.0) == robot.views(270.0 + 720.0) and len(robot.views(0.0)) == 2
+    fixed = hd.multiview.recognize(hd.ParticleFilter(model, similarity, particles=60, seed=1), robot, 270.0,
+                                   step=30.0)
+    assert fixed["converged"] and fixed["estimate"] == "mug" and 180.0 <= fixed["degrees"] <= 270.0
+    active = hd.multiview.recognize(hd.ParticleFilter(model, similarity, particles=60, seed=1), robot, 270.0,
+                                    policy="active", candidates=(-90.0, -30.0, 30.0, 90.0))
+    assert active["converged"] and active["estimate"] == "mug" and active["degrees"] < fixed["degrees"]
+    with pytest.raises(hd.HeatdataError, match="policy"):
+        hd.multiview.recognize(hd.ParticleFilter(model, similarity, seed=1), robot, 0.0, policy="greedy")
+    with pytest.raises(hd.HeatdataError, match="one object"):
+        hd.multiview.TableRobot(model, tests)
+
+
+def test_ambiguous_starts_are_the_mugs_hidden_handle_views(library):
+    starts = hd.multiview.ambiguous_starts(library, views_every_3_degrees(), count=3)
+    mug = starts[starts["object"] == "mug"]
+    assert len(starts) == 6 and not mug["azimuth"].between(90, 180).any()
+    assert (mug["nearest_other"] == "cup").all()
+
+
+def test_trials_cover_every_setting(library, similarity):
+    starts = pd.DataFrame({"object": ["mug"], "azimuth": [270.0]})
+    trials = hd.multiview.multiview_trials(library, similarity, views_every_3_degrees(), starts, particles=(10, 30),
+                                           policies=("fixed", "active"), repetitions=2, step=30.0)
+    # 2 particle counts x (2 bootstraps fixed + similarity active) x 2 repetitions
+    assert len(trials) == 2 * 3 * 2
+    assert {"correct", "degrees", "comparisons", "exhaustive"} <= set(trials.columns)
+    assert (trials["comparisons"] == trials["particles"] * trials["stops"]).all()
+    assert (trials["exhaustive"] == 24 * trials["stops"]).all()
+    again = hd.multiview.multiview_trials(library, similarity, views_every_3_degrees(), starts, particles=(10, 30),
+                                          policies=("fixed", "active"), repetitions=2, step=30.0)
+    pd.testing.assert_frame_equal(trials.drop(columns="seconds"), again.drop(columns="seconds"))
+
+
+def test_the_robot_renders_noisy_views_along_its_path(mug):
+    spec = hd.DescriptorSpec("pvhk", 16, "center", "polar")
+    path = hd.multiview.robot_views(mug, 30.0, [15.0, -45.0], spec, per_stop=2)
+    assert [move for _, move in path] == [0.0, 15.0, -45.0]
+    first, _ = path[0]
+    assert len(first) == 2 and all(len(d.values) == 16 for d in first)
+    assert not np.array_equal(first[0].values, first[1].values)  # two noise draws per stop
+
+
+def test_best_move_keeps_circling_when_no_step_can_tell_twins_apart():
+    twins = pd.concat([table(objects=("cup",)), table(objects=("cup",)).assign(object="twin")])
+    f = hd.ParticleFilter(twins, learn_similarity(twins, table(objects=("cup",), seed=1).pipe(
+        lambda t: pd.concat([t, t.assign(object="twin")]))), particles=40, seed=0)
+    half = f.n // 2  # the same angles on both twins: no step can move mass between them
+    f.object[:half], f.object[half:] = 0, 1
+    f.azimuth[half:] = f.azimuth[:half]
+    assert not f.converged
+    assert f.best_move([-90.0, -15.0, 15.0, 90.0]) == 15.0
+
+
+def test_a_run_stops_before_travelling_past_max_degrees(library, similarity):
+    twins_tests = views_every_3_degrees()
+    robot = hd.multiview.TableRobot(appearance_model(library), twins_tests[twins_tests["object"] == "cup"])
+    f = hd.ParticleFilter(library, similarity, particles=30, seed=0)
+    result = hd.multiview.recognize(f, robot, 0.0, step=45.0, max_degrees=100.0)
+    assert result["degrees"] <= 100.0
