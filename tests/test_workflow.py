@@ -12,7 +12,7 @@ import pytest
 import trimesh
 import yaml
 
-from heatdata.tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, VIEW_SCHEMA, read_table
+from heatdata.tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, TRIAL_SCHEMA, VIEW_SCHEMA, read_table
 
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEFILE = ROOT / "Snakefile"
@@ -46,12 +46,15 @@ def snakemake(workdir: Path, config: dict, *args: str) -> subprocess.CompletedPr
 COMPACT = {"enabled": True, "library_candidates": 12, "test_candidates": 8, "alphas": [0.25, 1.0]}
 COMPARISON = {"enabled": True, "isomap_objects": ["plastic-cup", "beer-mug"], "boxes": [[0.1, 0.15, 0.08]],
               "azimuths": 3}
+MULTIVIEW = {"enabled": True, "library_views": [8, 4], "particles": [5, 20], "repetitions": 2, "starts": 1,
+             "step": 45, "max_degrees": 360}
+EXPERIMENTS = {"compact": COMPACT, "comparison": COMPARISON, "multiview": MULTIVIEW}
 
 
 @pytest.fixture(scope="module")
 def tiny_run(tmp_path_factory):
     workdir = tmp_path_factory.mktemp("workflow")
-    result = snakemake(workdir, tiny_config(compact=COMPACT, comparison=COMPARISON))
+    result = snakemake(workdir, tiny_config(**EXPERIMENTS))
     assert result.returncode == 0, result.stderr[-3000:]
     return workdir
 
@@ -131,14 +134,27 @@ def test_compact_libraries_and_their_precision(tiny_run):
     assert (results / "figures" / "compact_precision.png").stat().st_size > 10_000
 
 
+def test_multiview_trials_and_their_figure(tiny_run):
+    results = tiny_run / "results"
+    trials, meta = read_table(results / "multiview" / "trials.parquet")
+    assert list(trials.columns) == TRIAL_SCHEMA.names and meta["multiview"]["repetitions"] == 2
+    # 2 library sizes x 2 objects x 1 start x 2 particle counts x (2 bootstraps fixed + active) x 2 repetitions
+    assert len(trials) == 2 * 2 * 2 * 3 * 2 and set(trials["policy"]) == {"fixed", "active"}
+    assert (trials["degrees"] <= 360 + 90).all() and trials["descriptor"].eq("pvhk/polar/center/32").all()
+    similarity, _ = read_table(results / "multiview" / "similarity.parquet")
+    assert len(similarity) == 16 ** 2 + 8 ** 2
+    summary = pd.read_csv(results / "multiview" / "summary.csv")
+    assert summary["accuracy"].between(0, 1).all() and (results / "figures" / "multiview.png").stat().st_size > 10_000
+
+
 def test_rerun_with_nothing_changed_runs_no_job(tiny_run):
-    result = snakemake(tiny_run, tiny_config(compact=COMPACT, comparison=COMPARISON), "--dry-run")
+    result = snakemake(tiny_run, tiny_config(**EXPERIMENTS), "--dry-run")
     assert result.returncode == 0
     assert "Nothing to be done" in result.stdout + result.stderr
 
 
 def test_report_is_self_contained_html(tiny_run):
-    result = snakemake(tiny_run, tiny_config(compact=COMPACT, comparison=COMPARISON), "--report", "results/report.html")
+    result = snakemake(tiny_run, tiny_config(**EXPERIMENTS), "--report", "results/report.html")
     assert result.returncode == 0, result.stderr[-2000:]
     html = (tiny_run / "results" / "report.html").read_text(errors="replace")
     assert len(html) > 100_000 and "rendered" in html
@@ -157,6 +173,9 @@ def test_report_is_self_contained_html(tiny_run):
     ({"compact": {"enabled": True}, "objects": ["beer-mug"]}, "give two or more objects"),
     ({"compact": {"enabled": True, "alphas": [1.5]}}, "1.5"),
     ({"descriptors": [{"kind": "shot"}]}, "descriptors[0]: unknown descriptor kind 'shot'"),
+    ({"multiview": {"enabled": True, "descriptor": "ft-pvhk/polar/center/32"}}, "a time-scaled kind"),
+    ({"multiview": {"enabled": True, "library_views": [12]}}, "multiview.library_views [12] exceed views.train = 8"),
+    ({"multiview": {"enabled": True, "policies": ["greedy"]}}, "greedy"),
     ({"descriptors": [{"kind": "esf", "samples": 64}]}, "descriptors[0]: an esf takes no samples"),
     ({"compact": {"enabled": True, "descriptor": {"kind": "esf"}}}, "compact.descriptor: an esf has no heat source"),
     ({"comparison": {"enabled": True, "isomap_objects": ["unicorn"]}}, "comparison.isomap_objects: ['unicorn']"),

@@ -95,6 +95,20 @@ if config["comparison"]["enabled"]:
     missing = sorted(set(config["comparison"]["isomap_objects"]) - set(OBJECTS))
     if missing:
         _config_error(f"comparison.isomap_objects: {missing} are not among the run's objects")
+MULTIVIEW_DESCRIPTOR = config["multiview"]["descriptor"] or config["primary_descriptor"]
+if config["multiview"]["enabled"]:
+    if MULTIVIEW_DESCRIPTOR not in [s.name for s in SPECS]:
+        _config_error(f"multiview.descriptor {MULTIVIEW_DESCRIPTOR!r} is not one of descriptors")
+    if any(s.impl.time_scaled for s in SPECS if s.name == MULTIVIEW_DESCRIPTOR):
+        _config_error("multiview.descriptor: a time-scaled kind (ft-pvhk) describes test views once per object; "
+                      "choose a descriptor with one row per view")
+    if len(OBJECTS) < 2:
+        _config_error("multiview: recognition among objects needs two or more objects")
+    if config["views"]["test"] < 4:
+        _config_error("multiview: needs four or more test views per object (half learn the similarity)")
+    large = [n for n in config["multiview"]["library_views"] if n > config["views"]["train"]]
+    if large:
+        _config_error(f"multiview.library_views {large} exceed views.train = {config['views']['train']}")
 too_large = [s for s in config["library_sizes"] if s > config["views"]["train"]]
 if too_large:
     _config_error(f"library_sizes {too_large} exceed views.train = {config['views']['train']} rendered views")
