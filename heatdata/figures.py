@@ -153,12 +153,12 @@ def plot_misclassified(predictions: pd.DataFrame, descriptors: pd.DataFrame, vie
 
 
 def plot_multiview(summary: pd.DataFrame, path: str | Path, title: str) -> None:
-    """Thesis Fig. 4.8: accuracy, degrees travelled and comparisons against the number of particles.
+    """Thesis Fig. 4.8, 4.10: accuracy, identification, degrees travelled and comparisons against particles.
 
     ``summary`` is :func:`heatdata.multiview.trial_summary`; one line per library size,
     bootstrap and policy.
     """
-    fig, (acc, deg, comp) = plt.subplots(1, 3, figsize=(14, 4.2))
+    fig, (acc, ident, deg, comp) = plt.subplots(1, 4, figsize=(18, 4.2))
     styles = {size: style for size, style in zip(sorted(summary["library_views"].unique()), ["-", "--", ":", "-."])}
     colours = {("similarity", "fixed"): "tab:blue", ("angular", "fixed"): "tab:orange",
                ("similarity", "active"): "tab:green", ("angular", "active"): "tab:red"}
@@ -167,16 +167,19 @@ def plot_multiview(summary: pd.DataFrame, path: str | Path, title: str) -> None:
         label = f"{boot} bootstrap, {policy} steps, {size} library views"
         style = dict(color=colours[(boot, policy)], ls=styles[size], marker="o", ms=3, label=label)
         acc.plot(rows["particles"], 100 * rows["accuracy"], **style)
+        ident.plot(rows["particles"], 100 * rows["identified"], **style)
         deg.plot(rows["particles"], rows["degrees"], **style)
         comp.plot(rows["particles"], rows["comparisons"], **style)
         if boot == "similarity" and policy == "fixed":
             comp.plot(rows["particles"], rows["exhaustive"], color="grey", ls=styles[size], lw=1,
                       label=f"exhaustive search, {size} library views")
     acc.set_ylabel("accuracy: converged on the true object (%)")
-    acc.yaxis.set_major_formatter(PercentFormatter(100, decimals=0))
+    ident.set_ylabel("identified: true object most probable at the end (%)")
+    for ax in (acc, ident):
+        ax.yaxis.set_major_formatter(PercentFormatter(100, decimals=0))
     deg.set_ylabel("degrees travelled (mean)")
     comp.set_ylabel("view comparisons (particles x stops, mean)")
-    for ax in (acc, deg, comp):
+    for ax in (acc, ident, deg, comp):
         ax.set_xscale("log")
         ticks = sorted(summary["particles"].unique())
         ax.set_xticks(ticks, [str(t) for t in ticks])

@@ -405,7 +405,10 @@ class ParticleFilter:
                            ) % 360.0
         self.object = np.concatenate([self.object[keep], new_object])
         self.azimuth = np.concatenate([self.azimuth[keep], new_azimuth])
-        self.log_w = np.full(self.n, -np.log(self.n))  # resampled: the particle density carries the posterior
+        # survivors keep the evidence of every stop so far (w_t = w_t-1 p(Z_t | s), 4.4.3); a newcomer has none of
+        # its own and starts at the least survivor's weight, so it must explain the next stops to count
+        log_w = np.concatenate([self.log_w[keep], np.full(count, self.log_w[keep].min())])
+        self.log_w = log_w - logsumexp(log_w)
 
     # --- beyond the thesis: where to look next ----------------------------------------------------------------------
     def best_move(self, candidates_deg=(-90.0, -45.0, -15.0, 15.0, 45.0, 90.0), *, per_degree: bool = True
@@ -574,7 +577,10 @@ def multiview_trials(library: pd.DataFrame, similarity: pd.DataFrame, tests: pd.
     -------
     DataFrame
         One row per run: ``object, start, particles, bootstrap, policy, repetition,
-        estimate, correct, converged, degrees, stops, restarts, comparisons, seconds``;
+        estimate, correct, identified, converged, degrees, stops, restarts, comparisons,
+        seconds``; ``correct``: converged on the true object; ``identified``: the most
+        probable object at the end is the true one, converged or not (how 4.5.4 scores
+        the chairs after one circle);
         ``comparisons`` counts particle evaluations (particles x stops) and
         ``exhaustive`` the library labels x stops an exhaustive search would compare.
     """
@@ -603,6 +609,7 @@ def multiview_trials(library: pd.DataFrame, similarity: pd.DataFrame, tests: pd.
         rows.append({"object": start.object, "start": start.azimuth, "particles": n, "bootstrap": boot,
                      "policy": policy, "repetition": rep, **result,
                      "correct": result["converged"] and result["estimate"] == start.object,
+                     "identified": result["estimate"] == start.object,
                      "comparisons": n * result["stops"], "exhaustive": labels * result["stops"],
                      "seconds": time.perf_counter() - begin})
     return pd.DataFrame(rows)
@@ -664,9 +671,11 @@ def multiview_experiment(descriptors: pd.DataFrame, descriptor: str, settings: d
 
 
 def trial_summary(trials: pd.DataFrame) -> pd.DataFrame:
-    """Accuracy (converged on the true object), degrees travelled and comparisons per setting."""
+    """Accuracy (converged on the true object), identified (true object most probable at the end), degrees
+    travelled and comparisons per setting."""
     keys = ["library_views", "policy", "bootstrap", "particles"]
     summary = trials.groupby(keys).agg(runs=("correct", "size"), accuracy=("correct", "mean"),
+                                       identified=("identified", "mean"),
                                        converged=("converged", "mean"), degrees=("degrees", "mean"),
                                        stops=("stops", "mean"), comparisons=("comparisons", "mean"),
                                        exhaustive=("exhaustive", "mean"), seconds=("seconds", "mean"))

@@ -105,6 +105,7 @@ TRIAL_SCHEMA = pa.schema([
     ("repetition", pa.int64()),
     ("estimate", pa.string()),
     ("correct", pa.bool_()),
+    ("identified", pa.bool_()),
     ("converged", pa.bool_()),
     ("degrees", pa.float64()),
     ("stops", pa.int64()),

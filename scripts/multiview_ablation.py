@@ -1,9 +1,9 @@
-"""Ablation of the similarity bootstrap's thresholds (sigma_min, tau_boot; thesis 4.4.6, Fig. 4.8b).
+"""Ablation of the similarity bootstrap's thresholds and the appearance model's alpha (thesis 4.3, 4.4.6, Fig. 4.8b).
 
 Reads a multi-view run's descriptor table (``snakemake --configfile config/multiview.yaml``),
 rebuilds its library, similarity and ambiguous starts as the rule does, and runs the
-trials for each (sigma_min, tau_boot) pair with fewer repetitions. Prints and writes a
-CSV of accuracy and degrees travelled per policy and particle count.
+trials for each alpha and (sigma_min, tau_boot) pair with fewer repetitions. Prints and
+writes a CSV of accuracy, identification and degrees travelled per policy and particle count.
 
     .venv/bin/python scripts/multiview_ablation.py [--results results/multiview] [--repetitions 3] \\
         [--out docs/results/multiview_ablation.csv]
@@ -12,6 +12,7 @@ CSV of accuracy and degrees travelled per policy and particle count.
 from __future__ import annotations
 
 import argparse
+import itertools
 import time
 
 import pandas as pd
@@ -28,25 +29,33 @@ def main() -> None:
     parser.add_argument("--library-views", type=int, default=24)
     parser.add_argument("--repetitions", type=int, default=3)
     parser.add_argument("--particles", type=int, nargs="+", default=[10, 100])
+    parser.add_argument("--sigma", type=float, nargs="+", default=[0.05, 0.2, 0.5], help="sigma_min values")
+    parser.add_argument("--tau", type=float, nargs="+", default=[0.1, 0.5, 0.9], help="tau_boot values")
+    parser.add_argument("--alpha", nargs="+", default=["eq4.5"], help="alpha values; eq4.5: per view (default)")
+    parser.add_argument("--starts", type=int, default=3)
+    parser.add_argument("--max-degrees", type=float, default=720.0)
     parser.add_argument("--out")
     args = parser.parse_args()
     rows, _ = read_table(f"{args.results}/descriptors.parquet", filters=[("descriptor", "==", args.descriptor)])
     similar, tests = split_tests(rows[rows["split"] == "test"])
     library = library_subset(rows, args.library_views)
-    similarity = learn_similarity(library, similar)
-    starts = ambiguous_starts(library, tests, 3)
     tables = []
-    for sigma in (0.05, 0.2, 0.5):
-        for tau in (0.1, 0.5, 0.9):
+    for alpha in [None if a == "eq4.5" else float(a) for a in args.alpha]:
+        similarity = learn_similarity(library, similar, alpha=alpha)
+        starts = ambiguous_starts(library, tests, args.starts, alpha=alpha)
+        for sigma, tau in itertools.product(args.sigma, args.tau):
             start = time.perf_counter()
             trials = multiview_trials(library, similarity, tests, starts, particles=args.particles,
                                       bootstraps=("similarity",), policies=("fixed", "active"),
-                                      repetitions=args.repetitions, sigma_min=sigma, tau_boot=tau)
-            summary = trial_summary(trials).assign(sigma_min=sigma, tau_boot=tau)
-            tables.append(summary)
-            print(f"sigma_min {sigma}, tau_boot {tau}: {len(trials)} runs in {time.perf_counter() - start:.0f} s")
+                                      repetitions=args.repetitions, sigma_min=sigma, tau_boot=tau, alpha=alpha,
+                                      max_degrees=args.max_degrees)
+            summary = trial_summary(trials.assign(library_views=args.library_views))
+            tables.append(summary.assign(alpha="eq4.5" if alpha is None else alpha, sigma_min=sigma, tau_boot=tau))
+            print(f"alpha {alpha}, sigma_min {sigma}, tau_boot {tau}: {len(trials)} runs in "
+                  f"{time.perf_counter() - start:.0f} s")
     table = pd.concat(tables, ignore_index=True)
-    shown = table[["sigma_min", "tau_boot", "policy", "particles", "accuracy", "degrees", "stops"]].round(3)
+    shown = table[["alpha", "sigma_min", "tau_boot", "policy", "particles", "accuracy", "identified", "degrees",
+                   "stops"]].round(3)
     print(shown.to_string(index=False))
     if args.out:
         shown.to_csv(args.out, index=False)
