@@ -17,7 +17,7 @@ so any kind works; library tables are rows of ``descriptors.parquet`` (columns
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
@@ -28,7 +28,7 @@ from .errors import HeatdataError
 
 log = logging.getLogger(__name__)
 
-SIMILARITY_COLUMNS = ["object", "azimuth", "similar_object", "similar_azimuth", "similarity"]
+SIMILARITY_COLUMNS = ["object", "azimuth", "similar_object", "similar_azimuth", "similarity", "similar_alpha"]
 
 
 def _angle_gap(a, b) -> np.ndarray:
@@ -96,7 +96,8 @@ class AppearanceModel:
         return -self.distances(observations) / self.alpha - np.log(self.alpha)
 
 
-def appearance_model(library: pd.DataFrame, *, alpha: float | None = None) -> AppearanceModel:
+def appearance_model(library: pd.DataFrame, *, alpha: float | None = None, views: pd.DataFrame | None = None
+                     ) -> AppearanceModel:
     """The appearance model of a library table (thesis 4.3).
 
     Parameters
@@ -105,12 +106,16 @@ def appearance_model(library: pd.DataFrame, *, alpha: float | None = None) -> Ap
         One row per library descriptor: ``object``, ``azimuth``, ``values`` (and ``kind``;
         default the PVHK's). Rows with one (object, azimuth) form the set Z_s.
     alpha : float, optional
-        One scale for every label (the thesis's chairs used 0.08). By default alpha_s is
-        eq. 4.5, the mean leave-one-out distance inside Z_s; a label with a single
-        descriptor (a library of one view per angle) takes instead the distance to the
-        nearest neighbouring library angle of its object - how much the appearance
-        changes over one library step, not in the thesis - or, for an object with one
-        view, the median of the others.
+        One scale for every label (the thesis's chairs used 0.08, on its distance scale).
+    views : DataFrame, optional
+        Views independent of the library (as for :func:`learn_similarity`). alpha_s is then
+        eq. 4.5 with them as the other descriptors of s: the mean distance
+        ``d({z'}, Z_s)`` over the independent views z' whose nearest library label is s
+        (labels no view falls on take the median). Without ``views`` or ``alpha``, alpha_s
+        is eq. 4.5 inside the library, the mean leave-one-out distance in Z_s; a label with
+        a single descriptor takes the distance to the nearest neighbouring library angle of
+        its object (how much the appearance changes over one library step; not in the
+        thesis), or, for an object with one view, the median of the others.
 
     Raises
     ------
@@ -136,9 +141,21 @@ def appearance_model(library: pd.DataFrame, *, alpha: float | None = None) -> Ap
         if not alpha > 0:
             raise HeatdataError(f"alpha must be positive, got {alpha}")
         scales = np.full(len(labels), float(alpha))
-    else:
-        scales = _alpha(values, members, labels, kinds[0])
-    return AppearanceModel(labels=labels, members=members, values=values, alpha=scales, kind=str(kinds[0]))
+        return AppearanceModel(labels=labels, members=members, values=values, alpha=scales, kind=str(kinds[0]))
+    model = AppearanceModel(labels=labels, members=members, values=values, alpha=_alpha(values, members, labels,
+                                                                                          kinds[0]), kind=str(kinds[0]))
+    return model if views is None else replace(model, alpha=_alpha_from_views(model, views))
+
+
+def _alpha_from_views(model: AppearanceModel, views: pd.DataFrame) -> np.ndarray:
+    """alpha_s of eq. 4.5 with independent views as the other descriptors of each partial view s."""
+    scales = np.full(len(model.labels), np.nan)
+    for k, labelled in assign_labels(model, views).groupby("label"):
+        scales[k] = np.mean([model.distances([z])[k] for z in labelled["values"]])
+    usable = np.isfinite(scales) & (scales > 0)
+    if not usable.any():
+        raise HeatdataError("alpha cannot be estimated from these views (identical to the library): give alpha")
+    return np.where(usable, scales, np.median(scales[usable]))
 
 
 def _alpha(values: np.ndarray, members: np.ndarray, labels: pd.DataFrame, kind: str) -> np.ndarray:
@@ -172,7 +189,8 @@ def learn_similarity(library: pd.DataFrame, views: pd.DataFrame, *, alpha: float
 
     Each independent view is labelled with the library label of its object at the
     nearest azimuth; Z_s is the set of views so labelled, and ``p(Z_s | s')`` the
-    appearance model of the library.
+    appearance model of the library with alpha learned from the same views
+    (:func:`appearance_model` with ``views``), unless ``alpha`` is given.
 
     Parameters
     ----------
@@ -184,12 +202,16 @@ def learn_similarity(library: pd.DataFrame, views: pd.DataFrame, *, alpha: float
     -------
     DataFrame
         :data:`SIMILARITY_COLUMNS`, one row per pair of library labels (s, s'):
-        ``similarity`` = p(Z_s | s'), NaN where no independent view has label s.
+        ``similarity`` = p(Z_s | s'), NaN where no independent view has label s, and
+        ``similar_alpha``, the alpha of s' (the filter's appearance model takes it).
     """
-    model = appearance_model(library, alpha=alpha)
-    missing = sorted(set(model.objects) - set(views["object"]))
+    lacking = sorted({"object", "azimuth", "values"} - set(views.columns))
+    if lacking:
+        raise HeatdataError(f"similarity views lack column(s) {', '.join(lacking)}")
+    missing = sorted(set(library["object"]) - set(views["object"]))
     if missing:
         raise HeatdataError(f"the similarity views lack library object(s) {missing}")
+    model = appearance_model(library, alpha=alpha, views=None if alpha is not None else views)
     mu = np.full((len(model.labels),) * 2, np.nan)
     for k, labelled in assign_labels(model, views).groupby("label"):
         mu[k] = np.exp(model.log_likelihood(list(labelled["values"])))
@@ -197,7 +219,7 @@ def learn_similarity(library: pd.DataFrame, views: pd.DataFrame, *, alpha: float
     log.info("similarity of %d labels learned from %d independent views", len(model.labels), len(views))
     objects, azimuths = model.labels["object"].to_numpy(), model.labels["azimuth"].to_numpy()
     return pd.DataFrame({"object": objects[a], "azimuth": azimuths[a], "similar_object": objects[b],
-                         "similar_azimuth": azimuths[b], "similarity": mu.ravel()})
+                         "similar_azimuth": azimuths[b], "similarity": mu.ravel(), "similar_alpha": model.alpha[b]})
 
 
 def assign_labels(model: AppearanceModel, views: pd.DataFrame) -> pd.DataFrame:
@@ -209,6 +231,17 @@ def assign_labels(model: AppearanceModel, views: pd.DataFrame) -> pd.DataFrame:
         gaps = _angle_gap(views.loc[mask, "azimuth"].to_numpy()[:, None], group["azimuth"].to_numpy()[None, :])
         out.loc[mask, "label"] = group.index.to_numpy()[gaps.argmin(axis=1)]
     return out
+
+
+def filter_model(library: pd.DataFrame, similarity: pd.DataFrame, alpha: float | None = None) -> AppearanceModel:
+    """The appearance model a filter uses: the library's, with the alpha learned with the similarity (or ``alpha``)."""
+    model = appearance_model(library, alpha=alpha)
+    if alpha is not None:
+        return model
+    similarity_matrix(model, similarity)  # checks that the table is this library's
+    own = similarity.drop_duplicates(["similar_object", "similar_azimuth"]).set_index(
+        ["similar_object", "similar_azimuth"])["similar_alpha"]
+    return replace(model, alpha=own.reindex(pd.MultiIndex.from_frame(model.labels)).to_numpy(dtype=np.float64))
 
 
 def similarity_matrix(model: AppearanceModel, similarity: pd.DataFrame) -> np.ndarray:
@@ -269,7 +302,8 @@ class ParticleFilter:
     max_restarts : int
         Draws of new particles for one observation before the step gives up (logged).
     alpha : float, optional
-        A fixed alpha for the appearance model (default eq. 4.5, :func:`appearance_model`).
+        A fixed alpha for the appearance model (default: the one learned with the
+        similarity, :func:`learn_similarity`).
     seed : int
     """
 
@@ -284,7 +318,12 @@ class ParticleFilter:
                                 f"got {bootstrap!r}")
         if not 0.0 <= tau_boot <= 1.0 or not 0.0 <= sigma_min < 1.0:
             raise HeatdataError(f"tau_boot must be in [0, 1] and sigma_min in [0, 1), got {tau_boot}, {sigma_min}")
-        self.model = library if isinstance(library, AppearanceModel) else appearance_model(library, alpha=alpha)
+        if isinstance(library, AppearanceModel):
+            self.model = library
+        elif isinstance(similarity, np.ndarray):
+            self.model = appearance_model(library, alpha=alpha)
+        else:
+            self.model = filter_model(library, similarity, alpha)
         if isinstance(similarity, np.ndarray):
             if similarity.shape != (len(self.model.labels),) * 2:
                 raise HeatdataError(f"a similarity matrix must be {len(self.model.labels)} x {len(self.model.labels)} "
@@ -592,7 +631,7 @@ def multiview_trials(library: pd.DataFrame, similarity: pd.DataFrame, tests: pd.
     run_options = {k: v for k, v in options.items() if k in run_keys}
     per_stop = options.pop("per_stop", 2)
     filter_options = {k: v for k, v in options.items() if k not in run_keys}
-    model = appearance_model(library, alpha=filter_options.get("alpha"))
+    model = filter_model(library, similarity, filter_options.get("alpha"))
     mu = similarity_matrix(model, similarity)
     robots = {obj: TableRobot(model, rows, per_stop) for obj, rows in tests.groupby("object")}
     missing = sorted(set(starts["object"]) - set(robots))

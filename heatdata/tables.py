@@ -123,6 +123,7 @@ SIMILARITY_SCHEMA = pa.schema([
     ("similar_object", pa.string()),
     ("similar_azimuth", pa.float64()),
     ("similarity", pa.float64()),
+    ("similar_alpha", pa.float64()),
 ])
 
 def views_to_frame(views: list, plan: pd.DataFrame) -> pd.DataFrame:

@@ -31,7 +31,8 @@ def main() -> None:
     parser.add_argument("--particles", type=int, nargs="+", default=[10, 100])
     parser.add_argument("--sigma", type=float, nargs="+", default=[0.05, 0.2, 0.5], help="sigma_min values")
     parser.add_argument("--tau", type=float, nargs="+", default=[0.1, 0.5, 0.9], help="tau_boot values")
-    parser.add_argument("--alpha", nargs="+", default=["eq4.5"], help="alpha values; eq4.5: per view (default)")
+    parser.add_argument("--alpha", nargs="+", default=["learned"],
+                        help="alpha values; learned: per view, from the similarity views (the default)")
     parser.add_argument("--starts", type=int, default=3)
     parser.add_argument("--max-degrees", type=float, default=720.0)
     parser.add_argument("--out")
@@ -40,7 +41,7 @@ def main() -> None:
     similar, tests = split_tests(rows[rows["split"] == "test"])
     library = library_subset(rows, args.library_views)
     tables = []
-    for alpha in [None if a == "eq4.5" else float(a) for a in args.alpha]:
+    for alpha in [None if a == "learned" else float(a) for a in args.alpha]:
         similarity = learn_similarity(library, similar, alpha=alpha)
         starts = ambiguous_starts(library, tests, args.starts, alpha=alpha)
         for sigma, tau in itertools.product(args.sigma, args.tau):
@@ -50,7 +51,7 @@ def main() -> None:
                                       repetitions=args.repetitions, sigma_min=sigma, tau_boot=tau, alpha=alpha,
                                       max_degrees=args.max_degrees)
             summary = trial_summary(trials.assign(library_views=args.library_views))
-            tables.append(summary.assign(alpha="eq4.5" if alpha is None else alpha, sigma_min=sigma, tau_boot=tau))
+            tables.append(summary.assign(alpha="learned" if alpha is None else alpha, sigma_min=sigma, tau_boot=tau))
             print(f"alpha {alpha}, sigma_min {sigma}, tau_boot {tau}: {len(trials)} runs in "
                   f"{time.perf_counter() - start:.0f} s")
     table = pd.concat(tables, ignore_index=True)

@@ -64,13 +64,29 @@ def test_alpha_is_the_mean_leave_one_out_distance_eq_4_5():
     assert appearance_model(rows, alpha=0.08).alpha.tolist() == [0.08]
 
 
+def test_alpha_learned_from_independent_views_is_their_mean_distance_to_the_library_view():
+    library = pd.DataFrame({"object": "a", "azimuth": [0.0, 180.0], "values": [np.zeros(8), np.ones(8)]})
+    views = pd.DataFrame({"object": "a", "azimuth": [2.0, 358.0, 181.0],
+                          "values": [np.full(8, 0.1), np.full(8, 0.3), np.full(8, 1.2)]})
+    model = appearance_model(library, views=views)
+    expected = [(hd.mhd(np.zeros(8), np.full(8, 0.1)) + hd.mhd(np.zeros(8), np.full(8, 0.3))) / 2,
+                hd.mhd(np.ones(8), np.full(8, 1.2))]
+    np.testing.assert_allclose(model.alpha, expected, rtol=1e-6)  # mhd_matrix works in float32 chunks
+    two = pd.concat([library, library.assign(object="b")])
+    similarity = learn_similarity(two, pd.concat([views, views.assign(object="b")]))
+    f = hd.ParticleFilter(two, similarity, particles=4, seed=0)
+    np.testing.assert_allclose(f.model.alpha, expected * 2, rtol=1e-6)  # the filter takes the learned alpha
+    assert hd.ParticleFilter(two, similarity, particles=4, alpha=0.5, seed=0).model.alpha.tolist() == [0.5] * 4
+
+
 def test_similarity_is_high_between_look_alike_views(library, similarity):
     model = appearance_model(library)
     mu = similarity_matrix(model, similarity)
     at = {(o, a): k for k, (o, a) in enumerate(zip(model.labels["object"], model.labels["azimuth"]))}
     assert mu[at["mug", 0.0], at["cup", 0.0]] > 0.5 * mu[at["mug", 0.0], at["mug", 0.0]]  # handle hidden
     assert mu[at["mug", 120.0], at["cup", 120.0]] < 1e-6 * mu[at["mug", 120.0], at["mug", 120.0]]  # handle seen
-    assert list(similarity.columns) == ["object", "azimuth", "similar_object", "similar_azimuth", "similarity"]
+    assert list(similarity.columns) == ["object", "azimuth", "similar_object", "similar_azimuth", "similarity",
+                                        "similar_alpha"]
 
 
 def test_a_library_of_one_object_converges_at_once():

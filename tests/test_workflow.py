@@ -145,6 +145,7 @@ def test_multiview_trials_and_their_figure(tiny_run):
     assert len(similarity) == 16 ** 2 + 8 ** 2
     summary = pd.read_csv(results / "multiview" / "summary.csv")
     assert summary["accuracy"].between(0, 1).all() and (results / "figures" / "multiview.png").stat().st_size > 10_000
+    assert "<table" in (results / "figures" / "multiview.html").read_text()
 
 
 def test_rerun_with_nothing_changed_runs_no_job(tiny_run):

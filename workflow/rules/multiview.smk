@@ -8,8 +8,9 @@ rule multiview:
     output:
         trials=f"{RESULTS}/multiview/trials.parquet",
         similarity=f"{RESULTS}/multiview/similarity.parquet",
-        summary=report(f"{RESULTS}/multiview/summary.csv", caption="../report/multiview_table.rst",
-                       category="Multi-view recognition"),
+        summary=f"{RESULTS}/multiview/summary.csv",
+        table=report(f"{RESULTS}/figures/multiview.html", caption="../report/multiview_table.rst",
+                     category="Multi-view recognition"),
         figure=report(f"{RESULTS}/figures/multiview.png", caption="../report/multiview.rst",
                       category="Multi-view recognition"),
     params:
