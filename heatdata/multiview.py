@@ -91,6 +91,11 @@ class AppearanceModel:
         backward = np.add.reduceat(d.min(axis=0), starts)  # sum over Z_s of the nearest in Z
         return np.minimum(forward, backward)  # eq. 4.4 for every label at once
 
+    def nearest(self, rows) -> np.ndarray:
+        """(V, S) eq. 4.4 between each single observation and every label's set: its nearest member of Z_s."""
+        d = kind_of(self.kind).distance_matrix(stack_values(rows, "observations"), self.values)
+        return np.minimum.reduceat(d, np.searchsorted(self.members, np.arange(len(self.labels))), axis=1)
+
     def log_likelihood(self, observations) -> np.ndarray:
         """(S,) log p(Z | s) = -d(Z, Z_s) / alpha_s - log alpha_s (4.3)."""
         return -self.distances(observations) / self.alpha - np.log(self.alpha)
@@ -122,6 +127,19 @@ def appearance_model(library: pd.DataFrame, *, alpha: float | None = None, views
     HeatdataError
         Missing columns, several kinds, NaN descriptors or a non-positive alpha.
     """
+    model = _sets(library)
+    if alpha is not None:
+        if not alpha > 0:
+            raise HeatdataError(f"alpha must be positive, got {alpha}")
+        return replace(model, alpha=np.full(len(model.labels), float(alpha)))
+    if views is not None:
+        return replace(model, alpha=_alpha_from_views(model, views))
+    return replace(model, alpha=_alpha(model.values, model.members, model.labels, model.kind))
+
+
+def _sets(library: pd.DataFrame) -> AppearanceModel:
+    """A library's labels and sets Z_s, checked; alpha is 1 until :func:`appearance_model` or :func:`filter_model`
+    sets it (the set distances do not depend on it)."""
     missing = sorted({"object", "azimuth", "values"} - set(library.columns))
     if missing:
         raise HeatdataError(f"library table lacks column(s) {', '.join(missing)}")
@@ -137,21 +155,17 @@ def appearance_model(library: pd.DataFrame, *, alpha: float | None = None, views
     labels = library[["object", "azimuth"]].drop_duplicates().reset_index(drop=True)
     index = {(o, a): k for k, (o, a) in enumerate(zip(labels["object"], labels["azimuth"], strict=True))}
     members = np.array([index[(o, a)] for o, a in zip(library["object"], library["azimuth"], strict=True)])
-    if alpha is not None:
-        if not alpha > 0:
-            raise HeatdataError(f"alpha must be positive, got {alpha}")
-        scales = np.full(len(labels), float(alpha))
-        return AppearanceModel(labels=labels, members=members, values=values, alpha=scales, kind=str(kinds[0]))
-    model = AppearanceModel(labels=labels, members=members, values=values, alpha=_alpha(values, members, labels,
-                                                                                          kinds[0]), kind=str(kinds[0]))
-    return model if views is None else replace(model, alpha=_alpha_from_views(model, views))
+    return AppearanceModel(labels=labels, members=members, values=values, alpha=np.ones(len(labels)),
+                           kind=str(kinds[0]))
 
 
 def _alpha_from_views(model: AppearanceModel, views: pd.DataFrame) -> np.ndarray:
     """alpha_s of eq. 4.5 with independent views as the other descriptors of each partial view s."""
+    labelled = assign_labels(model, views)
+    own = model.nearest(list(labelled["values"]))[np.arange(len(labelled)), labelled["label"].to_numpy()]
     scales = np.full(len(model.labels), np.nan)
-    for k, labelled in assign_labels(model, views).groupby("label"):
-        scales[k] = np.mean([model.distances([z])[k] for z in labelled["values"]])
+    for k, distances in pd.Series(own).groupby(labelled["label"].to_numpy()):
+        scales[k] = distances.mean()
     usable = np.isfinite(scales) & (scales > 0)
     if not usable.any():
         raise HeatdataError("alpha cannot be estimated from these views (identical to the library): give alpha")
@@ -235,13 +249,18 @@ def assign_labels(model: AppearanceModel, views: pd.DataFrame) -> pd.DataFrame:
 
 def filter_model(library: pd.DataFrame, similarity: pd.DataFrame, alpha: float | None = None) -> AppearanceModel:
     """The appearance model a filter uses: the library's, with the alpha learned with the similarity (or ``alpha``)."""
-    model = appearance_model(library, alpha=alpha)
     if alpha is not None:
-        return model
-    similarity_matrix(model, similarity)  # checks that the table is this library's
+        return appearance_model(library, alpha=alpha)
+    model = _sets(library)
+    if "similar_alpha" not in similarity.columns:
+        raise HeatdataError("similarity table lacks column(s) similar_alpha")
     own = similarity.drop_duplicates(["similar_object", "similar_azimuth"]).set_index(
         ["similar_object", "similar_azimuth"])["similar_alpha"]
-    return replace(model, alpha=own.reindex(pd.MultiIndex.from_frame(model.labels)).to_numpy(dtype=np.float64))
+    learned = own.reindex(pd.MultiIndex.from_frame(model.labels)).to_numpy(dtype=np.float64)
+    if len(own) != len(learned) or not np.isfinite(learned).all():
+        raise HeatdataError(f"the similarity table ({len(own)} labels) does not match the library "
+                            f"({len(learned)} labels): learn it on this library")
+    return replace(model, alpha=learned)
 
 
 def similarity_matrix(model: AppearanceModel, similarity: pd.DataFrame) -> np.ndarray:
@@ -578,8 +597,7 @@ def recognize(f: ParticleFilter, robot: TableRobot, start: float, *, policy: str
             "restarts": f.restarts}
 
 
-def ambiguous_starts(library: pd.DataFrame, tests: pd.DataFrame, count: int = 3, *,
-                     alpha: float | None = None) -> pd.DataFrame:
+def ambiguous_starts(library: pd.DataFrame, tests: pd.DataFrame, count: int = 3) -> pd.DataFrame:
     """Each object's ``count`` most ambiguous test views: smallest margin between another object and its own.
 
     The margin is ``d(z, nearest view of another object) - d(z, nearest view of its own)``
@@ -587,17 +605,16 @@ def ambiguous_starts(library: pd.DataFrame, tests: pd.DataFrame, count: int = 3,
     margin is a view that single-view recognition gets wrong. Returns ``object``,
     ``azimuth``, ``margin``, ``nearest_other``.
     """
-    model = appearance_model(library, alpha=alpha)
-    rows = []
-    for _, view in tests.iterrows():
-        d = model.distances([view["values"]])
-        own = (model.labels["object"] == view["object"]).to_numpy()
-        if own.all():
-            raise HeatdataError("ambiguity needs two or more library objects")
-        other = np.flatnonzero(~own)[d[~own].argmin()]
-        rows.append({"object": view["object"], "azimuth": view["azimuth"], "margin": d[other] - d[own].min(),
-                     "nearest_other": model.labels.loc[other, "object"]})
-    table = pd.DataFrame(rows).sort_values(["object", "margin"])
+    model = _sets(library)  # the margins are distances: alpha does not enter them
+    if len(model.objects) < 2:
+        raise HeatdataError("ambiguity needs two or more library objects")
+    d = model.nearest(list(tests["values"]))
+    own = tests["object"].to_numpy()[:, None] == model.labels["object"].to_numpy()[None, :]
+    other = np.where(own, np.inf, d).argmin(axis=1)
+    rows = np.arange(len(tests))
+    table = pd.DataFrame({"object": tests["object"].to_numpy(), "azimuth": tests["azimuth"].to_numpy(),
+                          "margin": d[rows, other] - np.where(own, d, np.inf).min(axis=1),
+                          "nearest_other": model.labels["object"].to_numpy()[other]}).sort_values(["object", "margin"])
     return table.groupby("object").head(count).reset_index(drop=True)
 
 
@@ -697,7 +714,7 @@ def multiview_experiment(descriptors: pd.DataFrame, descriptor: str, settings: d
     for size in settings["library_views"]:
         library = library_subset(rows, size)
         similarity = learn_similarity(library, similar_views, alpha=settings["alpha"])
-        starts = ambiguous_starts(library, tests, settings["starts"], alpha=settings["alpha"])
+        starts = ambiguous_starts(library, tests, settings["starts"])
         log.info("%d library views per object: %d start views, margins %s", size, len(starts),
                  np.round(starts["margin"].to_numpy(), 3).tolist())
         options = {k: settings[k] for k in ("step", "per_stop", "max_degrees", "tau_boot", "sigma_min", "alpha")}

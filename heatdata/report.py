@@ -50,14 +50,15 @@ def draw_report(descriptors_path, predictions_path, precision_path, catalog_path
     frames = [read_table(p, filters=[("view_id", "in", sorted(needed))])[0] for p in view_paths] if needed else []
     views = {v.view_id: v for frame in frames if len(frame) for v in frame_to_views(frame)}
     plot_misclassified(largest, primary_rows, views, output.misclassified, primary)
-    spec = DescriptorSpec(**next(d for d in config["descriptors"] if DescriptorSpec(**d).name == primary))
-    source = spec.get("source") if isinstance(spec.get("source"), str) else "closest"
+    specs = [DescriptorSpec(**d) for d in config["descriptors"]]
+    source = next(s.get("source") for s in specs if s.name == primary)
+    source = source if isinstance(source, str) else "closest"
     views_config = config["views"]
     draw_example_views(catalog, output.views, elevation=views_config["elevation"],
                        distance=views_config["distance"], noise=views_config["noise"], seed=views_config["seed"],
                        image_scale=views_config.get("image_scale", 1.0), source=source,
                        derivative_path=output.global_derivative)
-    table = precision_by_size(precision, [DescriptorSpec(**d).name for d in config["descriptors"]])
+    table = precision_by_size(precision, [s.name for s in specs])
     Path(output.precision_table).write_text(html_page("Precision (%, all test views)", [
         ("", "text", ["Columns: library views per object. " + RENDERED_NOTE]), ("", "table", table)]))
     sections = summary_sections(counts, catalog, table, config)
@@ -153,3 +154,15 @@ def html_page(title: str, sections: list) -> str:
         else:
             parts += [f"<p>{html.escape(line)}</p>" for line in body]
     return "".join(parts) + "</body></html>\n"
+
+
+def trials_page(summary: pd.DataFrame, descriptor: str, runs: int) -> str:
+    """The multi-view trials' summary (:func:`heatdata.multiview.trial_summary`) as an HTML page for the report."""
+    shown = summary.drop(columns="seconds").round({"degrees": 1, "stops": 1, "comparisons": 0, "exhaustive": 0})
+    for column in ("accuracy", "identified", "converged"):
+        shown[column] = (100 * shown[column]).map("{:.1f}%".format)
+    return html_page(f"Multi-view recognition with {descriptor}", [
+        ("", "text", [f"{runs} runs of Algorithm 4.1 from each object's most ambiguous test views. accuracy: "
+                      "converged on the true object; identified: the true object most probable at the end. "
+                      + RENDERED_NOTE]),
+        ("", "table", shown)])

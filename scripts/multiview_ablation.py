@@ -43,7 +43,7 @@ def main() -> None:
     tables = []
     for alpha in [None if a == "learned" else float(a) for a in args.alpha]:
         similarity = learn_similarity(library, similar, alpha=alpha)
-        starts = ambiguous_starts(library, tests, args.starts, alpha=alpha)
+        starts = ambiguous_starts(library, tests, args.starts)
         for sigma, tau in itertools.product(args.sigma, args.tau):
             start = time.perf_counter()
             trials = multiview_trials(library, similarity, tests, starts, particles=args.particles,

@@ -3,10 +3,10 @@ from pathlib import Path
 
 from threadpoolctl import threadpool_limits
 
-from heatdata.figures import RENDERED_NOTE, plot_multiview
+from heatdata.figures import plot_multiview
 from heatdata.log import setup_logging
 from heatdata.multiview import multiview_experiment, trial_summary
-from heatdata.report import html_page
+from heatdata.report import trials_page
 from heatdata.tables import SIMILARITY_SCHEMA, TRIAL_SCHEMA, read_table, write_table
 
 setup_logging(path=snakemake.log[0])
@@ -20,13 +20,6 @@ write_table(trials, snakemake.output.trials, TRIAL_SCHEMA, settings)
 write_table(similarity, snakemake.output.similarity, SIMILARITY_SCHEMA, settings)
 summary = trial_summary(trials)
 summary.to_csv(snakemake.output.summary, index=False)
-shown = summary.drop(columns="seconds").round({"degrees": 1, "stops": 1, "comparisons": 0, "exhaustive": 0})
-for column in ("accuracy", "identified", "converged"):
-    shown[column] = (100 * shown[column]).map("{:.1f}%".format)
-Path(snakemake.output.table).write_text(html_page(f"Multi-view recognition with {name}", [
-    ("", "text", [f"{len(trials)} runs of Algorithm 4.1 from each object's most ambiguous test views. accuracy: "
-                  "converged on the true object; identified: the true object most probable at the end. "
-                  + RENDERED_NOTE]),
-    ("", "table", shown)]))
+Path(snakemake.output.table).write_text(trials_page(summary, name, len(trials)))
 plot_multiview(summary, snakemake.output.figure, f"Algorithm 4.1 with {name}: runs from each object's most ambiguous "
                f"test views ({len(trials)} runs)")
