@@ -4,7 +4,8 @@
 eq. 3.1), a similarity learned from an independent set of the same size, 100 particles,
 two observations per stop. The step includes the appearance model's distances from the
 stop's observations to every library descriptor, the propagation, the update and the
-bootstrap; best of ``--repeat`` on one thread. Peak RSS at the end.
+bootstrap; best of ``--repeat`` on one thread. Beside it, one step of the exhaustive filter
+(every object at every degree) and one active-policy choice. Peak RSS at the end.
 
     .venv/bin/python benchmarks/bench_multiview.py [--objects 8] [--views 13] [--particles 100] [--repeat 50]
 """
@@ -54,10 +55,13 @@ def main() -> None:
         f = hd.ParticleFilter(library, similarity, particles=args.particles, seed=0)
         step = best(lambda: f.step(observations, 360.0 / args.views), args.repeat)
         move = best(lambda: f.best_move((-90, -45, -15, 15, 45, 90)), args.repeat)
+        exact = hd.multiview.ExhaustiveFilter(f.model)
+        exhaustive = best(lambda: exact.step(observations, 360.0 / args.views), args.repeat)
     print(f"{args.objects} objects x {args.views} views x 2 descriptors, {args.particles} particles, one thread, "
           f"best of {args.repeat}")
     print(f"filter step (2 observations): {step:.2f} ms")
     print(f"best_move over 6 candidate steps: {move:.2f} ms")
+    print(f"exhaustive filter step ({len(exact.object)} hypotheses, 1 deg apart): {exhaustive:.2f} ms")
     print(f"peak RSS {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
 
 

@@ -16,7 +16,7 @@ from .descriptors import (COLOR_MAPS, DESCRIPTORS, Descriptor, DescriptorSpec, c
 from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
 from .library import combined_costs, consecutive_costs, library_subset, other_object_distances, select_sources
 from .models import Model, load_model
-from .multiview import AppearanceModel, ParticleFilter, appearance_model, learn_similarity
+from .multiview import AppearanceModel, ExhaustiveFilter, ParticleFilter, appearance_model, learn_similarity
 from .recognition import precision_by, classify_candidates, confusion_matrix, nearest_neighbours
 from .render import camera_pose, render_view
 from .sources import candidate_descriptors, candidate_sources
@@ -29,8 +29,8 @@ from .view import View, kinect_intrinsics
 # importable as ``heatdata.distance`` (``from heatdata.distance import mhd_matrix``).
 
 __all__ = [
-    "AppearanceModel", "appearance_model", "learn_similarity", "ParticleFilter", "precision_by", "c_pvhk",
-    "camera_pose", "candidate_descriptors", "candidate_sources", "catalog_from_folder",
+    "AppearanceModel", "appearance_model", "learn_similarity", "ParticleFilter", "ExhaustiveFilter", "precision_by",
+    "c_pvhk", "camera_pose", "candidate_descriptors", "candidate_sources", "catalog_from_folder",
     "chi_square_matrix", "DESCRIPTORS", "distance", "embedded_catalog", "fit_spec", "library_subset",
     "classify_candidates", "COLOR_MAPS", "combined_costs", "confusion_matrix", "consecutive_costs", "describe",
     "Descriptor", "DescriptorSpec", "eigen_spectrum", "first_crossings", "ft_pvhk", "global_derivative",

@@ -156,12 +156,20 @@ def plot_multiview(summary: pd.DataFrame, path: str | Path, title: str) -> None:
     """Thesis Fig. 4.8, 4.10: accuracy, identification, degrees travelled and comparisons against particles.
 
     ``summary`` is :func:`heatdata.multiview.trial_summary`; one line per library size,
-    bootstrap and policy.
+    bootstrap and policy, and a black reference line for the exhaustive filter's rows.
     """
     fig, (acc, ident, deg, comp) = plt.subplots(1, 4, figsize=(18, 4.2))
     styles = {size: style for size, style in zip(sorted(summary["library_views"].unique()), ["-", "--", ":", "-."])}
     colours = {("similarity", "fixed"): "tab:blue", ("angular", "fixed"): "tab:orange",
                ("similarity", "active"): "tab:green", ("angular", "active"): "tab:red"}
+    exact = summary[summary["bootstrap"] == "exhaustive"]
+    summary = summary[summary["bootstrap"] != "exhaustive"]
+    for row in exact.itertuples():  # the exact filter has no particle count: a reference line
+        style = dict(color="black", ls=styles[row.library_views], lw=1)
+        acc.axhline(100 * row.accuracy, **style, label=f"exhaustive filter ({row.particles} hypotheses), "
+                                                       f"{row.library_views} library views")
+        ident.axhline(100 * row.identified, **style)
+        deg.axhline(row.degrees, **style)
     for (size, boot, policy), rows in summary.groupby(["library_views", "bootstrap", "policy"]):
         rows = rows.sort_values("particles")
         label = f"{boot} bootstrap, {policy} steps, {size} library views"

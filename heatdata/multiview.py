@@ -7,7 +7,8 @@ particles, re-populates them at the library views that *look like* the survivors
 (the similarity bootstrap of 4.4.6), so that an object whose views resemble another's
 never vanishes while the observations are ambiguous. Beyond the thesis,
 :meth:`ParticleFilter.best_move` chooses the next step that is expected to reduce the
-posterior entropy over objects most (active recognition).
+posterior entropy over objects most (active recognition), and :class:`ExhaustiveFilter`
+scores every object at every degree: the exact posterior the particles approximate.
 
 Every distance is the descriptor kind's own (:meth:`heatdata.descriptors.Kind.distance_matrix`),
 so any kind works; library tables are rows of ``descriptors.parquet`` (columns
@@ -294,6 +295,36 @@ def stochastic_universal_sampling(weights: np.ndarray, count: int, rng: np.rando
     return np.minimum(np.searchsorted(cumulative, pointers, side="right"), len(weights) - 1)
 
 
+def _object_angles(model: AppearanceModel) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Per object (in ``model.objects`` order): its labels' indices and azimuths."""
+    labels = model.labels
+    return [(labels.index[labels["object"] == o].to_numpy(), labels["azimuth"].to_numpy()[labels["object"] == o])
+            for o in model.objects]
+
+
+def _nearest_labels(angles: list, obj: np.ndarray, azimuth: np.ndarray) -> np.ndarray:
+    """The library label of each hypothesis (object index, azimuth): its object's view at the nearest azimuth."""
+    out = np.empty(len(obj), dtype=np.int64)
+    for i, (index, azimuths) in enumerate(angles):
+        mask = obj == i
+        if mask.any():
+            out[mask] = index[_angle_gap(azimuth[mask, None], azimuths[None, :]).argmin(axis=1)]
+    return out
+
+
+def _label_cells(labels: pd.DataFrame) -> np.ndarray:
+    """(S, 2) degrees below and above each label's azimuth to the midpoints with its object's neighbouring labels."""
+    cells = np.full((len(labels), 2), 180.0)
+    for _, group in labels.groupby("object"):
+        if len(group) < 2:
+            continue
+        order = group.sort_values("azimuth")
+        angles = order["azimuth"].to_numpy()
+        gap_up = (np.roll(angles, -1) - angles) % 360.0 / 2.0
+        cells[order.index.to_numpy()] = np.column_stack([np.roll(gap_up, 1), gap_up])
+    return cells
+
+
 class ParticleFilter:
     """Algorithm 4.1: multiple hypotheses (object, view angle) over multiple views, seeded.
 
@@ -320,6 +351,14 @@ class ParticleFilter:
         than the library's best label: ``sum_i w_i p(Z|s_i) < restart * max_s p(Z|s)``.
     max_restarts : int
         Draws of new particles for one observation before the step gives up (logged).
+    newcomer : {"mean", "least"}
+        The weight a re-populated particle starts at: the survivors' mean, or the least
+        survivor's (the thesis does not say; "mean" keeps look-alikes of the best
+        hypothesis competitive, so one ambiguous stop does not erase an object's evidence).
+    repopulate : {"cell", "view"}
+        Where a re-populated particle of label s starts: uniformly in s's cell (the
+        azimuths whose nearest library view is s), or at s's own azimuth. With sparse
+        libraries (7 views, 51 deg apart) "view" leaves only 7 phases per object.
     alpha : float, optional
         A fixed alpha for the appearance model (default: the one learned with the
         similarity, :func:`learn_similarity`).
@@ -329,7 +368,7 @@ class ParticleFilter:
     def __init__(self, library: pd.DataFrame, similarity: pd.DataFrame, particles: int = 100, *,
                  bootstrap: str = "similarity", tau_boot: float = 0.5, sigma_min: float = 0.2,
                  neighbourhood: float = 30.0, restart: float = 1e-3, max_restarts: int = 10,
-                 alpha: float | None = None, seed: int = 0):
+                 newcomer: str = "mean", repopulate: str = "cell", alpha: float | None = None, seed: int = 0):
         if particles < 1 or int(particles) != particles:
             raise HeatdataError(f"particles must be a whole number >= 1, got {particles}")
         if bootstrap not in ("similarity", "angular"):
@@ -337,6 +376,12 @@ class ParticleFilter:
                                 f"got {bootstrap!r}")
         if not 0.0 <= tau_boot <= 1.0 or not 0.0 <= sigma_min < 1.0:
             raise HeatdataError(f"tau_boot must be in [0, 1] and sigma_min in [0, 1), got {tau_boot}, {sigma_min}")
+        if newcomer not in ("mean", "least"):
+            raise HeatdataError(f"newcomer is 'mean' or 'least' (the survivors' weight a re-populated particle "
+                                f"starts at), got {newcomer!r}")
+        if repopulate not in ("cell", "view"):
+            raise HeatdataError(f"repopulate is 'cell' or 'view' (where in its label a re-populated particle "
+                                f"starts), got {repopulate!r}")
         if isinstance(library, AppearanceModel):
             self.model = library
         elif isinstance(similarity, np.ndarray):
@@ -353,12 +398,13 @@ class ParticleFilter:
         self.n = int(particles)
         self.bootstrap_rule, self.tau_boot, self.sigma_min = bootstrap, tau_boot, sigma_min
         self.neighbourhood, self.restart, self.max_restarts = neighbourhood, restart, max_restarts
+        self.newcomer, self.repopulate = newcomer, repopulate
         self.rng = np.random.default_rng(seed)
         self.objects = self.model.objects
         self._object_index = self.model.labels["object"].map({o: i for i, o in enumerate(self.objects)}).to_numpy()
-        self._angles = {i: (self.model.labels.index[self._object_index == i].to_numpy(),
-                            self.model.labels["azimuth"].to_numpy()[self._object_index == i])
-                        for i in range(len(self.objects))}
+        self._angles = _object_angles(self.model)
+        self._cells = _label_cells(self.model.labels)
+        self.position, self.visited = 0.0, []  # the robot's azimuth by odometry, relative to its first stop
         self.steps = 0
         self.restarts = 0
         self._draw()
@@ -372,14 +418,8 @@ class ParticleFilter:
 
     def labels(self, obj: np.ndarray | None = None, azimuth: np.ndarray | None = None) -> np.ndarray:
         """The library label of each particle: its object's library view at the nearest azimuth."""
-        obj = self.object if obj is None else obj
-        azimuth = self.azimuth if azimuth is None else azimuth
-        out = np.empty(len(obj), dtype=np.int64)
-        for i, (index, angles) in self._angles.items():
-            mask = obj == i
-            if mask.any():
-                out[mask] = index[_angle_gap(azimuth[mask, None], angles[None, :]).argmin(axis=1)]
-        return out
+        return _nearest_labels(self._angles, self.object if obj is None else obj,
+                               self.azimuth if azimuth is None else azimuth)
 
     @property
     def weights(self) -> np.ndarray:
@@ -419,6 +459,8 @@ class ParticleFilter:
         if not np.isfinite(displacement_deg):
             raise HeatdataError(f"displacement must be a finite angle in degrees, got {displacement_deg}")
         self.azimuth = (self.azimuth + displacement_deg) % 360.0  # eq. 4.7
+        self.position = (self.position + displacement_deg) % 360.0
+        self.visited.append(self.position)
         self.steps += 1
         for attempt in range(self.max_restarts + 1):
             prior = self.log_w + log_p[self.labels()]  # 4.4.3: w_t = w_t-1 p(Z_t | s_t)
@@ -456,6 +498,9 @@ class ParticleFilter:
             chosen = stochastic_universal_sampling(score, count, self.rng)
             new_object = self._object_index[chosen]
             new_azimuth = self.model.labels["azimuth"].to_numpy()[chosen]
+            if self.repopulate == "cell":  # anywhere the label's view is its object's nearest library view
+                low, high = self._cells[chosen].T
+                new_azimuth = (new_azimuth + self.rng.uniform(-low, high)) % 360.0
         else:  # the baseline of 4.5: near a survivor, in angle only
             parents = np.flatnonzero(keep)[stochastic_universal_sampling(w[keep], count, self.rng)]
             new_object = self.object[parents]
@@ -464,13 +509,15 @@ class ParticleFilter:
         self.object = np.concatenate([self.object[keep], new_object])
         self.azimuth = np.concatenate([self.azimuth[keep], new_azimuth])
         # survivors keep the evidence of every stop so far (w_t = w_t-1 p(Z_t | s), 4.4.3); a newcomer has none of
-        # its own and starts at the least survivor's weight, so it must explain the next stops to count
-        log_w = np.concatenate([self.log_w[keep], np.full(count, self.log_w[keep].min())])
+        # its own: it starts at the survivors' mean weight (it looks like them) or at the least one's
+        survivors = self.log_w[keep]
+        start = logsumexp(survivors) - np.log(len(survivors)) if self.newcomer == "mean" else survivors.min()
+        log_w = np.concatenate([survivors, np.full(count, start)])
         self.log_w = log_w - logsumexp(log_w)
 
     # --- beyond the thesis: where to look next ----------------------------------------------------------------------
-    def best_move(self, candidates_deg=(-90.0, -45.0, -15.0, 15.0, 45.0, 90.0), *, per_degree: bool = True
-                  ) -> float:
+    def best_move(self, candidates_deg=(-90.0, -45.0, -15.0, 15.0, 45.0, 90.0), *, per_degree: bool = True,
+                  revisit: float = 7.5) -> float:
         """The step whose expected observation most reduces the posterior entropy over objects.
 
         For each candidate step and each particle's hypothesis, the observation expected
@@ -480,6 +527,9 @@ class ParticleFilter:
         weights. With ``per_degree`` the step maximizes the expected reduction per degree
         travelled (the robot's effort), else the reduction itself; ties go to the shorter
         step, and when no step is expected to help, the shortest forward one is taken.
+        A step back to within ``revisit`` degrees of a stop already made (by odometry) is
+        expected to teach nothing: the views there were seen, and seeing them again is
+        not independent evidence.
         """
         candidates = np.asarray(list(candidates_deg), dtype=np.float64)
         if not len(candidates) or not np.isfinite(candidates).all():
@@ -501,12 +551,83 @@ class ParticleFilter:
             expected.append(float(w @ entropy))
         now = np.bincount(self.object, weights=w, minlength=len(self.objects))
         gain = -np.sum(now[now > 0] * np.log(now[now > 0])) - np.array(expected)
-        if gain.max() <= 1e-9:  # no step is expected to tell the objects apart: keep circling
-            forward = candidates[candidates > 0]
-            return float(forward.min() if len(forward) else candidates[np.argmin(np.abs(candidates))])
+        fresh = np.ones(len(candidates), dtype=bool)
+        if self.visited:
+            seen = _angle_gap((self.position + candidates)[:, None], np.array(self.visited)[None, :]).min(axis=1)
+            fresh = seen > revisit
+            gain = np.where(fresh, gain, 0.0)
+        if gain.max() <= 1e-9:  # no step is expected to tell the objects apart: keep circling, to new views if any
+            pool = candidates[fresh] if fresh.any() else candidates
+            forward = pool[pool > 0]
+            return float(forward.min() if len(forward) else pool[np.argmin(np.abs(pool))])
         score = gain / np.maximum(np.abs(candidates), 1e-9) if per_degree else gain
         best = np.flatnonzero(score >= score.max() - 1e-12)
         return float(candidates[best[np.argmin(np.abs(candidates[best]))]])
+
+
+class ExhaustiveFilter:
+    """The exact Bayes filter of eq. 4.1-4.2: every object at every start azimuth of a grid, none ever dropped.
+
+    The reference the particles approximate: hypotheses ``(object, start azimuth)`` on a
+    ``resolution``-degree grid, each moved by the odometry (eq. 4.7) and weighed by the
+    appearance model at its object's nearest library view, every stop (exhaustive search:
+    every library label is compared with every observation). Its errors are the
+    appearance model's, not the sampling's.
+
+    Parameters
+    ----------
+    library : DataFrame or AppearanceModel
+        As for :class:`ParticleFilter`.
+    resolution : float
+        Degrees between start azimuths (360 / resolution per object).
+    confidence : float in (0.5, 1)
+        :attr:`converged` when one object holds this much of the posterior.
+    alpha : float, optional
+        A fixed alpha (default: the library's own, :func:`appearance_model`).
+    """
+
+    def __init__(self, library, *, resolution: float = 1.0, confidence: float = 0.99, alpha: float | None = None):
+        if not 0.0 < resolution <= 360.0:
+            raise HeatdataError(f"resolution must be in (0, 360] degrees, got {resolution}")
+        if not 0.5 < confidence < 1.0:
+            raise HeatdataError(f"confidence must be in (0.5, 1), got {confidence}")
+        self.model = library if isinstance(library, AppearanceModel) else appearance_model(library, alpha=alpha)
+        self.objects = self.model.objects
+        self.confidence = confidence
+        grid = np.arange(0.0, 360.0, resolution)
+        self.object = np.repeat(np.arange(len(self.objects)), len(grid))
+        self.azimuth = np.tile(grid, len(self.objects))
+        self.log_w = np.full(len(self.object), -np.log(len(self.object)))
+        self._angles = _object_angles(self.model)
+        self.steps = 0
+        self.restarts = 0  # never: no hypothesis is ever dropped
+
+    def step(self, observations, displacement_deg: float = 0.0) -> None:
+        """As :meth:`ParticleFilter.step`."""
+        self.update(self.model.log_likelihood(observations), displacement_deg)
+
+    def update(self, log_p: np.ndarray, displacement_deg: float = 0.0) -> None:
+        """As :meth:`ParticleFilter.update`: move every hypothesis, weigh it, normalize (eq. 4.8)."""
+        if not np.isfinite(displacement_deg):
+            raise HeatdataError(f"displacement must be a finite angle in degrees, got {displacement_deg}")
+        self.azimuth = (self.azimuth + displacement_deg) % 360.0
+        self.steps += 1
+        log_w = self.log_w + log_p[_nearest_labels(self._angles, self.object, self.azimuth)]
+        self.log_w = log_w - logsumexp(log_w)
+
+    def posterior(self) -> dict[str, float]:
+        """p(object | Z_1:t, Delta_1:t-1), summed over start azimuths."""
+        mass = np.bincount(self.object, weights=np.exp(self.log_w), minlength=len(self.objects))
+        return {o: float(m) for o, m in zip(self.objects, mass / mass.sum(), strict=True)}
+
+    @property
+    def converged(self) -> bool:
+        return max(self.posterior().values()) >= self.confidence
+
+    @property
+    def estimate(self) -> str:
+        posterior = self.posterior()
+        return max(posterior, key=posterior.get)
 
 
 # --- the robot and the experiments of 4.5 -------------------------------------------------------------------------
@@ -574,9 +695,11 @@ class TableRobot:
         return self._cache[key]
 
 
-def recognize(f: ParticleFilter, robot: TableRobot, start: float, *, policy: str = "fixed", step: float = 15.0,
-              candidates=(-90.0, -45.0, -15.0, 15.0, 45.0, 90.0), max_degrees: float = 720.0) -> dict:
-    """Run Algorithm 4.1 with ``robot`` from ``start`` until it converges or travels ``max_degrees``.
+def recognize(f: ParticleFilter | ExhaustiveFilter, robot: TableRobot, start: float, *, policy: str = "fixed",
+              step: float = 15.0, candidates=(-90.0, -45.0, -15.0, 15.0, 45.0, 90.0), max_degrees: float = 720.0
+              ) -> dict:
+    """Run Algorithm 4.1 (or the exhaustive filter) with ``robot`` from ``start`` until it converges or travels
+    ``max_degrees``.
 
     ``policy`` is ``"fixed"`` (``step`` degrees each time, as in 4.5.4) or ``"active"``
     (:meth:`ParticleFilter.best_move` among ``candidates``). Returns the estimate,
@@ -584,6 +707,8 @@ def recognize(f: ParticleFilter, robot: TableRobot, start: float, *, policy: str
     """
     if policy not in ("fixed", "active"):
         raise HeatdataError(f"policy is 'fixed' or 'active', got {policy!r}")
+    if policy == "active" and not hasattr(f, "best_move"):
+        raise HeatdataError(f"the active policy needs a ParticleFilter, got {type(f).__name__}")
     azimuth, travelled = float(start), 0.0
     f.update(robot.log_likelihood(azimuth), 0.0)
     while not f.converged:
@@ -620,14 +745,17 @@ def ambiguous_starts(library: pd.DataFrame, tests: pd.DataFrame, count: int = 3)
 
 def multiview_trials(library: pd.DataFrame, similarity: pd.DataFrame, tests: pd.DataFrame, starts: pd.DataFrame, *,
                      particles=(10, 50, 100), bootstraps=("similarity", "angular"), policies=("fixed",),
-                     repetitions: int = 30, seed: int = 0, **options) -> pd.DataFrame:
+                     repetitions: int = 30, exhaustive: bool = True, seed: int = 0, **options) -> pd.DataFrame:
     """The experiments of 4.5: every start view x particle count x bootstrap x policy x repetition.
 
     ``starts`` has ``object`` and ``azimuth`` (e.g. :func:`ambiguous_starts`); ``tests``
     holds each object's test views (observations are the two nearest each stop).
     ``options`` go to :class:`ParticleFilter` (``tau_boot``, ``sigma_min``, ``alpha``, ...)
     and to :func:`recognize` (``step``, ``candidates``, ``max_degrees``, ``per_stop``).
-    The active policy runs with the similarity bootstrap only.
+    The active policy runs with the similarity bootstrap only. With ``exhaustive``, each
+    start also runs once with :class:`ExhaustiveFilter` (``bootstrap`` "exhaustive",
+    fixed steps, ``particles`` its number of hypotheses): the exact answer of the
+    appearance model, which the particles approximate.
 
     Returns
     -------
@@ -637,8 +765,9 @@ def multiview_trials(library: pd.DataFrame, similarity: pd.DataFrame, tests: pd.
         seconds``; ``correct``: converged on the true object; ``identified``: the most
         probable object at the end is the true one, converged or not (how 4.5.4 scores
         the chairs after one circle);
-        ``comparisons`` counts particle evaluations (particles x stops) and
-        ``exhaustive`` the library labels x stops an exhaustive search would compare.
+        ``comparisons`` counts particle evaluations (particles x stops; the exhaustive
+        filter's are its labels x stops) and ``exhaustive`` the library labels x stops an
+        exhaustive search would compare.
     """
     import time
 
@@ -657,16 +786,22 @@ def multiview_trials(library: pd.DataFrame, similarity: pd.DataFrame, tests: pd.
     labels = len(model.labels)
     jobs = [(s, n, b, p, r) for s in starts.itertuples() for n in particles for b in bootstraps for p in policies
             if not (p == "active" and b != "similarity") for r in range(repetitions)]
+    jobs += [(s, 0, "exhaustive", "fixed", 0) for s in starts.itertuples()] if exhaustive else []
     rows = []
     for k, (start, n, boot, policy, rep) in enumerate(progress(jobs, desc="multi-view trials", unit="run")):
         begin = time.perf_counter()
-        f = ParticleFilter(model, mu, particles=n, bootstrap=boot, seed=seed + k, **filter_options)
+        if boot == "exhaustive":
+            f = ExhaustiveFilter(model)
+            n = len(f.object)
+        else:
+            f = ParticleFilter(model, mu, particles=n, bootstrap=boot, seed=seed + k, **filter_options)
         result = recognize(f, robots[start.object], start.azimuth, policy=policy, **run_options)
         rows.append({"object": start.object, "start": start.azimuth, "particles": n, "bootstrap": boot,
                      "policy": policy, "repetition": rep, **result,
                      "correct": result["converged"] and result["estimate"] == start.object,
                      "identified": result["estimate"] == start.object,
-                     "comparisons": n * result["stops"], "exhaustive": labels * result["stops"],
+                     "comparisons": (labels if boot == "exhaustive" else n) * result["stops"],
+                     "exhaustive": labels * result["stops"],
                      "seconds": time.perf_counter() - begin})
     return pd.DataFrame(rows)
 

@@ -163,6 +163,7 @@ def trials_page(summary: pd.DataFrame, descriptor: str, runs: int) -> str:
         shown[column] = (100 * shown[column]).map("{:.1f}%".format)
     return html_page(f"Multi-view recognition with {descriptor}", [
         ("", "text", [f"{runs} runs of Algorithm 4.1 from each object's most ambiguous test views. accuracy: "
-                      "converged on the true object; identified: the true object most probable at the end. "
+                      "converged on the true object; identified: the true object most probable at the end; bootstrap "
+                      "exhaustive: the exact filter over every object and degree (converged at 99%). "
                       + RENDERED_NOTE]),
         ("", "table", shown)])

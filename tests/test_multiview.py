@@ -9,8 +9,8 @@ import pandas as pd
 import pytest
 
 import heatdata as hd
-from heatdata.multiview import (appearance_model, learn_similarity, set_distance, similarity_matrix,
-                                stochastic_universal_sampling)
+from heatdata.multiview import (ExhaustiveFilter, appearance_model, learn_similarity, set_distance,
+                                similarity_matrix, stochastic_universal_sampling)
 
 ANGLES = np.arange(0.0, 360.0, 30.0)
 SAMPLES = 16
@@ -212,10 +212,14 @@ def test_trials_cover_every_setting(library, similarity):
     starts = pd.DataFrame({"object": ["mug"], "azimuth": [270.0]})
     trials = hd.multiview.multiview_trials(library, similarity, views_every_3_degrees(), starts, particles=(10, 30),
                                            policies=("fixed", "active"), repetitions=2, step=30.0)
-    # 2 particle counts x (2 bootstraps fixed + similarity active) x 2 repetitions
-    assert len(trials) == 2 * 3 * 2
+    # 2 particle counts x (2 bootstraps fixed + similarity active) x 2 repetitions, and one exhaustive run
+    assert len(trials) == 2 * 3 * 2 + 1
+    exact = trials[trials["bootstrap"] == "exhaustive"].iloc[0]
+    assert exact["particles"] == 2 * 360 and exact["policy"] == "fixed" and exact["identified"]
     assert {"correct", "degrees", "comparisons", "exhaustive"} <= set(trials.columns)
-    assert (trials["comparisons"] == trials["particles"] * trials["stops"]).all()
+    particles = trials[trials["bootstrap"] != "exhaustive"]
+    assert (particles["comparisons"] == particles["particles"] * particles["stops"]).all()
+    assert exact["comparisons"] == exact["exhaustive"]
     assert (trials["exhaustive"] == 24 * trials["stops"]).all()
     again = hd.multiview.multiview_trials(library, similarity, views_every_3_degrees(), starts, particles=(10, 30),
                                           policies=("fixed", "active"), repetitions=2, step=30.0)
@@ -240,6 +244,17 @@ def test_best_move_keeps_circling_when_no_step_can_tell_twins_apart():
     f.azimuth[half:] = f.azimuth[:half]
     assert not f.converged
     assert f.best_move([-90.0, -15.0, 15.0, 90.0]) == 15.0
+    f.visited, f.position = [0.0, 15.0, 345.0], 345.0  # stops at 0, +15, then back to -15 (odometry)
+    assert f.best_move([-15.0, 15.0]) == -15.0  # +15 returns to the first stop's views: onwards to new ones
+    assert f.best_move([15.0]) == 15.0  # nothing new in reach: keep circling anyway
+
+
+def test_best_move_does_not_return_to_views_already_seen(library, similarity):
+    f = hd.ParticleFilter(library, similarity, particles=80, seed=2)
+    f.step(observe("mug", 270.0, 0), 0.0)
+    f.step(observe("mug", 180.0, 1), -90.0)  # the handle seen: now at -90 by odometry
+    assert f.visited == [0.0, 270.0]
+    assert f.best_move([90.0, -90.0]) == -90.0  # +90 goes back to the first stop
 
 
 def test_a_run_stops_before_travelling_past_max_degrees(library, similarity):
@@ -248,3 +263,61 @@ def test_a_run_stops_before_travelling_past_max_degrees(library, similarity):
     f = hd.ParticleFilter(library, similarity, particles=30, seed=0)
     result = hd.multiview.recognize(f, robot, 0.0, step=45.0, max_degrees=100.0)
     assert result["degrees"] <= 100.0
+
+
+def test_newcomers_start_at_the_survivors_mean_or_least_weight(library, similarity):
+    for rule, summary in (("mean", np.mean), ("least", np.min)):
+        f = hd.ParticleFilter(library, similarity, particles=60, seed=3, newcomer=rule)
+        f.step(observe("mug", 270.0, 10), 0.0)
+        best = f.labels()[0]
+        survivors = int((f.labels() == best).sum())
+        f.update(np.where(np.arange(len(f.model.labels)) == best, 0.0, -50.0), 0.0)  # only one label explains it
+        assert survivors < f.n  # the survivors come first, then the newcomers
+        np.testing.assert_allclose(f.weights[survivors:], summary(f.weights[:survivors]))
+    with pytest.raises(hd.HeatdataError, match="newcomer is 'mean' or 'least'"):
+        hd.ParticleFilter(library, similarity, newcomer="max")
+
+
+def test_newcomers_start_anywhere_in_their_labels_cell_or_at_its_view(library, similarity):
+    lopsided = pd.DataFrame({"object": "a", "azimuth": [0.0, 90.0, 120.0]})
+    np.testing.assert_allclose(hd.multiview._label_cells(lopsided), [[120, 45], [45, 15], [15, 120]])
+    for rule in ("cell", "view"):
+        f = hd.ParticleFilter(library, similarity, particles=60, seed=3, repopulate=rule)
+        f.step(observe("mug", 270.0, 10), 0.0)
+        best = f.labels()[0]
+        survivors = int((f.labels() == best).sum())
+        f.update(np.where(np.arange(len(f.model.labels)) == best, 0.0, -50.0), 0.0)
+        newcomers = f.azimuth[survivors:]
+        offset = hd.multiview._angle_gap(newcomers, f.model.labels["azimuth"].to_numpy()[f.labels()[survivors:]])
+        assert (offset <= 15.0 + 1e-9).all()  # the library is 30 deg apart: a cell is +-15 deg
+        assert (offset > 0.5).any() if rule == "cell" else (offset == 0).all()
+    with pytest.raises(hd.HeatdataError, match="repopulate is 'cell' or 'view'"):
+        hd.ParticleFilter(library, similarity, repopulate="near")
+
+
+def test_the_exhaustive_filter_is_the_exact_bayes_posterior(library):
+    model = appearance_model(library)
+    f = ExhaustiveFilter(model, resolution=30.0)  # start azimuths on the library's own angles
+    assert len(f.object) == 2 * 12 and f.posterior() == {"cup": 0.5, "mug": 0.5}
+    log_p = [model.log_likelihood(observe("mug", a, k)) for k, a in enumerate((270.0, 300.0, 120.0))]
+    for p, move in zip(log_p, (0.0, 30.0, 180.0), strict=True):
+        f.update(p, move)
+    # by hand: hypothesis (object, start) sums log p at start, start + 30, start + 210
+    labels = model.labels
+    index = {(o, a): k for k, (o, a) in enumerate(zip(labels["object"], labels["azimuth"], strict=True))}
+    score = {o: [sum(p[index[(o, (a + off) % 360)]] for p, off in zip(log_p, (0, 30, 210), strict=True))
+                 for a in ANGLES] for o in ("cup", "mug")}
+    mug = np.exp(np.logaddexp.reduce(score["mug"]) - np.logaddexp.reduce(score["cup"] + score["mug"]))
+    assert f.posterior()["mug"] == pytest.approx(mug) and f.estimate == "mug" and f.converged
+    g = ExhaustiveFilter(model)
+    g.update(log_p[0], 370.0)
+    h = ExhaustiveFilter(model)
+    h.update(log_p[0], 10.0)
+    assert g.posterior() == pytest.approx(h.posterior())  # odometry wraps
+    with pytest.raises(hd.HeatdataError, match="resolution"):
+        ExhaustiveFilter(model, resolution=0.0)
+    with pytest.raises(hd.HeatdataError, match="confidence"):
+        ExhaustiveFilter(model, confidence=1.0)
+    robot = hd.multiview.TableRobot(model, views_every_3_degrees().query("object == 'mug'"))
+    with pytest.raises(hd.HeatdataError, match="active policy needs a ParticleFilter"):
+        hd.multiview.recognize(f, robot, 0.0, policy="active")

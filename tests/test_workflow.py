@@ -138,8 +138,10 @@ def test_multiview_trials_and_their_figure(tiny_run):
     results = tiny_run / "results"
     trials, meta = read_table(results / "multiview" / "trials.parquet")
     assert list(trials.columns) == TRIAL_SCHEMA.names and meta["multiview"]["repetitions"] == 2
-    # 2 library sizes x 2 objects x 1 start x 2 particle counts x (2 bootstraps fixed + active) x 2 repetitions
-    assert len(trials) == 2 * 2 * 2 * 3 * 2 and set(trials["policy"]) == {"fixed", "active"}
+    # 2 library sizes x 2 objects x 1 start x (2 particle counts x (2 bootstraps fixed + active) x 2 repetitions
+    # + one exhaustive run)
+    assert len(trials) == 2 * 2 * (2 * 3 * 2 + 1) and set(trials["policy"]) == {"fixed", "active"}
+    assert (trials.loc[trials["bootstrap"] == "exhaustive", "particles"] == 2 * 360).all()
     assert (trials["degrees"] <= 360 + 90).all() and trials["descriptor"].eq("pvhk/polar/center/32").all()
     similarity, _ = read_table(results / "multiview" / "similarity.parquet")
     assert len(similarity) == 16 ** 2 + 8 ** 2
