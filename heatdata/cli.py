@@ -26,7 +26,7 @@ from .errors import HeatdataError
 from .evaluate import classify, evaluate_library_sizes, precision_by_object, precision_table
 from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_view_confusion
 from .log import progress, setup_logging
-from .models import load_model
+from .models import SUPPORTED_SUFFIXES, load_model, save_model
 from .render import render_view
 from .tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, read_table, write_table
 from .version import __version__
@@ -139,6 +139,26 @@ def cmd_render(args: argparse.Namespace) -> None:
     view.save(out)
     print(json.dumps({"view": str(out), "vertices": view.n_vertices, "faces": len(view.faces),
                       "boundary": len(view.boundary), "repairs": view.repairs}))
+
+
+def cmd_stitch(args: argparse.Namespace) -> None:
+    """JASNOM (thesis ch. 7): align the second mesh onto the first by their boundaries and stitch them."""
+    from .stitch import stitch
+
+    out = Path(args.out)
+    if out.suffix.lower() not in SUPPORTED_SUFFIXES or out.is_dir():
+        raise HeatdataError(f"{out}: the stitched model is written to a mesh file, one of "
+                            f"{', '.join(SUPPORTED_SUFFIXES)}")
+    first, second = (load_model(path, scale=args.scale) for path in (args.first, args.second))
+    result = stitch(first, second, alpha=args.alpha, beta=args.beta, samples=args.samples, workers=args.jobs,
+                    name=out.stem)
+    save_model(result.model, out)
+    a = result.alignment
+    print(json.dumps({"model": str(out), "vertices": len(result.model.vertices), "faces": len(result.model.faces),
+                      "rotation": np.round(a.rotation, 6).tolist(), "translation": np.round(a.translation, 6).tolist(),
+                      "shift": round(a.shift, 4), "cost": a.cost, "edge_cost": a.edge_cost,
+                      "crossing_cost": a.crossing_cost, "boundaries": [len(result.first.loop), len(result.second.loop)],
+                      "seconds": round(a.seconds, 2)}))
 
 
 def cmd_describe(args: argparse.Namespace) -> None:
@@ -285,6 +305,22 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--seed", type=_number(0, whole=True), default=0, help="seed of the sensor noise (default 0)")
     render.add_argument("--no-noise", action="store_true", help="render without the Kinect noise of thesis 2.6.1")
     render.set_defaults(func=cmd_render)
+
+    join = sub.add_parser("stitch", help="JASNOM: one model from two non-overlapping meshes (thesis ch. 7)",
+                          description=cmd_stitch.__doc__)
+    join.add_argument("first", type=Path, help="the mesh that stays put (PLY, OBJ, OFF, STL, GLB)")
+    join.add_argument("second", type=Path, help="the mesh moved onto it")
+    join.add_argument("-o", "--out", type=Path, required=True, help="the stitched mesh (.ply keeps vertex colours)")
+    join.add_argument("--alpha", type=_number(positive=True), default=10.0,
+                      help="steepness of the crossing penalty, eq. 7.3 (default 10)")
+    join.add_argument("--beta", type=_number(0.0), default=1.0,
+                      help="weight of the crossing penalty, eq. 7.4; 0 to patch a hole (default 1)")
+    join.add_argument("--samples", type=_number(3, whole=True), default=128,
+                      help="boundary samples for the alignment, and shifts tried (default 128)")
+    join.add_argument("--scale", type=_number(positive=True), default=1.0, help="file units to metres (default 1)")
+    join.add_argument("--jobs", type=_number(1, whole=True), default=os.cpu_count() or 1,
+                      help="processes for the shift search (default: all cores)")
+    join.set_defaults(func=cmd_stitch)
 
     desc = sub.add_parser("describe", help="any descriptor of a saved view (PVHK by default)",
                           description=cmd_describe.__doc__)

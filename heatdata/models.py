@@ -243,3 +243,37 @@ def load_model(
     log.debug("loaded %s: %d vertices, %d faces, %d textures, extents %s m",
               path, len(model.vertices), len(model.faces), len(textures), np.round(model.extents, 3))
     return model
+
+
+def vertex_colors(model: Model) -> np.ndarray:
+    """(n, 3) RGB per vertex: the mean colour of its face corners (textured corners sample their texture)."""
+    colors = np.array(model.corner_colors, dtype=np.float64)
+    for t, image in enumerate(model.textures):
+        faces = np.flatnonzero(model.face_texture == t)
+        if len(faces):
+            uv = model.corner_uv[faces].reshape(-1, 2) % 1.0
+            h, w = image.shape[:2]
+            px = np.clip((uv[:, 0] * w).astype(int), 0, w - 1)
+            py = np.clip(((1.0 - uv[:, 1]) * h).astype(int), 0, h - 1)
+            colors[faces] = image[py, px].reshape(len(faces), 3, 3)
+    total = np.zeros((len(model.vertices), 3))
+    count = np.zeros(len(model.vertices))
+    np.add.at(total, model.faces.ravel(), colors.reshape(-1, 3))
+    np.add.at(count, model.faces.ravel(), 1.0)
+    return total / np.maximum(count, 1.0)[:, None]
+
+
+def save_model(model: Model, path: str | Path) -> Path:
+    """Write ``model`` as a mesh file with per-vertex colours (:func:`vertex_colors`); PLY keeps them.
+
+    The format follows the suffix (``.ply``, ``.obj``, ``.off``, ``.stl``, ``.glb``);
+    textures are baked into the vertex colours. The folder is created.
+    """
+    path = Path(path)
+    if path.suffix.lower() not in SUPPORTED_SUFFIXES:
+        raise ModelError(f"{path}: write a model as one of {', '.join(SUPPORTED_SUFFIXES)}")
+    colors = np.clip(np.round(vertex_colors(model) * 255), 0, 255).astype(np.uint8)
+    mesh = trimesh.Trimesh(model.vertices, model.faces, vertex_colors=colors, process=False)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    mesh.export(path)
+    return path

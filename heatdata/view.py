@@ -22,10 +22,10 @@ from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse import csgraph
 from scipy.sparse.csgraph import connected_components
 
 from .errors import ViewError
+from .mesh import boundary_loops, consistent_winding
 
 log = logging.getLogger(__name__)
 
@@ -139,7 +139,7 @@ class View:
             faces = faces[~flat]
         if len(faces) == 0:
             raise ViewError(f"{name}: no face with a non-zero area")
-        faces, flipped = _consistent_winding(faces)
+        faces, flipped = consistent_winding(faces)
         if flipped:
             message = f"reversed {flipped} faces whose winding disagreed with their neighbours'"
             log.warning("%s: %s", name, message)
@@ -282,91 +282,10 @@ class View:
         return _outer_boundary(self)
 
 
-def _consistent_winding(faces: np.ndarray) -> tuple[np.ndarray, int]:
-    """Faces wound consistently with their neighbours, and how many were reversed.
-
-    Two faces sharing an edge agree when they traverse it in opposite directions. A
-    breadth-first pass over each connected patch of faces sets every face's winding from
-    its parent's; per patch, the winding most of the given faces had is kept.
-    """
-    m = len(faces)
-    half = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    owner = np.tile(np.arange(m), 3)
-    key = np.minimum(half[:, 0], half[:, 1]) * (int(faces.max()) + 1) + np.maximum(half[:, 0], half[:, 1])
-    order = np.argsort(key, kind="stable")
-    key, owner, forward = key[order], owner[order], (half[:, 0] < half[:, 1])[order]
-    pair = np.flatnonzero((key[:-1] == key[1:]) & ((np.r_[True, key[1:-1] != key[:-2]]) &
-                                                     (np.r_[key[2:] != key[1:-1], True])))  # edges of exactly 2 faces
-    a, b = owner[pair], owner[pair + 1]
-    parity = (forward[pair] == forward[pair + 1]).astype(np.int8)  # same direction: one of the two is reversed
-    if not parity.any():  # consistent already (every rendered view)
-        return faces, 0
-    graph = sp.coo_matrix((parity + 1, (a, b)), shape=(m, m)).tocsr()
-    graph = graph + graph.T
-    flip = np.zeros(m, dtype=bool)
-    seen = np.zeros(m, dtype=bool)
-    for root in range(m):
-        if seen[root]:
-            continue
-        patch, parent = csgraph.breadth_first_order(graph, root, directed=False, return_predecessors=True)
-        children = patch[1:]
-        reverse = (np.asarray(graph[parent[children], children]).ravel() == 2).tolist()
-        state = flip.tolist()
-        for node, up, rev in zip(children.tolist(), parent[children].tolist(), reverse, strict=True):
-            state[node] = state[up] ^ rev  # BFS order: a parent is set before its children
-        flip = np.array(state)
-        seen[patch] = True
-        if flip[patch].sum() * 2 > len(patch):  # keep the majority's winding
-            flip[patch] = ~flip[patch]
-    if not flip.any():
-        return faces, 0
-    faces = faces.copy()
-    faces[flip] = faces[flip][:, ::-1]
-    return faces, int(flip.sum())
-
-
 def _compact(vertices, colors, faces, keep):
     index = np.full(len(vertices), -1, np.int64)
     index[keep] = np.arange(int(keep.sum()))
     return vertices[keep], colors[keep], index[faces]
-
-
-def _boundary_loops(faces: np.ndarray, planar: np.ndarray) -> list[np.ndarray]:
-    """Closed loops of directed boundary half-edges (those without a twin)."""
-    half = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    n = int(faces.max()) + 1
-    directed = sp.csr_matrix((np.ones(len(half), np.int32), (half[:, 0], half[:, 1])), shape=(n, n))
-    unmatched = (directed - directed.T).tocoo()  # +1 where a half-edge has no twin
-    keep = unmatched.data > 0
-    boundary = np.column_stack([unmatched.row[keep], unmatched.col[keep]])
-    if len(boundary) == 0:
-        return []
-    # outgoing boundary half-edges per vertex (several at pinch vertices)
-    outgoing: dict[int, list[int]] = {}
-    for a, b in boundary.tolist():
-        outgoing.setdefault(a, []).append(b)
-    loops = []
-    for first in list(outgoing):
-        while outgoing.get(first):
-            loop, a = [first], first
-            b = outgoing[a].pop()
-            while b != first:
-                loop.append(b)
-                candidates = outgoing.get(b)
-                if not candidates:
-                    break
-                if len(candidates) > 1:  # pinch vertex: take the sharpest left turn
-                    incoming = planar[b] - planar[a]
-                    turns = [_turn(incoming, planar[c] - planar[b]) for c in candidates]
-                    a, b = b, candidates.pop(int(np.argmax(turns)))
-                else:
-                    a, b = b, candidates.pop()
-            loops.append(np.array(loop, np.int64))
-    return loops
-
-
-def _turn(incoming: np.ndarray, outgoing: np.ndarray) -> float:
-    return float(np.arctan2(incoming[0] * outgoing[1] - incoming[1] * outgoing[0], incoming @ outgoing))
 
 
 def _signed_area(points: np.ndarray) -> float:
@@ -376,7 +295,7 @@ def _signed_area(points: np.ndarray) -> float:
 
 def _outer_boundary(view: View) -> np.ndarray:
     planar = view.planar
-    loops = [loop for loop in _boundary_loops(view.faces, planar) if len(loop) >= 3]
+    loops = [loop for loop in boundary_loops(view.faces, planar) if len(loop) >= 3]
     if not loops:
         raise ViewError(f"{view.name}: the mesh has no boundary (a closed surface is not a partial view)")
     areas = [_signed_area(planar[loop]) for loop in loops]

@@ -1,0 +1,111 @@
+"""Mesh topology shared by views and models: consistent winding and boundary loops.
+
+Both a rendered view (a surface with a boundary, thesis 2.3.3) and a scanned or cut
+model (JASNOM's inputs, thesis 7.3) are triangle lists; these functions see only the
+faces.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse import csgraph
+
+
+def consistent_winding(faces: np.ndarray) -> tuple[np.ndarray, int]:
+    """Faces wound consistently with their neighbours, and how many were reversed.
+
+    Two faces sharing an edge agree when they traverse it in opposite directions. A
+    breadth-first pass over each connected patch of faces sets every face's winding from
+    its parent's; per patch, the winding most of the given faces had is kept.
+    """
+    m = len(faces)
+    half = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    owner = np.tile(np.arange(m), 3)
+    key = np.minimum(half[:, 0], half[:, 1]) * (int(faces.max()) + 1) + np.maximum(half[:, 0], half[:, 1])
+    order = np.argsort(key, kind="stable")
+    key, owner, forward = key[order], owner[order], (half[:, 0] < half[:, 1])[order]
+    pair = np.flatnonzero((key[:-1] == key[1:]) & ((np.r_[True, key[1:-1] != key[:-2]]) &
+                                                     (np.r_[key[2:] != key[1:-1], True])))  # edges of exactly 2 faces
+    a, b = owner[pair], owner[pair + 1]
+    parity = (forward[pair] == forward[pair + 1]).astype(np.int8)  # same direction: one of the two is reversed
+    if not parity.any():  # consistent already (every rendered view)
+        return faces, 0
+    graph = sp.coo_matrix((parity + 1, (a, b)), shape=(m, m)).tocsr()
+    graph = graph + graph.T
+    flip = np.zeros(m, dtype=bool)
+    seen = np.zeros(m, dtype=bool)
+    for root in range(m):
+        if seen[root]:
+            continue
+        patch, parent = csgraph.breadth_first_order(graph, root, directed=False, return_predecessors=True)
+        children = patch[1:]
+        reverse = (np.asarray(graph[parent[children], children]).ravel() == 2).tolist()
+        state = flip.tolist()
+        for node, up, rev in zip(children.tolist(), parent[children].tolist(), reverse, strict=True):
+            state[node] = state[up] ^ rev  # BFS order: a parent is set before its children
+        flip = np.array(state)
+        seen[patch] = True
+        if flip[patch].sum() * 2 > len(patch):  # keep the majority's winding
+            flip[patch] = ~flip[patch]
+    if not flip.any():
+        return faces, 0
+    faces = faces.copy()
+    faces[flip] = faces[flip][:, ::-1]
+    return faces, int(flip.sum())
+
+
+def boundary_loops(faces: np.ndarray, planar: np.ndarray | None = None) -> list[np.ndarray]:
+    """Closed loops of directed boundary half-edges (those without a twin), in the faces' winding.
+
+    Parameters
+    ----------
+    faces : (m, 3) int
+        Triangles, consistently wound (:func:`consistent_winding`).
+    planar : (n, 2) float, optional
+        2D positions of the vertices (a view's image plane): at a pinch vertex, where
+        several boundary loops touch, the loop takes the sharpest left turn. Without them
+        it takes the last outgoing half-edge found.
+
+    Returns
+    -------
+    list of (b,) int64
+        Vertex indices of each loop, in the direction of its half-edges (a closed surface
+        has none).
+    """
+    half = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    n = int(faces.max()) + 1
+    directed = sp.csr_matrix((np.ones(len(half), np.int32), (half[:, 0], half[:, 1])), shape=(n, n))
+    unmatched = (directed - directed.T).tocoo()  # +1 where a half-edge has no twin
+    keep = unmatched.data > 0
+    boundary = np.column_stack([unmatched.row[keep], unmatched.col[keep]])
+    if len(boundary) == 0:
+        return []
+    # outgoing boundary half-edges per vertex (several at pinch vertices)
+    outgoing: dict[int, list[int]] = {}
+    for a, b in boundary.tolist():
+        outgoing.setdefault(a, []).append(b)
+    loops = []
+    for first in list(outgoing):
+        while outgoing.get(first):
+            loop, a = [first], first
+            b = outgoing[a].pop()
+            while b != first:
+                loop.append(b)
+                candidates = outgoing.get(b)
+                if not candidates:
+                    break
+                if len(candidates) > 1 and planar is not None:  # pinch vertex: take the sharpest left turn
+                    incoming = planar[b] - planar[a]
+                    turns = [_turn(incoming, planar[c] - planar[b]) for c in candidates]
+                    a, b = b, candidates.pop(int(np.argmax(turns)))
+                else:
+                    a, b = b, candidates.pop()
+            loops.append(np.array(loop, np.int64))
+    return loops
+
+
+def _turn(incoming: np.ndarray, outgoing: np.ndarray) -> float:
+    return float(np.arctan2(incoming[0] * outgoing[1] - incoming[1] * outgoing[0], incoming @ outgoing))
+
+

@@ -1,0 +1,145 @@
+"""JASNOM (thesis ch. 7) on meshes with known answers: an ellipsoid cut in two, moved, and stitched back."""
+
+import logging
+
+import numpy as np
+import pytest
+import trimesh
+from scipy.spatial.transform import Rotation
+
+from heatdata.models import Model
+from heatdata.stitch import (StitchError, boundary, order_preserving_assignment, resample_loop, split_model,
+                             stitch, strip_faces, transformed)
+
+MOTION = Rotation.from_rotvec([0.5, -1.0, 0.3]), np.array([0.3, 0.1, -0.2])
+
+
+def model_of(mesh: trimesh.Trimesh, name: str = "ellipsoid") -> Model:
+    colors = np.zeros((len(mesh.faces), 3, 3), np.float32)
+    colors[..., 0] = 0.8
+    colors[mesh.triangles_center[:, 1] > 0.03] = [0.1, 0.3, 0.9]
+    return Model(name=name, vertices=np.asarray(mesh.vertices, dtype=np.float64),
+                 faces=np.asarray(mesh.faces, dtype=np.int64), corner_colors=colors,
+                 corner_uv=np.zeros((len(mesh.faces), 3, 2), np.float32),
+                 face_texture=np.full(len(mesh.faces), -1, np.int32))
+
+
+@pytest.fixture(scope="module")
+def ellipsoid() -> Model:
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=0.1)
+    return model_of(trimesh.Trimesh(sphere.vertices * [1.0, 0.6, 0.8], sphere.faces))
+
+
+def as_trimesh(model: Model) -> trimesh.Trimesh:
+    return trimesh.Trimesh(model.vertices, model.faces, process=False)
+
+
+@pytest.mark.parametrize("amplitude", [0.0, 0.05])
+def test_two_halves_moved_apart_are_aligned_and_stitched_closed(ellipsoid, amplitude):
+    a, b = split_model(ellipsoid, [0.3, 1.0, 0.2], amplitude=amplitude)
+    rotation, translation = MOTION
+    result = stitch(a, transformed(b, rotation.as_matrix(), translation), workers=1, samples=64)
+    # ground truth: the inverse motion
+    error = Rotation.from_matrix(result.alignment.rotation) * rotation
+    assert np.degrees(error.magnitude()) < 0.1
+    expected_t = -(rotation.inv().apply(translation))
+    assert np.linalg.norm(result.alignment.translation - expected_t) < 1e-3 * np.linalg.norm(ellipsoid.extents)
+    mesh = as_trimesh(result.model)
+    assert mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0
+    assert mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=1e-3)
+    assert len(result.model.faces) == len(ellipsoid.faces) + len(result.first.loop) + len(result.second.loop)
+    assert result.alignment.facing < -0.5 and len(result.alignment.costs) == 64
+    # both halves' colours are kept, the strip's come from its corners
+    assert result.model.corner_colors.shape == (len(result.model.faces), 3, 3)
+    assert np.isclose(result.model.corner_colors[..., 2], 0.9).any() and np.isclose(
+        result.model.corner_colors[..., 0], 0.8).any()
+
+
+def test_the_shift_search_in_processes_gives_the_same_answer(ellipsoid):
+    a, b = split_model(ellipsoid, [0.0, 1.0, 0.0])
+    b = transformed(b, *(m.as_matrix() if i == 0 else m for i, m in enumerate(MOTION)))
+    one = stitch(a, b, workers=1, samples=32).alignment
+    two = stitch(a, b, workers=2, samples=32).alignment
+    np.testing.assert_allclose(one.costs, two.costs)
+    np.testing.assert_allclose(one.rotation, two.rotation)
+
+
+def test_the_assignment_preserves_order_and_reverses_direction():
+    first = np.arange(8) / 8
+    np.testing.assert_array_equal(order_preserving_assignment(first, first, 0.0), [0, 7, 6, 5, 4, 3, 2, 1])
+    np.testing.assert_array_equal(order_preserving_assignment(first, first, 0.25), [2, 1, 0, 7, 6, 5, 4, 3])
+    coarse = np.arange(4) / 4  # fewer vertices on the second boundary: every one still finds its nearest
+    np.testing.assert_array_equal(order_preserving_assignment(first, coarse, 0.0), [0, 6, 4, 2])
+
+
+def test_resampling_is_uniform_by_arc_length():
+    square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float)
+    points, nearest = resample_loop(square, 8)
+    np.testing.assert_allclose(np.linalg.norm(np.roll(points, -1, axis=0) - points, axis=1), 0.5)
+    assert nearest.tolist() == [0, 1, 1, 2, 2, 3, 3, 0]
+    with pytest.raises(StitchError, match="at least 3 samples"):
+        resample_loop(square, 2)
+
+
+def test_the_strip_uses_every_boundary_edge_once_against_its_face(ellipsoid):
+    a, b = split_model(ellipsoid, [1.0, 0.2, 0.0])
+    b1, b2 = boundary(a), boundary(b)
+    faces = strip_faces(b1, b2, 0.0, offset=len(a.vertices))
+    assert len(faces) == len(b1.loop) + len(b2.loop)
+    halves = {tuple(e) for f in faces for e in ((f[0], f[1]), (f[1], f[2]), (f[2], f[0]))}
+    for loop, offset in ((b1.loop, 0), (b2.loop, len(a.vertices))):
+        for u, v in zip(loop, np.roll(loop, -1), strict=True):
+            assert (v + offset, u + offset) in halves  # the reverse of the mesh's own boundary half-edge
+
+
+def test_boundary_normals_point_out_of_the_mesh(ellipsoid):
+    a, _ = split_model(ellipsoid, [0.0, 1.0, 0.0])  # the upper half: its boundary runs round the equator
+    b = boundary(a)
+    assert b.loops == 1 and np.allclose(np.linalg.norm(b.normals, axis=1), 1.0)
+    assert np.mean(b.normals[:, 1]) < -0.5  # out of the upper half is downwards
+    assert b.arclength[0] == 0.0 and np.all(np.diff(b.arclength) > 0) and b.arclength[-1] < 1.0
+
+
+def test_bad_meshes_are_clear_errors(ellipsoid, caplog):
+    with pytest.raises(StitchError, match="closed"):
+        boundary(ellipsoid)
+    a, b = split_model(ellipsoid, [0.0, 1.0, 0.0])
+    triangle = Model(name="triangle", vertices=np.eye(3), faces=np.array([[0, 1, 2]]),
+                     corner_colors=np.zeros((1, 3, 3), np.float32), corner_uv=np.zeros((1, 3, 2), np.float32),
+                     face_texture=np.full(1, -1, np.int32))
+    assert len(boundary(triangle).loop) == 3
+    fin = Model(name="fin", vertices=np.vstack([a.vertices, [[0.0, 0.5, 0.0]]]),
+                faces=np.vstack([a.faces, [[a.faces[0, 0], a.faces[0, 1], len(a.vertices)]]]),
+                corner_colors=np.concatenate([a.corner_colors, a.corner_colors[:1]]),
+                corner_uv=np.concatenate([a.corner_uv, a.corner_uv[:1]]),
+                face_texture=np.concatenate([a.face_texture, a.face_texture[:1]]))
+    with pytest.raises(StitchError, match="more than two faces"):
+        boundary(fin)
+    mirrored = transformed(a, np.diag([1.0, -1.0, 1.0]), [0.0, 0.0, 0.0])  # the lower half, wound inwards
+    with pytest.raises(StitchError, match="do not face each other"):
+        stitch(a, mirrored, workers=1, samples=32)
+    caplog.set_level(logging.WARNING, logger="heatdata.stitch")
+    stitch(a, transformed(b, np.eye(3) * 0.5, [0.0, 0.0, 0.0]), workers=1, samples=32)  # a boundary half as long
+    assert "lengths differ by a factor 2.00" in caplog.text
+    with pytest.raises(StitchError, match="alpha must be positive"):
+        stitch(a, b, alpha=0.0, workers=1)
+    with pytest.raises(StitchError, match="one side"):
+        split_model(ellipsoid, [0.0, 1.0, 0.0], offset=1.0)
+
+
+def test_the_command_writes_a_closed_coloured_mesh(ellipsoid, tmp_path, capsys):
+    import json
+
+    from heatdata.cli import main
+    from heatdata.models import save_model
+
+    a, b = split_model(ellipsoid, [0.3, 1.0, 0.2], amplitude=0.05)
+    save_model(a, tmp_path / "a.ply")
+    save_model(transformed(b, MOTION[0].as_matrix(), MOTION[1]), tmp_path / "b.ply")
+    assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
+                        "--samples", "32", "--jobs", "1"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert printed["faces"] == len(ellipsoid.faces) + sum(printed["boundaries"])
+    mesh = trimesh.load(tmp_path / "ab.ply", process=False)
+    assert mesh.is_watertight and mesh.is_winding_consistent and mesh.visual.vertex_colors[:, 2].max() > 200
+    assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "x.txt")]) == 1
