@@ -22,11 +22,13 @@ from .render import camera_pose, render_view
 from .sources import candidate_descriptors, candidate_sources
 from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat,
                        lambda2, laplacian)
+from .stitch import StitchError, stitch
 from .version import __version__
 from .view import View, kinect_intrinsics
 
 # ``hd.distance`` is the descriptor-level distance function; the module of distance matrices stays
-# importable as ``heatdata.distance`` (``from heatdata.distance import mhd_matrix``).
+# importable as ``heatdata.distance`` (``from heatdata.distance import mhd_matrix``). Likewise ``hd.stitch`` is
+# JASNOM's function and ``heatdata.stitch`` its module (``from heatdata.stitch import split_model``).
 
 __all__ = [
     "AppearanceModel", "appearance_model", "learn_similarity", "ParticleFilter", "ExhaustiveFilter", "precision_by",
@@ -36,7 +38,7 @@ __all__ = [
     "Descriptor", "DescriptorSpec", "eigen_spectrum", "first_crossings", "ft_pvhk", "global_derivative",
     "heat_kernel", "heat_model", "HeatdataError", "HeatModel", "HeatOperator", "import_sh3f", "kinect_intrinsics",
     "krylov_heat", "lambda2", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "Model",
-    "ModelError", "nearest_neighbours", "nearest_pair_mhd", "object_time_scale",
+    "ModelError", "nearest_neighbours", "stitch", "StitchError", "nearest_pair_mhd", "object_time_scale",
     "other_object_distances", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "RenderError",
     "sample_boundary", "select_sources", "source_vertex", "Spectrum", "SpectrumError", "View", "view_time_scale",
     "ViewError", "weighted_mhd", "__version__",

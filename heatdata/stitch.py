@@ -25,7 +25,7 @@ from __future__ import annotations
 import logging
 import time
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import minimize
@@ -44,7 +44,7 @@ class StitchError(HeatdataError):
 
 @dataclass(frozen=True)
 class Boundary:
-    """The longest boundary loop of a mesh (7.5), oriented by the mesh's faces.
+    """A boundary loop of a mesh, oriented by the mesh's faces (:func:`boundary` gives the longest, 7.5).
 
     Attributes
     ----------
@@ -59,7 +59,7 @@ class Boundary:
     length : float
         The loop's length.
     loops : int
-        How many boundary loops the mesh has (the others are left open).
+        How many boundary loops the mesh has.
     """
 
     loop: np.ndarray
@@ -110,14 +110,13 @@ def _manifold_edges(faces: np.ndarray, name: str) -> None:
                           "2-manifold mesh (clean it first, e.g. pymeshlab's meshing_repair_non_manifold_edges)")
 
 
-def boundary(model: Model) -> Boundary:
-    """The longest boundary loop of ``model`` with its boundary normals (thesis 7.3, 7.5).
+def boundaries(model: Model) -> list[Boundary]:
+    """Every boundary loop of ``model`` with its boundary normals (thesis 7.3), longest first.
 
     Raises
     ------
     StitchError
-        A closed mesh (no boundary), a longest loop of fewer than 3 vertices, or an edge
-        shared by more than two faces.
+        A closed mesh (no boundary), or an edge shared by more than two faces.
     """
     faces, flipped = consistent_winding(np.asarray(model.faces, dtype=np.int64))
     if flipped:
@@ -126,33 +125,74 @@ def boundary(model: Model) -> Boundary:
     loops = [loop for loop in boundary_loops(faces) if len(loop) >= 2]
     if not loops:
         raise StitchError(f"{model.name}: the mesh is closed (no boundary): there is nothing to stitch")
-    points_of = [model.vertices[loop] for loop in loops]
-    lengths = [float(np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1).sum()) for p in points_of]
-    best = int(np.argmax(lengths))
-    loop, points = loops[best], points_of[best]
-    if len(loop) < 3:
-        raise StitchError(f"{model.name}: the longest boundary has {len(loop)} vertices; at least 3 are needed")
-    steps = np.linalg.norm(np.roll(points, -1, axis=0) - points, axis=1)
-    arclength = np.concatenate([[0.0], np.cumsum(steps)[:-1]]) / lengths[best]
-    return Boundary(loop=loop, points=points, normals=_boundary_normals(model.vertices, faces, loop),
-                    arclength=arclength, length=lengths[best], loops=len(loops))
+    found = []
+    for loop in loops:
+        points = model.vertices[loop]
+        steps = np.linalg.norm(np.roll(points, -1, axis=0) - points, axis=1)
+        length = float(steps.sum())
+        arclength = np.concatenate([[0.0], np.cumsum(steps)[:-1]]) / max(length, 1e-300)
+        found.append(Boundary(loop=loop, points=points, normals=_boundary_normals(model.vertices, faces, loop),
+                              arclength=arclength, length=length, loops=len(loops)))
+    return sorted(found, key=lambda b: -b.length)
+
+
+def boundary(model: Model) -> Boundary:
+    """The longest boundary loop of ``model`` (7.5), as :func:`boundaries`.
+
+    Raises
+    ------
+    StitchError
+        As :func:`boundaries`, or a longest loop of fewer than 3 vertices.
+    """
+    longest = boundaries(model)[0]
+    if len(longest.loop) < 3:
+        raise StitchError(f"{model.name}: the longest boundary has {len(longest.loop)} vertices; at least 3 are "
+                          "needed")
+    return longest
+
+
+def best_shift(first: Boundary, second: Boundary) -> float:
+    """The origin of ``second`` (arc-length fraction) whose assignment (eq. 7.8) has the shortest edges (J1).
+
+    For boundaries already in one frame, e.g. the other loops of two meshes aligned by
+    their longest ones; every vertex of ``second`` is tried as the origin.
+    """
+    costs = [np.sum((first.points[order_preserving_assignment(first.arclength, second.arclength, shift)]
+                     - second.points) ** 2) for shift in second.arclength]
+    return float(second.arclength[int(np.argmin(costs))])
+
+
+def _pair_loops(first: list[Boundary], second: list[Boundary]) -> list[tuple[Boundary, Boundary]]:
+    """Greedy pairs of loops of two aligned meshes: nearest centroids, lengths within a factor 1.5."""
+    pairs, taken = [], set()
+    for b1 in first:
+        best, gap = None, np.inf
+        for k, b2 in enumerate(second):
+            if k in taken or max(b1.length, b2.length) > 1.5 * min(b1.length, b2.length) or len(b2.loop) < 3:
+                continue
+            distance = np.linalg.norm(b1.points.mean(axis=0) - b2.points.mean(axis=0))
+            if distance < gap and distance < 0.5 * max(b1.length, b2.length) / np.pi:
+                best, gap = k, distance
+        if best is not None and len(b1.loop) >= 3:
+            taken.add(best)
+            pairs.append((b1, second[best]))
+    return pairs
 
 
 def _boundary_normals(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray) -> np.ndarray:
     """(b, 3) unit normals to the boundary in the surface, pointing out of the mesh."""
-    edge_face = {}
-    for k, (a, b, c) in enumerate(faces.tolist()):
-        edge_face[(a, b)] = edge_face[(b, c)] = edge_face[(c, a)] = k
+    n = np.int64(len(vertices))
+    half = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]).astype(np.int64)
+    keys = half[:, 0] * n + half[:, 1]
+    order = np.argsort(keys)
     following = np.roll(loop, -1)
-    out = np.zeros((len(loop), 3))
-    for i, (a, b) in enumerate(zip(loop.tolist(), following.tolist(), strict=True)):
-        face = faces[edge_face[(a, b)]]
-        normal = np.cross(vertices[face[1]] - vertices[face[0]], vertices[face[2]] - vertices[face[0]])
-        tangent = vertices[b] - vertices[a]
-        # the face lies to the left of its half-edge a -> b (counter-clockwise about its normal): outwards is right
-        out[i] = np.cross(tangent, normal)
-    # a vertex takes the mean of its two boundary edges' normals
-    normals = out + np.roll(out, 1, axis=0)
+    found = order[np.searchsorted(keys[order], loop * n + following)]  # the face of each boundary half-edge
+    face = faces[found % len(faces)]
+    corners = vertices[face]
+    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    # the face lies to the left of its half-edge a -> b (counter-clockwise about its normal): outwards is right
+    out = np.cross(vertices[following] - vertices[loop], normal)
+    normals = out + np.roll(out, 1, axis=0)  # a vertex takes the mean of its two boundary edges' normals
     length = np.linalg.norm(normals, axis=1, keepdims=True)
     return normals / np.where(length > 0, length, 1.0)
 
@@ -333,24 +373,29 @@ def strip_faces(first: Boundary, second: Boundary, shift: float, offset: int) ->
 
 def transformed(model: Model, rotation: np.ndarray, translation: np.ndarray) -> Model:
     """``model`` moved rigidly: ``x -> rotation @ x + translation``."""
-    from dataclasses import replace
-
     return replace(model, vertices=model.vertices @ np.asarray(rotation).T + np.asarray(translation))
 
 
 @dataclass(frozen=True)
 class Stitched:
-    """What :func:`stitch` returns: the stitched model, the alignment and the two boundaries."""
+    """What :func:`stitch` returns: the stitched model, the alignment, the two longest boundaries, how many loop
+    pairs were stitched and how many loops stay open."""
 
     model: Model
     alignment: Alignment
     first: Boundary
     second: Boundary
+    loop_pairs: int
+    open_loops: int
 
 
 def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.0, samples: int = 128,
            workers: int = 2, name: str | None = None) -> Stitched:
     """JASNOM: align ``second`` onto ``first`` by their longest boundaries and stitch them into one model.
+
+    The longest loops align the meshes (7.2-7.3, 7.5). Beyond the thesis, the other loops
+    (a cut through a concave object leaves several) are paired by nearest centroid and
+    similar length and stitched at that alignment, each at its shortest-edge shift.
 
     Parameters
     ----------
@@ -376,10 +421,6 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
         As :func:`boundary`, or bad ``alpha`` / ``beta``.
     """
     b1, b2 = boundary(first), boundary(second)
-    for model, b in ((first, b1), (second, b2)):
-        if b.loops > 1:
-            log.warning("%s has %d boundary loops: the longest is stitched, %d stay open", model.name, b.loops,
-                        b.loops - 1)
     alignment = align(b1, b2, alpha=alpha, beta=beta, samples=samples, workers=workers)
     if alignment.facing > 0:
         raise StitchError(f"{first.name} and {second.name} do not face each other across their boundaries (mean "
@@ -388,7 +429,15 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
     moved = transformed(second, alignment.rotation, alignment.translation)
     moved_b2 = boundary(moved)
     offset = len(first.vertices)
-    strip = strip_faces(b1, moved_b2, alignment.shift, offset)
+    strips = [strip_faces(b1, moved_b2, alignment.shift, offset)]
+    # the other loops (a cut through a concave object leaves several) are stitched at the same alignment
+    pairs = _pair_loops(boundaries(first)[1:], boundaries(moved)[1:])
+    strips += [strip_faces(l1, l2, best_shift(l1, l2), offset) for l1, l2 in pairs]
+    open_loops = b1.loops + moved_b2.loops - 2 * (1 + len(pairs))
+    if open_loops:
+        log.warning("%d boundary loop(s) of %s and %s have no partner and stay open", open_loops, first.name,
+                    second.name)
+    strip = np.vstack(strips)
     colors = np.vstack([vertex_colors(first), vertex_colors(moved)])
     faces = np.vstack([first.faces, moved.faces + offset, strip])
     model = Model(
@@ -405,10 +454,11 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
         label=first.label or second.label, source=f"JASNOM of {first.source or first.name} and "
                                                    f"{second.source or second.name}",
         repairs=list(first.repairs) + list(second.repairs))
-    log.info("stitched %s: shift %.3f, J %.4g (J1 %.3g, J2 %.3g), %d strip triangles, %.1f s", model.name,
-             alignment.shift, alignment.cost, alignment.edge_cost, alignment.crossing_cost, len(strip),
-             alignment.seconds)
-    return Stitched(model=model, alignment=alignment, first=b1, second=moved_b2)
+    log.info("stitched %s: shift %.3f, J %.4g (J1 %.3g, J2 %.3g), %d loop pair(s), %d strip triangles, %.1f s",
+             model.name, alignment.shift, alignment.cost, alignment.edge_cost, alignment.crossing_cost,
+             1 + len(pairs), len(strip), alignment.seconds)
+    return Stitched(model=model, alignment=alignment, first=b1, second=moved_b2, loop_pairs=1 + len(pairs),
+                    open_loops=open_loops)
 
 
 def _submodel(model: Model, keep: np.ndarray, name: str) -> Model:
@@ -442,3 +492,43 @@ def split_model(model: Model, normal, *, offset: float = 0.0, amplitude: float =
     if side.all() or not side.any():
         raise StitchError(f"{model.name}: the cut leaves every face on one side")
     return _submodel(model, side, f"{model.name}-a"), _submodel(model, ~side, f"{model.name}-b")
+
+
+def closed_part(model: Model, tolerance: float = 1e-6) -> Model:
+    """The largest closed 2-manifold piece of a model, or a :class:`StitchError` saying why there is none.
+
+    Vertices closer than ``tolerance`` times the bounding-box diagonal are merged (files
+    split vertices at texture seams), faces that collapse are dropped, and the connected
+    piece with the most faces is kept if every edge of it has exactly two faces.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    size = float(np.linalg.norm(model.extents))
+    keys = np.round(model.vertices / (tolerance * size)).astype(np.int64)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    faces = first[inverse.ravel()][model.faces]
+    good = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
+    _, unique = np.unique(np.sort(faces, axis=1), axis=0, return_index=True)
+    keep = np.zeros(len(faces), dtype=bool)
+    keep[unique] = True
+    keep &= good
+    n = len(model.vertices)
+    graph = coo_matrix((np.ones(3 * int(keep.sum())), (faces[keep].ravel(), faces[keep][:, [1, 2, 0]].ravel())),
+                       shape=(n, n))
+    _, component = connected_components(graph, directed=False)
+    counts = np.bincount(component[faces[keep][:, 0]], minlength=component.max() + 1)
+    keep &= component[faces[:, 0]] == int(np.argmax(counts))
+    part = _submodel(Model(name=model.name, vertices=model.vertices, faces=faces, corner_colors=model.corner_colors,
+                           corner_uv=model.corner_uv, face_texture=model.face_texture, textures=model.textures,
+                           label=model.label, source=model.source, repairs=model.repairs), keep, model.name)
+    _manifold_edges(part.faces, model.name)
+    faces, flipped = consistent_winding(part.faces)
+    if flipped or boundary_loops(faces):
+        raise StitchError(f"{model.name}: its largest piece ({len(faces)} faces) is not closed and consistently "
+                          f"wound")
+    corners = part.vertices[part.faces]
+    if np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2])).sum() < 0:  # wound inwards
+        part = replace(part, faces=part.faces[:, ::-1].copy(), corner_colors=part.corner_colors[:, ::-1].copy(),
+                       corner_uv=part.corner_uv[:, ::-1].copy())
+    return part

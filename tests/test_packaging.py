@@ -11,7 +11,8 @@ from pathlib import Path
 import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
-DISTRIBUTIONS = {"sklearn": "scikit-learn", "sksparse": "scikit-sparse", "yaml": "pyyaml", "PIL": "pillow"}
+DISTRIBUTIONS = {"sklearn": "scikit-learn", "sksparse": "scikit-sparse", "yaml": "pyyaml", "PIL": "pillow",
+                 "mpl_toolkits": "matplotlib"}
 
 
 def test_every_imported_package_is_a_declared_dependency():

@@ -8,8 +8,8 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 from heatdata.models import Model
-from heatdata.stitch import (StitchError, boundary, order_preserving_assignment, resample_loop, split_model,
-                             stitch, strip_faces, transformed)
+from heatdata.stitch import (StitchError, boundary, closed_part, order_preserving_assignment, resample_loop,
+                             split_model, stitch, strip_faces, transformed)
 
 MOTION = Rotation.from_rotvec([0.5, -1.0, 0.3]), np.array([0.3, 0.1, -0.2])
 
@@ -143,3 +143,34 @@ def test_the_command_writes_a_closed_coloured_mesh(ellipsoid, tmp_path, capsys):
     mesh = trimesh.load(tmp_path / "ab.ply", process=False)
     assert mesh.is_watertight and mesh.is_winding_consistent and mesh.visual.vertex_colors[:, 2].max() > 200
     assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "x.txt")]) == 1
+
+
+def test_a_cut_leaving_two_loops_is_aligned_by_the_longest_and_closed_at_both():
+    torus = model_of(trimesh.creation.torus(major_radius=0.1, minor_radius=0.03, major_sections=48,
+                                            minor_sections=16), "torus")
+    a, b = split_model(torus, [1.0, 0.0, 0.0], offset=0.05)  # through both sides of the tube: two loops
+    assert boundary(a).loops == 2
+    rotation, translation = MOTION
+    result = stitch(a, transformed(b, rotation.as_matrix(), translation), workers=1, samples=64)
+    assert result.loop_pairs == 2 and result.open_loops == 0
+    mesh = as_trimesh(result.model)
+    assert mesh.is_watertight and mesh.is_winding_consistent
+    assert mesh.volume == pytest.approx(as_trimesh(torus).volume, rel=1e-3)
+
+
+def test_the_closed_part_merges_seams_keeps_the_largest_piece_and_faces_outwards(ellipsoid):
+    seamed = ellipsoid.faces.copy()
+    copies = len(ellipsoid.vertices) + np.arange(3)  # the first face's corners duplicated, as at a texture seam
+    seamed[0] = copies
+    vertices = np.vstack([ellipsoid.vertices, ellipsoid.vertices[ellipsoid.faces[0]]])
+    speck = trimesh.creation.icosphere(subdivisions=0, radius=0.01)  # a small separate piece
+    faces = np.vstack([seamed, speck.faces + len(vertices)])[:, ::-1]  # and everything wound inwards
+    vertices = np.vstack([vertices, speck.vertices + 1.0])
+    messy = Model(name="messy", vertices=vertices, faces=faces,
+                  corner_colors=np.zeros((len(faces), 3, 3), np.float32),
+                  corner_uv=np.zeros((len(faces), 3, 2), np.float32), face_texture=np.full(len(faces), -1, np.int32))
+    part = closed_part(messy)
+    mesh = as_trimesh(part)
+    assert len(part.faces) == len(ellipsoid.faces) and mesh.is_watertight and mesh.volume > 0
+    with pytest.raises(StitchError, match="not closed"):
+        closed_part(split_model(ellipsoid, [0.0, 1.0, 0.0])[0])

@@ -317,3 +317,38 @@ def test_smoke_config_plans_a_small_run(tmp_path):
     assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
     assert f"{tmp_path}/smoke/summary.md" in result.stdout
     assert re.search(r"describe +3\b", result.stdout) and re.search(r"classify +4\b", result.stdout)
+
+
+def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
+    """Rule stitch (thesis ch. 7): two halves of a model, one moved, are stitched and rendered like any object."""
+    from scipy.spatial.transform import Rotation
+
+    from heatdata.catalog import load_catalog_model, read_catalog
+    from heatdata.models import save_model
+    from heatdata.stitch import closed_part, split_model, transformed
+
+    catalog = read_catalog(ROOT / "data/models/catalog.csv").set_index("object", drop=False)
+    mug = closed_part(load_catalog_model(catalog.loc["beer-mug"]))
+    top, bottom = split_model(mug, [0.2, 1.0, 0.1])
+    save_model(top, tmp_path / "top.ply")
+    save_model(transformed(bottom, Rotation.from_rotvec([0.4, 1.2, -0.3]).as_matrix(), [0.2, 0.0, 0.1]),
+               tmp_path / "bottom.ply")
+    pair = {"object": "stitched-mug", "label": "mug", "first": str(tmp_path / "top.ply"),
+            "second": str(tmp_path / "bottom.ply")}
+    config = tiny_config(objects=["plastic-cup"], views={"train": 4, "test": 3}, library_sizes=[4],
+                         stitch={"pairs": [pair], "samples": 32})
+    config["descriptors"] = config["descriptors"][:1]
+    result = snakemake(tmp_path / "run", config)
+    assert result.returncode == 0, result.stderr[-3000:]
+    results = tmp_path / "run" / "results"
+    mesh = trimesh.load(results / "stitched" / "stitched-mug.ply", process=False)
+    assert mesh.is_watertight and mesh.is_winding_consistent
+    summary = yaml.safe_load((results / "stitched" / "stitched-mug.json").read_text())
+    assert summary["loop_pairs"] >= 1 and summary["open_loops"] == 0
+    assert (results / "figures" / "stitch" / "stitched-mug.png").stat().st_size > 10_000
+    views, _ = read_table(results / "views" / "stitched-mug.parquet")
+    assert len(views) == 7 and set(views["label"]) == {"mug"}
+    assert "stitched-mug" in pd.read_csv(results / "catalog.csv")["object"].tolist()
+    duplicate = snakemake(tmp_path / "run2", {**config, "stitch": {"pairs": [{**pair, "object": "plastic-cup"}]}},
+                          "--dry-run")
+    assert duplicate.returncode != 0 and "already one of the run's objects" in duplicate.stdout + duplicate.stderr

@@ -3,6 +3,8 @@ import json
 import re
 from pathlib import Path
 
+import pandas as pd
+
 import heatdata
 from heatdata.catalog import catalog_from_folder, read_catalog, sh3f_catalogs
 from heatdata.descriptors import DESCRIPTORS, DescriptorSpec, file_name
@@ -77,7 +79,24 @@ FIXED_TIME = any(s.impl.time_scaled for s in SPECS)  # needs the objects' time s
 
 # kinds learned on the library views (SI-HKS's codebook): one fit job each, before any describe job
 FITTED = {file_name(s.name): s for s in SPECS if s.impl.fitted}
+def stitched_objects(catalog):
+    """The config's JASNOM pairs (stitch.pairs) as catalogue rows whose model the rule stitch writes."""
+    rows = []
+    for k, pair in enumerate(config["stitch"]["pairs"]):
+        missing = [pair[key] for key in ("first", "second") if not Path(pair[key]).is_file()]
+        if missing:
+            _config_error(f"stitch.pairs[{k}]: {', '.join(missing)} do(es) not exist")
+        if pair["object"] in catalog.index or pair["object"] in [r["object"] for r in rows]:
+            _config_error(f"stitch.pairs[{k}]: object {pair['object']!r} is already one of the run's objects")
+        rows.append({"object": pair["object"], "label": pair.get("label", "") or pair["object"],
+                     "file": f"{pair['object']}.ply", "path": f"{RESULTS}/stitched/{pair['object']}.ply"})
+    return pd.DataFrame(rows, columns=catalog.columns).fillna("").set_index("object", drop=False)
+
+
 CATALOG = load_objects()
+STITCHED = {pair["object"]: pair for pair in config["stitch"]["pairs"]}
+if STITCHED:
+    CATALOG = pd.concat([CATALOG, stitched_objects(CATALOG)])
 OBJECTS = CATALOG.index.tolist()
 if config["compact"]["enabled"]:
     try:
@@ -115,7 +134,9 @@ if too_large:
 
 
 def model_input(obj):
-    """What an object's render job needs: its model file, or its extracted Sweet Home 3D folder."""
+    """What an object's render job needs: its model file, its extracted Sweet Home 3D folder or its stitched model."""
+    if obj in STITCHED:
+        return CATALOG.loc[obj, "path"]
     if config["sh3f"]["files"]:
         return f"{RESULTS}/models/{obj}"
     return CATALOG.loc[obj, "path"]

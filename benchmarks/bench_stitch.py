@@ -1,0 +1,65 @@
+"""Time and memory of JASNOM (thesis ch. 7) on two halves with 2,000-vertex boundaries.
+
+A latitude-longitude ellipsoid with 2,000 segments round its equator, cut there by a plane
+(``heatdata.stitch.split_model``), one half moved by a rigid motion, then ``stitch``
+with the default 128 boundary samples and shifts, on ``--workers`` processes. Prints
+the time of the boundary extraction, of the shift search and of the whole call, and
+the peak RSS.
+
+    .venv/bin/python benchmarks/bench_stitch.py [--segments 2000] [--workers 2]
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import time
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from heatdata.models import Model
+from heatdata.stitch import boundary, split_model, stitch, transformed
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--segments", type=int, default=2000)
+    parser.add_argument("--rings", type=int, default=32)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--samples", type=int, default=128)
+    args = parser.parse_args()
+    theta = np.pi * np.arange(1, args.rings) / args.rings  # latitudes; an even count puts one on the equator
+    phi = 2 * np.pi * np.arange(args.segments) / args.segments
+    ring = np.column_stack([np.outer(np.sin(theta), np.cos(phi)).ravel(), np.outer(np.sin(theta), np.sin(phi)).ravel(),
+                            np.repeat(np.cos(theta), args.segments)])
+    vertices = np.vstack([[0.0, 0.0, 1.0], ring, [0.0, 0.0, -1.0]]) * [0.1, 0.08, 0.06]
+    s, last = args.segments, len(theta) - 1
+    j = np.arange(s)
+    faces = [np.column_stack([np.zeros(s, int), 1 + j, 1 + (j + 1) % s])]
+    for i in range(last):
+        a, b = 1 + i * s + j, 1 + i * s + (j + 1) % s
+        faces += [np.column_stack([a, a + s, b]), np.column_stack([b, a + s, b + s])]
+    faces.append(np.column_stack([np.full(s, len(vertices) - 1), 1 + last * s + (j + 1) % s, 1 + last * s + j]))
+    faces = np.vstack(faces).astype(np.int64)
+    model = Model(name="ellipsoid", vertices=vertices, faces=faces,
+                  corner_colors=np.full((len(faces), 3, 3), 0.5, np.float32),
+                  corner_uv=np.zeros((len(faces), 3, 2), np.float32), face_texture=np.full(len(faces), -1, np.int32))
+    a, b = split_model(model, [0.0, 0.0, 1.0])
+    b = transformed(b, Rotation.from_rotvec([0.4, -0.9, 0.2]).as_matrix(), [0.2, 0.1, -0.1])
+    start = time.perf_counter()
+    first, second = boundary(a), boundary(b)
+    boundaries = time.perf_counter() - start
+    start = time.perf_counter()
+    result = stitch(a, b, samples=args.samples, workers=args.workers)
+    total = time.perf_counter() - start
+    print(f"halves of {len(a.vertices)} and {len(b.vertices)} vertices, boundaries of {len(first.loop)} and "
+          f"{len(second.loop)} vertices, {args.samples} samples and shifts, {args.workers} worker(s)")
+    print(f"boundaries and their normals: {boundaries:.2f} s (both)")
+    print(f"shift search (align): {result.alignment.seconds:.2f} s")
+    print(f"stitch, in all: {total:.2f} s")
+    print(f"peak RSS {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
+
+
+if __name__ == "__main__":
+    main()
