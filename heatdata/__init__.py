@@ -22,13 +22,13 @@ from .render import camera_pose, render_view
 from .sources import candidate_descriptors, candidate_sources
 from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat,
                        lambda2, laplacian)
-from .stitch import StitchError, stitch
+from . import stitch  # the module: hd.stitch.stitch(first, second), hd.stitch.split_model(...)
+from .stitch import StitchError
 from .version import __version__
 from .view import View, kinect_intrinsics
 
 # ``hd.distance`` is the descriptor-level distance function; the module of distance matrices stays
-# importable as ``heatdata.distance`` (``from heatdata.distance import mhd_matrix``). Likewise ``hd.stitch`` is
-# JASNOM's function and ``heatdata.stitch`` its module (``from heatdata.stitch import split_model``).
+# importable as ``heatdata.distance`` (``from heatdata.distance import mhd_matrix``).
 
 __all__ = [
     "AppearanceModel", "appearance_model", "learn_similarity", "ParticleFilter", "ExhaustiveFilter", "precision_by",

@@ -404,7 +404,7 @@ def draw_example_views(catalog: pd.DataFrame, path: str | Path, *, elevation: fl
                    colorbar_label=DERIVATIVE_LABEL, cmap="viridis")
 
 
-def _draw_mesh(ax, vertices: np.ndarray, faces: np.ndarray, colors: np.ndarray, max_faces: int = 6000) -> None:
+def _draw_faces_3d(ax, vertices: np.ndarray, faces: np.ndarray, colors: np.ndarray, max_faces: int = 6000) -> None:
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     step = max(1, len(faces) // max_faces)
@@ -434,7 +434,8 @@ def plot_stitch(first, second, stitched, strip_faces: int, path: str | Path, tit
             if colour is None:
                 base[:len(model.faces) - strip_faces] = matplotlib.colors.to_rgb("tab:grey")
                 base[len(model.faces) - strip_faces:] = matplotlib.colors.to_rgb("tab:red")
-            _draw_mesh(ax, model.vertices, model.faces, np.column_stack([base * shade[:, None], np.ones(len(base))]))
+            rgba = np.column_stack([base * shade[:, None], np.ones(len(base))])
+            _draw_faces_3d(ax, model.vertices, model.faces, rgba)
             if colour is None and strip_faces:  # the strip's triangles are thin: draw their edges over the mesh
                 from mpl_toolkits.mplot3d.art3d import Line3DCollection
 

@@ -116,6 +116,8 @@ def main() -> None:
     parser.add_argument("--min-faces", type=int, default=200)
     parser.add_argument("--max-faces", type=int, default=40000)
     parser.add_argument("--samples", type=int, default=128)
+    parser.add_argument("--alpha", type=float, default=10.0, help="steepness of the crossing penalty (eq. 7.3)")
+    parser.add_argument("--beta", type=float, default=1.0, help="weight of the crossing penalty (eq. 7.4)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--out")
     parser.add_argument("--holes-out", help="also patch holes (7.5) and write their table here")
@@ -137,7 +139,8 @@ def main() -> None:
             try:
                 a, b = split_model(model, normal, amplitude=amplitude)
                 start = time.perf_counter()
-                result = stitch(a, transformed(b, rotation.as_matrix(), translation), samples=args.samples)
+                result = stitch(a, transformed(b, rotation.as_matrix(), translation), samples=args.samples,
+                                alpha=args.alpha, beta=args.beta)
             except HeatdataError as error:
                 rows.append({**row, "error": str(error)})
                 continue
