@@ -423,9 +423,10 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
     b1, b2 = boundary(first), boundary(second)
     alignment = align(b1, b2, alpha=alpha, beta=beta, samples=samples, workers=workers)
     if alignment.facing > 0:
-        raise StitchError(f"{first.name} and {second.name} do not face each other across their boundaries (mean "
-                          f"cosine of the boundary normals {alignment.facing:+.2f} after the best alignment): both "
-                          "are wound the same way round the cut; reverse one's faces (an inward-facing scan)")
+        raise StitchError(f"{first.name} and {second.name} do not face each other across their boundaries after "
+                          f"the best alignment (mean cosine of the boundary normals {alignment.facing:+.2f}): either "
+                          "both are wound the same way round the cut (reverse one's faces) or their longest "
+                          "boundaries are not one curve (large gaps or missing parts)")
     moved = transformed(second, alignment.rotation, alignment.translation)
     moved_b2 = boundary(moved)
     offset = len(first.vertices)

@@ -182,6 +182,9 @@ def test_report_is_self_contained_html(tiny_run):
     ({"descriptors": [{"kind": "esf", "samples": 64}]}, "descriptors[0]: an esf takes no samples"),
     ({"compact": {"enabled": True, "descriptor": {"kind": "esf"}}}, "compact.descriptor: an esf has no heat source"),
     ({"comparison": {"enabled": True, "isomap_objects": ["unicorn"]}}, "comparison.isomap_objects: ['unicorn']"),
+    ({"stitch": {"pairs": [{"object": "x", "first": "/no/top.ply", "second": "/no/bottom.ply"}]}},
+     "stitch.pairs[0]: /no/top.ply, /no/bottom.ply do(es) not exist"),
+    ({"stitch": {"pairs": [{"object": "x", "first": "a.ply"}]}}, "'second' is a required property"),
 ])
 def test_bad_config_is_rejected_before_any_job(tmp_path, overrides, message):
     result = snakemake(tmp_path, tiny_config(**overrides), "--dry-run")
