@@ -28,6 +28,7 @@ from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_vie
 from .log import progress, setup_logging
 from .models import SUPPORTED_SUFFIXES, load_model, save_model
 from .render import render_view
+from .stitch import stitch
 from .tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, read_table, write_table
 from .version import __version__
 from .view import View
@@ -143,8 +144,6 @@ def cmd_render(args: argparse.Namespace) -> None:
 
 def cmd_stitch(args: argparse.Namespace) -> None:
     """JASNOM (thesis ch. 7): align the second mesh onto the first by their boundaries and stitch them."""
-    from .stitch import stitch
-
     out = Path(args.out)
     if out.suffix.lower() not in SUPPORTED_SUFFIXES or out.is_dir():
         raise HeatdataError(f"{out}: the stitched model is written to a mesh file, one of "

@@ -79,6 +79,8 @@ FIXED_TIME = any(s.impl.time_scaled for s in SPECS)  # needs the objects' time s
 
 # kinds learned on the library views (SI-HKS's codebook): one fit job each, before any describe job
 FITTED = {file_name(s.name): s for s in SPECS if s.impl.fitted}
+
+
 def stitched_objects(catalog):
     """The config's JASNOM pairs (stitch.pairs) as catalogue rows whose model the rule stitch writes."""
     rows = []
