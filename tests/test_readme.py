@@ -24,3 +24,5 @@ def test_the_using_the_library_example_runs_as_written(tmp_path):
     assert "recognized as coffee-cup" in run.stdout
     assert "from 20 sources: coffee-cup" in run.stdout
     assert re.search(r"compact library of the coffee cup: candidate \[(\d+, ){7}\d+\] of each view", run.stdout)
+    assert "three stops: coffee-cup (particles), coffee-cup (exhaustive)" in run.stdout
+    assert re.search(r"stitched: [12] loop pair\(s\), 0 open", run.stdout)
