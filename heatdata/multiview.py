@@ -325,7 +325,47 @@ def _label_cells(labels: pd.DataFrame) -> np.ndarray:
     return cells
 
 
-class ParticleFilter:
+class _Hypotheses:
+    """What both filters share: hypotheses (``object`` index, ``azimuth``) with log-weights ``log_w``, moved by the
+    odometry (eq. 4.7) and summed per object (eq. 4.1-4.2). Subclasses set ``model``, ``objects``, ``object``,
+    ``azimuth``, ``log_w`` and ``steps``, and define ``update``."""
+
+    def step(self, observations, displacement_deg: float = 0.0) -> None:
+        """One stop: propagate by the odometry and weigh by the new observations (:meth:`update`).
+
+        Parameters
+        ----------
+        observations : list of (M,) arrays or of Descriptor, or an (n, M) array
+            The descriptors of the views taken at this stop (a set Z_t, eq. 4.4).
+        displacement_deg : float
+            The azimuth the robot moved since the last stop (odometry); any real number.
+        """
+        self.update(self.model.log_likelihood(observations), displacement_deg)
+
+    def _move(self, displacement_deg: float) -> None:
+        """Eq. 4.7: every hypothesis turns with the robot; angles wrap."""
+        if not np.isfinite(displacement_deg):
+            raise HeatdataError(f"displacement must be a finite angle in degrees, got {displacement_deg}")
+        self.azimuth = (self.azimuth + displacement_deg) % 360.0
+        self.steps += 1
+
+    @property
+    def weights(self) -> np.ndarray:
+        return np.exp(self.log_w)
+
+    def posterior(self) -> dict[str, float]:
+        """p(object | Z_1:t, Delta_1:t-1): the summed weight of each object's hypotheses (eq. 4.1-4.2)."""
+        mass = np.bincount(self.object, weights=self.weights, minlength=len(self.objects))
+        return {o: float(m) for o, m in zip(self.objects, mass / mass.sum(), strict=True)}
+
+    @property
+    def estimate(self) -> str:
+        """The most probable object."""
+        posterior = self.posterior()
+        return max(posterior, key=posterior.get)
+
+
+class ParticleFilter(_Hypotheses):
     """Algorithm 4.1: multiple hypotheses (object, view angle) over multiple views, seeded.
 
     Parameters
@@ -422,46 +462,16 @@ class ParticleFilter:
                                self.azimuth if azimuth is None else azimuth)
 
     @property
-    def weights(self) -> np.ndarray:
-        return np.exp(self.log_w)
-
-    def posterior(self) -> dict[str, float]:
-        """p(object | Z_1:t, Delta_1:t-1): the summed weight of each object's particles (eq. 4.1-4.2)."""
-        mass = np.bincount(self.object, weights=self.weights, minlength=len(self.objects))
-        return {o: float(m) for o, m in zip(self.objects, mass / mass.sum(), strict=True)}
-
-    @property
     def converged(self) -> bool:
         """All particles agree on the object (4.4.7)."""
         return bool(np.all(self.object == self.object[0]))
 
-    @property
-    def estimate(self) -> str:
-        """The most probable object."""
-        posterior = self.posterior()
-        return max(posterior, key=posterior.get)
-
     # --- Algorithm 4.1 ----------------------------------------------------------------------------------------------
-    def step(self, observations, displacement_deg: float = 0.0) -> None:
-        """One stop: propagate by the odometry, weigh by the new observations, restart or normalize, bootstrap.
-
-        Parameters
-        ----------
-        observations : list of (M,) arrays or of Descriptor, or an (n, M) array
-            The descriptors of the views taken at this stop (a set Z_t, eq. 4.4).
-        displacement_deg : float
-            The azimuth the robot moved since the last stop (odometry); any real number.
-        """
-        self.update(self.model.log_likelihood(observations), displacement_deg)
-
     def update(self, log_p: np.ndarray, displacement_deg: float = 0.0) -> None:
         """:meth:`step` from the observations' log p(Z | s) of every library label (precomputed, e.g. cached)."""
-        if not np.isfinite(displacement_deg):
-            raise HeatdataError(f"displacement must be a finite angle in degrees, got {displacement_deg}")
-        self.azimuth = (self.azimuth + displacement_deg) % 360.0  # eq. 4.7
+        self._move(displacement_deg)
         self.position = (self.position + displacement_deg) % 360.0
         self.visited.append(self.position)
-        self.steps += 1
         for attempt in range(self.max_restarts + 1):
             prior = self.log_w + log_p[self.labels()]  # 4.4.3: w_t = w_t-1 p(Z_t | s_t)
             explained = logsumexp(prior) - log_p.max()
@@ -565,7 +575,7 @@ class ParticleFilter:
         return float(candidates[best[np.argmin(np.abs(candidates[best]))]])
 
 
-class ExhaustiveFilter:
+class ExhaustiveFilter(_Hypotheses):
     """The exact Bayes filter of eq. 4.1-4.2: every object at every start azimuth of a grid, none ever dropped.
 
     The reference the particles approximate: hypotheses ``(object, start azimuth)`` on a
@@ -602,32 +612,16 @@ class ExhaustiveFilter:
         self.steps = 0
         self.restarts = 0  # never: no hypothesis is ever dropped
 
-    def step(self, observations, displacement_deg: float = 0.0) -> None:
-        """As :meth:`ParticleFilter.step`."""
-        self.update(self.model.log_likelihood(observations), displacement_deg)
-
     def update(self, log_p: np.ndarray, displacement_deg: float = 0.0) -> None:
         """As :meth:`ParticleFilter.update`: move every hypothesis, weigh it, normalize (eq. 4.8)."""
-        if not np.isfinite(displacement_deg):
-            raise HeatdataError(f"displacement must be a finite angle in degrees, got {displacement_deg}")
-        self.azimuth = (self.azimuth + displacement_deg) % 360.0
-        self.steps += 1
+        self._move(displacement_deg)
         log_w = self.log_w + log_p[_nearest_labels(self._angles, self.object, self.azimuth)]
         self.log_w = log_w - logsumexp(log_w)
 
-    def posterior(self) -> dict[str, float]:
-        """p(object | Z_1:t, Delta_1:t-1), summed over start azimuths."""
-        mass = np.bincount(self.object, weights=np.exp(self.log_w), minlength=len(self.objects))
-        return {o: float(m) for o, m in zip(self.objects, mass / mass.sum(), strict=True)}
-
     @property
     def converged(self) -> bool:
+        """One object holds ``confidence`` of the posterior."""
         return max(self.posterior().values()) >= self.confidence
-
-    @property
-    def estimate(self) -> str:
-        posterior = self.posterior()
-        return max(posterior, key=posterior.get)
 
 
 # --- the robot and the experiments of 4.5 -------------------------------------------------------------------------
