@@ -29,6 +29,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import minimize
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from scipy.spatial.transform import Rotation
 
 from .errors import HeatdataError
@@ -144,11 +146,18 @@ def boundary(model: Model) -> Boundary:
     StitchError
         As :func:`boundaries`, or a longest loop of fewer than 3 vertices.
     """
-    longest = boundaries(model)[0]
-    if len(longest.loop) < 3:
-        raise StitchError(f"{model.name}: the longest boundary has {len(longest.loop)} vertices; at least 3 are "
-                          "needed")
-    return longest
+    return _longest(boundaries(model), model.name)
+
+
+def _longest(loops: list[Boundary], name: str) -> Boundary:
+    if len(loops[0].loop) < 3:
+        raise StitchError(f"{name}: the longest boundary has {len(loops[0].loop)} vertices; at least 3 are needed")
+    return loops[0]
+
+
+def _moved(b: Boundary, rotation: np.ndarray, translation: np.ndarray) -> Boundary:
+    """A boundary carried by a rigid motion with its mesh (its loop and arc lengths do not change)."""
+    return replace(b, points=b.points @ rotation.T + translation, normals=b.normals @ rotation.T)
 
 
 def best_shift(first: Boundary, second: Boundary) -> float:
@@ -420,7 +429,8 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
     StitchError
         As :func:`boundary`, or bad ``alpha`` / ``beta``.
     """
-    b1, b2 = boundary(first), boundary(second)
+    loops1, loops2 = boundaries(first), boundaries(second)
+    b1, b2 = _longest(loops1, first.name), _longest(loops2, second.name)
     alignment = align(b1, b2, alpha=alpha, beta=beta, samples=samples, workers=workers)
     if alignment.facing > 0:
         raise StitchError(f"{first.name} and {second.name} do not face each other across their boundaries after "
@@ -428,11 +438,12 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
                           "both are wound the same way round the cut (reverse one's faces) or their longest "
                           "boundaries are not one curve (large gaps or missing parts)")
     moved = transformed(second, alignment.rotation, alignment.translation)
-    moved_b2 = boundary(moved)
+    moved_loops = [_moved(b, alignment.rotation, alignment.translation) for b in loops2]
+    moved_b2 = moved_loops[0]
     offset = len(first.vertices)
     strips = [strip_faces(b1, moved_b2, alignment.shift, offset)]
     # the other loops (a cut through a concave object leaves several) are stitched at the same alignment
-    pairs = _pair_loops(boundaries(first)[1:], boundaries(moved)[1:])
+    pairs = _pair_loops(loops1[1:], moved_loops[1:])
     strips += [strip_faces(l1, l2, best_shift(l1, l2), offset) for l1, l2 in pairs]
     open_loops = b1.loops + moved_b2.loops - 2 * (1 + len(pairs))
     if open_loops:
@@ -502,9 +513,6 @@ def closed_part(model: Model, tolerance: float = 1e-6) -> Model:
     split vertices at texture seams), faces that collapse are dropped, and the connected
     piece with the most faces is kept if every edge of it has exactly two faces.
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
     size = float(np.linalg.norm(model.extents))
     keys = np.round(model.vertices / (tolerance * size)).astype(np.int64)
     _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
@@ -520,9 +528,7 @@ def closed_part(model: Model, tolerance: float = 1e-6) -> Model:
     _, component = connected_components(graph, directed=False)
     counts = np.bincount(component[faces[keep][:, 0]], minlength=component.max() + 1)
     keep &= component[faces[:, 0]] == int(np.argmax(counts))
-    part = _submodel(Model(name=model.name, vertices=model.vertices, faces=faces, corner_colors=model.corner_colors,
-                           corner_uv=model.corner_uv, face_texture=model.face_texture, textures=model.textures,
-                           label=model.label, source=model.source, repairs=model.repairs), keep, model.name)
+    part = _submodel(replace(model, faces=faces), keep, model.name)
     _manifold_edges(part.faces, model.name)
     faces, flipped = consistent_winding(part.faces)
     if flipped or boundary_loops(faces):
