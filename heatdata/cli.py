@@ -148,9 +148,18 @@ def cmd_stitch(args: argparse.Namespace) -> None:
     if out.suffix.lower() not in SUPPORTED_SUFFIXES or out.is_dir():
         raise HeatdataError(f"{out}: the stitched model is written to a mesh file, one of "
                             f"{', '.join(SUPPORTED_SUFFIXES)}")
+    motion = None
+    if args.motion is not None:
+        try:
+            motion = np.loadtxt(args.motion, ndmin=2)
+        except (OSError, ValueError) as error:
+            raise HeatdataError(f"{args.motion}: not a 4x4 matrix of numbers ({error})") from error
+        if motion.shape != (4, 4):
+            raise HeatdataError(f"{args.motion}: not a 4x4 matrix of numbers (shape {motion.shape})")
+        motion[:3, 3] *= args.scale
     first, second = (load_model(path, scale=args.scale) for path in (args.first, args.second))
     result = stitch(first, second, alpha=args.alpha, beta=args.beta, samples=args.samples, workers=args.jobs,
-                    name=out.stem)
+                    name=out.stem, motion=motion)
     save_model(result.model, out)
     a = result.alignment
     print(json.dumps({"model": str(out), "vertices": len(result.model.vertices), "faces": len(result.model.faces),
@@ -317,6 +326,9 @@ def build_parser() -> argparse.ArgumentParser:
     join.add_argument("--samples", type=_number(3, whole=True), default=128,
                       help="boundary samples for the alignment, and shifts tried (default 128)")
     join.add_argument("--scale", type=_number(positive=True), default=1.0, help="file units to metres (default 1)")
+    join.add_argument("--motion", type=Path,
+                      help="a known motion of the second mesh into the first's frame (registered cameras): a text "
+                           "file with a 4x4 matrix, translation in file units; only the shift is searched")
     join.add_argument("--jobs", type=_number(1, whole=True), default=os.cpu_count() or 1,
                       help="processes for the shift search (default: all cores)")
     join.set_defaults(func=cmd_stitch)

@@ -269,7 +269,12 @@ def _cost(params, x, y, n1, n2, scale, alpha, beta, rotation0):
     of ``scale`` (rotation about the centroid and translation then decouple).
     """
     rotation = _rodrigues(params[:3]) @ rotation0
-    xi = x - (y @ rotation.T + scale * params[3:])  # from the second boundary to the first (eq. 7.1)
+    return _motion_cost(x, y @ rotation.T + scale * params[3:], n1, n2 @ rotation.T, scale, alpha, beta)
+
+
+def _motion_cost(x, moved, n1, moved_n2, scale, alpha, beta) -> tuple[float, float, float]:
+    """J, J1 and J2 (eq. 7.2-7.4) of assigned points ``x`` and ``moved`` (the second boundary after the motion)."""
+    xi = x - moved  # from the second boundary to the first (eq. 7.1)
     edge = float(np.einsum("ij,ij->", xi, xi)) / (len(x) * scale ** 2)  # J1, eq. 7.2 (normalized)
     if beta == 0.0:
         return edge, edge, 0.0
@@ -277,7 +282,7 @@ def _cost(params, x, y, n1, n2, scale, alpha, beta, rotation0):
     unit = xi / np.where(length > 0, length, 1.0)[:, None]
     # eq. 7.3: xi should leave the second mesh along its outward normal and enter the first against its own
     with np.errstate(over="ignore"):
-        crossing = float(np.mean(1.0 / (1.0 + np.exp(alpha * np.einsum("ij,ij->i", unit, n2 @ rotation.T))))
+        crossing = float(np.mean(1.0 / (1.0 + np.exp(alpha * np.einsum("ij,ij->i", unit, moved_n2))))
                          + np.mean(1.0 / (1.0 + np.exp(-alpha * np.einsum("ij,ij->i", unit, n1)))))
     return edge + beta * crossing, edge, crossing
 
@@ -321,10 +326,7 @@ def align(first: Boundary, second: Boundary, *, alpha: float = 10.0, beta: float
         log.warning("the boundaries' lengths differ by a factor %.2f: the arc-length assignment of eq. 7.8 "
                     "assumes they trace one curve", ratio)
     begin = time.perf_counter()
-    x, nearest1 = resample_loop(first.points, samples)
-    y, nearest2 = resample_loop(second.points, samples)
-    n1, n2 = first.normals[nearest1], second.normals[nearest2]
-    scale = float(np.sqrt(np.mean(np.sum((x - x.mean(axis=0)) ** 2, axis=1))))
+    x, n1, y, n2, scale = _resampled(first, second, samples)
     jobs = [(tau, x, n1, y, n2, scale, alpha, beta) for tau in range(samples)]
     if workers > 1:
         with ProcessPoolExecutor(workers) as pool:
@@ -334,10 +336,46 @@ def align(first: Boundary, second: Boundary, *, alpha: float = 10.0, beta: float
     costs = np.array([r[0] for r in results])
     best = int(np.argmin(costs))
     cost, rotation, translation, edge, crossing = results[best]
+    return _alignment(best, costs, rotation, translation, edge, crossing, n1, n2, begin)
+
+
+def alignment_at(first: Boundary, second: Boundary, rotation: np.ndarray, translation: np.ndarray, *,
+                 alpha: float = 10.0, beta: float = 1.0, samples: int = 128) -> Alignment:
+    """A known rigid motion of ``second`` onto ``first`` (registered cameras, a turntable) and its best shift.
+
+    Nothing is optimized: J (eq. 7.4) is evaluated at the motion for every shift tau and the
+    cheapest is kept, so that :func:`stitch` can join scans whose motion is known, and an
+    experiment can compare J at the true motion with J at :func:`align`'s optimum.
+    """
+    if alpha <= 0 or beta < 0:
+        raise StitchError(f"alpha must be positive and beta non-negative, got {alpha}, {beta}")
+    begin = time.perf_counter()
+    rotation, translation = np.asarray(rotation, np.float64), np.asarray(translation, np.float64)
+    x, n1, y, n2, scale = _resampled(first, second, samples)
+    moved, moved_n2 = y @ rotation.T + translation, n2 @ rotation.T
+    results = [_motion_cost(x[(tau - np.arange(samples)) % samples], moved,
+                            n1[(tau - np.arange(samples)) % samples], moved_n2, scale, alpha, beta)
+               for tau in range(samples)]
+    costs = np.array([r[0] for r in results])
+    best = int(np.argmin(costs))
+    return _alignment(best, costs, rotation, translation, results[best][1], results[best][2], n1, n2, begin)
+
+
+def _resampled(first: Boundary, second: Boundary, samples: int):
+    """Both boundaries resampled by arc length, their normals there, and the first's RMS radius (J1's scale)."""
+    x, nearest1 = resample_loop(first.points, samples)
+    y, nearest2 = resample_loop(second.points, samples)
+    scale = float(np.sqrt(np.mean(np.sum((x - x.mean(axis=0)) ** 2, axis=1))))
+    return x, first.normals[nearest1], y, second.normals[nearest2], scale
+
+
+def _alignment(best, costs, rotation, translation, edge, crossing, n1, n2, begin) -> Alignment:
+    samples = len(costs)
     target = (best - np.arange(samples)) % samples
     facing = float(np.mean(np.sum(n1[target] * (n2 @ rotation.T), axis=1)))
-    return Alignment(rotation=rotation, translation=translation, shift=best / samples, cost=cost, edge_cost=edge,
-                     crossing_cost=crossing, facing=facing, costs=costs, seconds=time.perf_counter() - begin)
+    return Alignment(rotation=rotation, translation=translation, shift=best / samples, cost=float(costs[best]),
+                     edge_cost=edge, crossing_cost=crossing, facing=facing, costs=costs,
+                     seconds=time.perf_counter() - begin)
 
 
 def strip_faces(first: Boundary, second: Boundary, shift: float, offset: int) -> np.ndarray:
@@ -399,7 +437,7 @@ class Stitched:
 
 
 def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.0, samples: int = 128,
-           workers: int = 2, name: str | None = None) -> Stitched:
+           workers: int = 2, name: str | None = None, motion: np.ndarray | None = None) -> Stitched:
     """JASNOM: align ``second`` onto ``first`` by their longest boundaries and stitch them into one model.
 
     The longest loops align the meshes (7.2-7.3, 7.5). Beyond the thesis, the other loops
@@ -416,6 +454,11 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
         As for :func:`align`.
     name : str, optional
         The stitched model's name (default: ``first.name + "+" + second.name``).
+    motion : (4, 4) float, optional
+        A known rigid motion of ``second`` into ``first``'s frame (registered cameras, a
+        turntable): no alignment is searched, only the shift (:func:`alignment_at`), and
+        boundaries that do not face each other there (a gap of grazing surface between two
+        opposite scans) are stitched anyway, with a warning.
 
     Returns
     -------
@@ -431,8 +474,19 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
     """
     loops1, loops2 = boundaries(first), boundaries(second)
     b1, b2 = _longest(loops1, first.name), _longest(loops2, second.name)
-    alignment = align(b1, b2, alpha=alpha, beta=beta, samples=samples, workers=workers)
-    if alignment.facing > 0:
+    if motion is None:
+        alignment = align(b1, b2, alpha=alpha, beta=beta, samples=samples, workers=workers)
+    else:
+        motion = np.asarray(motion, np.float64)
+        if (motion.shape != (4, 4) or not np.allclose(motion[:3, :3] @ motion[:3, :3].T, np.eye(3), atol=1e-6)
+                or np.linalg.det(motion[:3, :3]) < 0):
+            raise StitchError(f"motion must be a 4x4 rigid transform (a rotation, no reflection), got {motion.shape}")
+        alignment = alignment_at(b1, b2, motion[:3, :3], motion[:3, 3], alpha=alpha, beta=beta, samples=samples)
+    if alignment.facing > 0 and motion is not None:
+        log.warning("%s and %s do not face each other across their boundaries at the given motion (mean cosine of "
+                    "the boundary normals %+.2f): the strip spans a gap the scans did not see", first.name,
+                    second.name, alignment.facing)
+    elif alignment.facing > 0:
         raise StitchError(f"{first.name} and {second.name} do not face each other across their boundaries after "
                           f"the best alignment (mean cosine of the boundary normals {alignment.facing:+.2f}): either "
                           "both are wound the same way round the cut (reverse one's faces) or their longest "

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from heatdata.mesh import boundary_loops, consistent_winding
+from heatdata.mesh import boundary_loops, consistent_winding, surface_distances, surface_samples
 
 SQUARE = np.array([[0, 1, 2], [0, 2, 3]])  # two counter-clockwise triangles
 TETRAHEDRON = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]])
@@ -32,3 +32,26 @@ def test_winding_is_made_consistent_by_the_majority():
     assert count == 1 and np.array_equal(faces, TETRAHEDRON)
     faces, count = consistent_winding(TETRAHEDRON)
     assert count == 0 and np.array_equal(faces, TETRAHEDRON)
+
+
+def test_surface_samples_are_uniform_by_area_on_the_mesh():
+    # a unit square (two triangles) and a 3x1 rectangle beside it: a quarter of the samples on the square
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [4, 0, 0], [4, 1, 0]], float)
+    faces = np.array([[0, 1, 2], [0, 2, 3], [1, 4, 5], [1, 5, 2]])
+    points = surface_samples(vertices, faces, 40000, seed=3)
+    assert np.allclose(points[:, 2], 0) and (points[:, :2] >= 0).all() and (points[:, 0] <= 4).all()
+    assert (points[:, 1] <= 1).all()
+    assert abs((points[:, 0] < 1).mean() - 0.25) < 0.01
+    np.testing.assert_array_equal(points, surface_samples(vertices, faces, 40000, seed=3))
+
+
+def test_surface_distances_of_two_concentric_spheres_are_the_radii_gap():
+    import trimesh
+
+    inner = trimesh.creation.icosphere(subdivisions=4, radius=1.0)
+    outer = (inner.vertices * 1.1, inner.faces)
+    out, back = surface_distances((inner.vertices, inner.faces), outer, samples=5000)
+    # the polyhedra's faces lie inside their spheres by at most r (1 - cos(edge/2r)): about 2e-4 r here
+    assert np.allclose(out, 0.1, atol=2e-3) and np.allclose(back, 0.1, atol=2e-3)
+    same, _ = surface_distances((inner.vertices, inner.faces), (inner.vertices, inner.faces), samples=1000)
+    assert same.max() < 1e-5

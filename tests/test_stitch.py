@@ -64,6 +64,36 @@ def test_the_shift_search_in_processes_gives_the_same_answer(ellipsoid):
     np.testing.assert_allclose(one.rotation, two.rotation)
 
 
+def test_a_known_motion_is_used_as_given_and_only_the_shift_is_searched(ellipsoid, caplog):
+    a, b = split_model(ellipsoid, [0.3, 1.0, 0.2], amplitude=0.05)
+    rotation, translation = MOTION
+    moved = transformed(b, rotation.as_matrix(), translation)
+    inverse = np.eye(4)
+    inverse[:3, :3] = rotation.inv().as_matrix()
+    inverse[:3, 3] = -rotation.inv().apply(translation)
+    result = stitch(a, moved, motion=inverse, samples=64)
+    np.testing.assert_allclose(result.alignment.rotation, inverse[:3, :3])
+    np.testing.assert_allclose(result.alignment.translation, inverse[:3, 3])
+    assert result.alignment.edge_cost < 0.02 and result.alignment.facing < -0.5  # half a sample apart at most
+    mesh = as_trimesh(result.model)
+    assert mesh.is_watertight and mesh.is_winding_consistent
+    assert mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=1e-3)
+    # a motion a tenth of the size off costs more, even at its own best shift
+    off = inverse.copy()
+    off[:3, 3] += [0.02, 0.0, 0.0]
+    assert stitch(a, moved, motion=off, samples=64).alignment.edge_cost > 3 * result.alignment.edge_cost
+    # at a given motion, boundaries that do not face each other are a gap to span: a warning, not an error
+    caplog.set_level(logging.WARNING, logger="heatdata.stitch")
+    lifted = np.eye(4)
+    lifted[1, 3] = 0.05  # the same half again, above itself: both boundaries' normals point down
+    assert stitch(a, a, motion=lifted, samples=32).alignment.facing > 0.5
+    assert "do not face each other across their boundaries at the given motion" in caplog.text
+    with pytest.raises(StitchError, match="4x4 rigid transform"):
+        stitch(a, moved, motion=np.diag([1.0, -1.0, 1.0, 1.0]))
+    with pytest.raises(StitchError, match="4x4 rigid transform"):
+        stitch(a, moved, motion=np.eye(3))
+
+
 def test_the_assignment_preserves_order_and_reverses_direction():
     first = np.arange(8) / 8
     np.testing.assert_array_equal(order_preserving_assignment(first, first, 0.0), [0, 7, 6, 5, 4, 3, 2, 1])
@@ -127,7 +157,7 @@ def test_bad_meshes_are_clear_errors(ellipsoid, caplog):
         split_model(ellipsoid, [0.0, 1.0, 0.0], offset=1.0)
 
 
-def test_the_command_writes_a_closed_coloured_mesh(ellipsoid, tmp_path, capsys):
+def test_the_command_writes_a_closed_coloured_mesh(ellipsoid, tmp_path, capsys, caplog):
     import json
 
     from heatdata.cli import main
@@ -143,6 +173,19 @@ def test_the_command_writes_a_closed_coloured_mesh(ellipsoid, tmp_path, capsys):
     mesh = trimesh.load(tmp_path / "ab.ply", process=False)
     assert mesh.is_watertight and mesh.is_winding_consistent and mesh.visual.vertex_colors[:, 2].max() > 200
     assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "x.txt")]) == 1
+    # registered scans: the known motion is used as given
+    inverse = np.eye(4)
+    inverse[:3, :3] = MOTION[0].inv().as_matrix()
+    inverse[:3, 3] = -MOTION[0].inv().apply(MOTION[1])
+    np.savetxt(tmp_path / "motion.txt", inverse)
+    assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
+                 "--samples", "32", "--motion", str(tmp_path / "motion.txt")]) == 0
+    np.testing.assert_allclose(json.loads(capsys.readouterr().out)["rotation"], inverse[:3, :3], atol=1e-6)
+    for bad, text in (("letters.txt", "1 2\n3 x\n"), ("small.txt", "1 0 0\n0 1 0\n0 0 1\n")):
+        (tmp_path / bad).write_text(text)
+        assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
+                     "--motion", str(tmp_path / bad)]) == 1
+        assert f"{bad}: not a 4x4 matrix" in caplog.text
 
 
 def test_a_cut_leaving_two_loops_is_aligned_by_the_longest_and_closed_at_both():
