@@ -157,7 +157,8 @@ def cmd_stitch(args: argparse.Namespace) -> None:
         if motion.shape != (4, 4):
             raise HeatdataError(f"{args.motion}: not a 4x4 matrix of numbers (shape {motion.shape})")
         motion[:3, 3] *= args.scale
-    first, second = (load_model(path, scale=args.scale) for path in (args.first, args.second))
+    # a given motion relates the files' own frames, which loading would otherwise recentre
+    first, second = (load_model(path, scale=args.scale, center=motion is None) for path in (args.first, args.second))
     result = stitch(first, second, alpha=args.alpha, beta=args.beta, samples=args.samples, workers=args.jobs,
                     name=out.stem, motion=motion)
     save_model(result.model, out)

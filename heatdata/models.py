@@ -141,6 +141,7 @@ def load_model(
     rotation: np.ndarray | None = None,
     name: str | None = None,
     label: str = "",
+    center: bool = True,
 ) -> Model:
     """Load a mesh file into a :class:`Model` in metres.
 
@@ -158,6 +159,9 @@ def load_model(
         Rotation applied before scaling (a Sweet Home 3D ``modelRotation``).
     name, label : str
         Object identifier (default: the file stem) and class.
+    center : bool
+        Move the bounding box's centre to the origin (default). False keeps the file's
+        frame (scaled), e.g. for scans whose frames are registered to each other.
 
     Returns
     -------
@@ -221,7 +225,8 @@ def load_model(
         raise ModelError(f"{path}: the model has NaN or infinite vertex coordinates")
     if rotation is not None:
         vertices = vertices @ np.asarray(rotation, float).T
-    vertices = vertices - 0.5 * (vertices.max(axis=0) + vertices.min(axis=0))
+    if center:
+        vertices = vertices - 0.5 * (vertices.max(axis=0) + vertices.min(axis=0))
     if size is not None:
         extents = vertices.max(axis=0) - vertices.min(axis=0)
         flat = extents <= 0  # a flat model keeps zero thickness; its other axes are scaled

@@ -54,6 +54,11 @@ def test_size_and_scale(tmp_path):
     assert np.allclose(hd.load_model(path, scale=0.01).extents, [0.2, 0.1, 0.05])
     assert np.allclose(hd.load_model(path, size=(0.3, 0.3, 0.3)).extents, 0.3)
     assert np.allclose(hd.load_model(path).center, 0.0)
+    moved = colored_box((20.0, 10.0, 5.0))
+    moved.apply_translation([100.0, 0.0, -50.0])
+    moved.export(path)
+    assert np.allclose(hd.load_model(path, scale=0.01).center, 0.0)
+    assert np.allclose(hd.load_model(path, scale=0.01, center=False).center, [1.0, 0.0, -0.5])  # the file's frame
 
 
 def test_missing_file(tmp_path):

@@ -181,6 +181,8 @@ def test_the_command_writes_a_closed_coloured_mesh(ellipsoid, tmp_path, capsys, 
     assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
                  "--samples", "32", "--motion", str(tmp_path / "motion.txt")]) == 0
     np.testing.assert_allclose(json.loads(capsys.readouterr().out)["rotation"], inverse[:3, :3], atol=1e-6)
+    mesh = trimesh.load(tmp_path / "ab.ply", process=False)  # the files' own frames, not recentred ones
+    assert mesh.is_watertight and mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=1e-3)
     for bad, text in (("letters.txt", "1 2\n3 x\n"), ("small.txt", "1 0 0\n0 1 0\n0 0 1\n")):
         (tmp_path / bad).write_text(text)
         assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),

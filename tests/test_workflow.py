@@ -185,6 +185,11 @@ def test_report_is_self_contained_html(tiny_run):
     ({"stitch": {"pairs": [{"object": "x", "first": "/no/top.ply", "second": "/no/bottom.ply"}]}},
      "stitch.pairs[0]: /no/top.ply, /no/bottom.ply do(es) not exist"),
     ({"stitch": {"pairs": [{"object": "x", "first": "a.ply"}]}}, "'second' is a required property"),
+    ({"stitch": {"pairs": [{"object": "x", "first": str(ROOT / "README.md"), "second": str(ROOT / "README.md"),
+                            "motion": [[1, 0, 0, 0], [0, -1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}]}},
+     "stitch.pairs[0].motion is not a rigid motion"),
+    ({"stitch": {"pairs": [{"object": "x", "first": "a.ply", "second": "b.ply", "motion": [[1, 0, 0]]}]}},
+     "motion"),
 ])
 def test_bad_config_is_rejected_before_any_job(tmp_path, overrides, message):
     result = snakemake(tmp_path, tiny_config(**overrides), "--dry-run")
@@ -334,12 +339,15 @@ def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
     mug = closed_part(load_catalog_model(catalog.loc["beer-mug"]))
     top, bottom = split_model(mug, [0.2, 1.0, 0.1])
     save_model(top, tmp_path / "top.ply")
-    save_model(transformed(bottom, Rotation.from_rotvec([0.4, 1.2, -0.3]).as_matrix(), [0.2, 0.0, 0.1]),
-               tmp_path / "bottom.ply")
+    rotation, translation = Rotation.from_rotvec([0.4, 1.2, -0.3]), np.array([0.2, 0.0, 0.1])
+    save_model(transformed(bottom, rotation.as_matrix(), translation), tmp_path / "bottom.ply")
     pair = {"object": "stitched-mug", "label": "mug", "first": str(tmp_path / "top.ply"),
             "second": str(tmp_path / "bottom.ply")}
+    back = np.eye(4)  # registered cameras: the motion is given
+    back[:3, :3], back[:3, 3] = rotation.inv().as_matrix(), -rotation.inv().apply(translation)
+    registered = {**pair, "object": "registered-mug", "motion": back.tolist()}
     config = tiny_config(objects=["plastic-cup"], views={"train": 4, "test": 3}, library_sizes=[4],
-                         stitch={"pairs": [pair], "samples": 32})
+                         stitch={"pairs": [pair, registered], "samples": 32})
     config["descriptors"] = config["descriptors"][:1]
     result = snakemake(tmp_path / "run", config)
     assert result.returncode == 0, result.stderr[-3000:]
@@ -351,7 +359,10 @@ def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
     assert (results / "figures" / "stitch" / "stitched-mug.png").stat().st_size > 10_000
     views, _ = read_table(results / "views" / "stitched-mug.parquet")
     assert len(views) == 7 and set(views["label"]) == {"mug"}
-    assert "stitched-mug" in pd.read_csv(results / "catalog.csv")["object"].tolist()
+    assert {"stitched-mug", "registered-mug"} <= set(pd.read_csv(results / "catalog.csv")["object"])
+    given = yaml.safe_load((results / "stitched" / "registered-mug.json").read_text())
+    np.testing.assert_allclose(given["rotation"], back[:3, :3], atol=1e-9)
+    assert trimesh.load(results / "stitched" / "registered-mug.ply", process=False).is_watertight
     duplicate = snakemake(tmp_path / "run2", {**config, "stitch": {"pairs": [{**pair, "object": "plastic-cup"}]}},
                           "--dry-run")
     assert duplicate.returncode != 0 and "already one of the run's objects" in duplicate.stdout + duplicate.stderr

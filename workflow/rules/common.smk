@@ -3,6 +3,7 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 import heatdata
@@ -88,6 +89,11 @@ def stitched_objects(catalog):
         missing = [pair[key] for key in ("first", "second") if not Path(pair[key]).is_file()]
         if missing:
             _config_error(f"stitch.pairs[{k}]: {', '.join(missing)} do(es) not exist")
+        motion = np.asarray(pair.get("motion", np.eye(4)), float)
+        if not (np.allclose(motion[:3, :3] @ motion[:3, :3].T, np.eye(3), atol=1e-6)
+                and np.linalg.det(motion[:3, :3]) > 0 and np.allclose(motion[3], [0, 0, 0, 1])):
+            _config_error(f"stitch.pairs[{k}].motion is not a rigid motion (a rotation, no reflection, last row "
+                          "0 0 0 1)")
         if pair["object"] in catalog.index or pair["object"] in [r["object"] for r in rows]:
             _config_error(f"stitch.pairs[{k}]: object {pair['object']!r} is already one of the run's objects")
         rows.append({"object": pair["object"], "label": pair.get("label", "") or pair["object"],

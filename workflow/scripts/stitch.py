@@ -1,6 +1,8 @@
 """JASNOM on one configured pair of meshes (rule stitch, thesis ch. 7)."""
 import json
 
+import numpy as np
+
 from heatdata.figures import plot_stitch
 from heatdata.log import setup_logging
 from heatdata.models import load_model, save_model
@@ -9,9 +11,14 @@ from heatdata.stitch import stitch
 setup_logging(path=snakemake.log[0])
 pair, settings = snakemake.params.pair, snakemake.params.settings
 scale = pair.get("scale", 1.0)
-first, second = (load_model(path, scale=scale, label=pair.get("label", "")) for path in snakemake.input)
+motion = None
+if "motion" in pair:  # registered cameras: translation in file units, between the files' own frames
+    motion = np.array(pair["motion"], float)
+    motion[:3, 3] *= scale
+first, second = (load_model(path, scale=scale, label=pair.get("label", ""), center=motion is None)
+                 for path in snakemake.input)
 result = stitch(first, second, alpha=settings["alpha"], beta=settings["beta"], samples=settings["samples"],
-                workers=snakemake.threads, name=pair["object"])
+                workers=snakemake.threads, name=pair["object"], motion=motion)
 save_model(result.model, snakemake.output.model)
 a = result.alignment
 strip = len(result.model.faces) - len(first.faces) - len(second.faces)
