@@ -9,6 +9,7 @@ The README's "Using the library" runs a whole example (recognition, the baseline
 """
 
 from .catalog import catalog_from_folder, embedded_catalog, import_sh3f, load_catalog_model, read_catalog
+from .depth import read_depth, read_organized_cloud, view_from_depth, write_depth
 from .distance import chi_square_matrix, mhd, mhd_matrix, nearest_pair_mhd, weighted_mhd
 from .descriptors import (COLOR_MAPS, DESCRIPTORS, Descriptor, DescriptorSpec, c_pvhk, describe, distance, fit_spec,
                           ft_pvhk, global_derivative, heat_kernel, object_time_scale, part_weights, pvhk, pvst,
@@ -41,5 +42,6 @@ __all__ = [
     "ModelError", "nearest_neighbours", "stitch", "StitchError", "nearest_pair_mhd", "object_time_scale",
     "other_object_distances", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "RenderError",
     "sample_boundary", "select_sources", "source_vertex", "Spectrum", "SpectrumError", "View", "view_time_scale",
-    "ViewError", "weighted_mhd", "__version__",
+    "ViewError", "weighted_mhd", "view_from_depth", "read_depth", "read_organized_cloud", "write_depth",
+    "__version__",
 ]

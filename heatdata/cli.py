@@ -21,6 +21,7 @@ from tqdm.contrib.logging import logging_redirect_tqdm
 
 from .catalog import embedded_catalog, import_sh3f, load_catalog_model, read_catalog
 from .dataset import describe_object, view_plan
+from .depth import MAX_DEPTH_JUMP, read_depth, read_organized_cloud
 from .descriptors import COLOR_KIND, DEFAULT_KIND, DESCRIPTORS, KINDS, DescriptorSpec, describe, file_name
 from .errors import HeatdataError
 from .evaluate import classify, evaluate_library_sizes, precision_by_object, precision_table
@@ -139,6 +140,35 @@ def cmd_render(args: argparse.Namespace) -> None:
     out.parent.mkdir(parents=True, exist_ok=True)
     view.save(out)
     print(json.dumps({"view": str(out), "vertices": view.n_vertices, "faces": len(view.faces),
+                      "boundary": len(view.boundary), "repairs": view.repairs}))
+
+
+def cmd_view_from_depth(args: argparse.Namespace) -> None:
+    """A view from real data: a depth image (16-bit PNG in mm, float .npy in m) with intrinsics, or an organized
+    cloud (PCD, range-map PLY); written as a .npz view, a coloured .ply, or both."""
+    outs = [Path(p) for p in args.out]
+    bad = [str(p) for p in outs if p.suffix.lower() not in (".npz", ".ply") or p.is_dir()]
+    if bad:
+        raise HeatdataError(f"{', '.join(bad)}: a view is written to a .npz (for heatdata) or a .ply (to look at)")
+    source = Path(args.input)
+    if source.suffix.lower() in (".pcd", ".ply"):
+        if args.intrinsics or args.rgb or args.mask or args.depth_range:
+            raise HeatdataError(f"{source}: an organized cloud carries its own grid and colours; --intrinsics, "
+                                "--rgb, --mask and --depth-range are for depth images")
+        view = read_organized_cloud(source, scale=args.scale, max_depth_jump=args.max_depth_jump)
+    else:
+        if args.intrinsics is None:
+            raise HeatdataError(f"{source}: a depth image needs --intrinsics (JSON or YAML with fx, fy, cx, cy, "
+                                "width, height)")
+        view = read_depth(source, args.intrinsics, args.rgb, args.mask, depth_range=args.depth_range,
+                          max_depth_jump=args.max_depth_jump)
+    for out in outs:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        if out.suffix.lower() == ".npz":
+            view.save(out)
+        else:
+            view.to_ply(out)
+    print(json.dumps({"views": [str(p) for p in outs], "vertices": view.n_vertices, "faces": len(view.faces),
                       "boundary": len(view.boundary), "repairs": view.repairs}))
 
 
@@ -314,6 +344,22 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--seed", type=_number(0, whole=True), default=0, help="seed of the sensor noise (default 0)")
     render.add_argument("--no-noise", action="store_true", help="render without the Kinect noise of thesis 2.6.1")
     render.set_defaults(func=cmd_render)
+
+    depth = sub.add_parser("view-from-depth", help="a view from a depth image or an organized point cloud",
+                           description=cmd_view_from_depth.__doc__)
+    depth.add_argument("input", type=Path, help="depth image (.png 16-bit mm, .npy float m) or cloud (.pcd, .ply)")
+    depth.add_argument("-o", "--out", type=Path, required=True, action="append",
+                       help="output .npz view and/or .ply mesh with colours (repeatable)")
+    depth.add_argument("--intrinsics", type=Path, help="JSON or YAML: fx, fy, cx, cy, width, height (depth images)")
+    depth.add_argument("--rgb", type=Path, help="colour image registered to the depth image")
+    depth.add_argument("--mask", type=Path, help="image whose non-zero pixels are the object's")
+    depth.add_argument("--depth-range", type=_number(0.0), nargs=2, metavar=("NEAR", "FAR"),
+                       help="without a mask: keep the pixels between these depths, metres")
+    depth.add_argument("--scale", type=_number(positive=True), default=1.0,
+                       help="cloud units to metres (default 1; MeshLab range maps are often mm: 0.001)")
+    depth.add_argument("--max-depth-jump", type=_number(positive=True), default=MAX_DEPTH_JUMP,
+                       help=f"relative depth step that cuts the mesh (default {MAX_DEPTH_JUMP})")
+    depth.set_defaults(func=cmd_view_from_depth)
 
     join = sub.add_parser("stitch", help="JASNOM: one model from two non-overlapping meshes (thesis ch. 7)",
                           description=cmd_stitch.__doc__)

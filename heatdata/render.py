@@ -6,8 +6,9 @@ centre with the model's +y up in the image. Rays of a 640x480 pinhole camera
 (f = 580 px) are cast with open3d's CPU ``RaycastingScene``; only pixels inside the
 projected bounding box are cast. Depth noise follows 2.6.1: z = z0 + z0^2 eps,
 eps ~ N(0, tau^2), tau = 1.42e-3 1/m. The organized depth grid becomes a triangle mesh
-of the visible surface: neighbouring pixels are joined unless their depths differ by
-more than ``max_depth_jump`` times the depth.
+of the visible surface by :func:`heatdata.depth.grid_view`, as a captured depth image is:
+neighbouring pixels are joined unless their depths differ by more than
+``max_depth_jump`` times the depth.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import logging
 import numpy as np
 import open3d as o3d
 
+from .depth import MAX_DEPTH_JUMP, grid_view
 from .errors import RenderError
 from .models import Model
 from .view import KINECT_INTRINSICS, View
@@ -77,28 +79,6 @@ def _hit_colors(model: Model, face: np.ndarray, bary: np.ndarray) -> np.ndarray:
     return np.clip(colors, 0.0, 1.0).astype(np.float64)
 
 
-def _grid_faces(index: np.ndarray, depth: np.ndarray, max_jump: float) -> np.ndarray:
-    """Triangles joining neighbouring valid pixels of an organized grid.
-
-    Each 2x2 pixel block gives two triangles when its four pixels are valid, or one
-    when three are; a triangle is dropped when two of its pixels differ in depth by
-    more than ``max_jump`` times their mean depth (a depth discontinuity).
-    """
-    a, b = index[:-1, :-1], index[:-1, 1:]
-    c, d = index[1:, :-1], index[1:, 1:]
-    candidates = [
-        (a, b, c, (a >= 0) & (b >= 0) & (c >= 0)),
-        (b, d, c, (b >= 0) & (c >= 0) & (d >= 0)),
-        (a, b, d, (a >= 0) & (b >= 0) & (d >= 0) & (c < 0)),
-        (a, d, c, (a >= 0) & (c >= 0) & (d >= 0) & (b < 0)),
-    ]
-    faces = np.concatenate([np.column_stack([p[m], q[m], r[m]]) for p, q, r, m in candidates])
-    z = depth[faces]
-    mean = z.mean(axis=1)
-    spread = z.max(axis=1) - z.min(axis=1)
-    return faces[spread <= max_jump * mean]
-
-
 def render_view(
     model: Model,
     azimuth: float = 0.0,
@@ -109,7 +89,7 @@ def render_view(
     seed: int | None = 0,
     tau: float = KINECT_TAU,
     intrinsics: dict | None = None,
-    max_depth_jump: float = 0.02,
+    max_depth_jump: float = MAX_DEPTH_JUMP,
     view_id: str | None = None,
 ) -> View:
     """Render the partial view of ``model`` seen from a view angle.
@@ -141,7 +121,9 @@ def render_view(
     Raises
     ------
     RenderError
-        The model is not in the field of view, or the view has too few vertices.
+        The model is not in the field of view or not seen.
+    ViewError
+        The visible surface has no triangle, or too few vertices (:func:`heatdata.depth.grid_view`).
     """
     k = dict(KINECT_INTRINSICS if intrinsics is None else intrinsics)
     pose = camera_pose(model.center, azimuth, elevation, distance)
@@ -173,17 +155,12 @@ def render_view(
         rng = np.random.default_rng(seed)
         depth[valid] += depth[valid] ** 2 * rng.normal(0.0, tau, int(valid.sum()))
 
-    index = np.full(depth.shape, -1, np.int64)
-    index[valid] = np.arange(int(valid.sum()))
-    vertices = directions[valid] * depth[valid][:, None]
+    depth[~valid] = np.nan
     face_ids = hits["primitive_ids"].numpy().reshape(cols.shape)[valid].astype(np.int64)
     bary = hits["primitive_uvs"].numpy().reshape(*cols.shape, 2)[valid]
-    colors = _hit_colors(model, face_ids, bary)
-    faces = _grid_faces(index, depth[valid], max_depth_jump)
-    if len(faces) == 0:
-        raise RenderError(f"{name}: the visible surface has no triangle ({int(valid.sum())} pixels)")
-    view = View.from_arrays(
-        vertices, faces, colors, intrinsics=k, view_id=name, object_id=model.name, label=model.label,
-        azimuth=float(azimuth), elevation=float(elevation), distance=float(distance), pose=pose,
-        repairs=list(model.repairs))
-    return view.largest_component()
+    colors = np.zeros((*cols.shape, 3))
+    colors[valid] = _hit_colors(model, face_ids, bary)
+    # the same triangulation as a captured depth image's
+    return grid_view(directions * depth[..., None], colors, max_depth_jump=max_depth_jump, intrinsics=k,
+                     view_id=name, object_id=model.name, label=model.label, azimuth=float(azimuth),
+                     elevation=float(elevation), distance=float(distance), pose=pose, repairs=list(model.repairs))

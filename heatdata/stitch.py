@@ -448,8 +448,8 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
     ----------
     first, second : Model
         Two meshes that together cover an object without overlapping, each a 2-manifold
-        with a boundary, consistently wound (outward normals, as a scan's faces face its
-        camera).
+        with a boundary, both wound the same way about the object (both outwards, or both
+        inwards as two of heatdata's views are, whose faces point away from their cameras).
     alpha, beta, samples, workers
         As for :func:`align`.
     name : str, optional

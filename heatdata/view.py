@@ -155,6 +155,13 @@ class View:
         view.check_size()
         return view
 
+    def to_ply(self, path) -> None:
+        """Write the view as a binary PLY with vertex colours (MeshLab, Open3D and PCL open it), camera frame."""
+        import trimesh
+
+        colors = np.round(np.clip(self.colors, 0.0, 1.0) * 255).astype(np.uint8)
+        trimesh.Trimesh(self.vertices, self.faces, vertex_colors=colors, process=False).export(path, file_type="ply")
+
     def save(self, path) -> None:
         """Write the view to a ``.npz`` file (arrays plus identifiers and intrinsics)."""
         np.savez_compressed(

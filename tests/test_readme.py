@@ -26,3 +26,6 @@ def test_the_using_the_library_example_runs_as_written(tmp_path):
     assert re.search(r"compact library of the coffee cup: candidate \[(\d+, ){7}\d+\] of each view", run.stdout)
     assert "three stops: coffee-cup (particles), coffee-cup (exhaustive)" in run.stdout
     assert re.search(r"stitched: [12] loop pair\(s\), 0 open", run.stdout)
+    back = re.search(r"read back from the depth PNG: (\d+) of (\d+) vertices", run.stdout)
+    assert back and abs(int(back.group(1)) - int(back.group(2))) <= 0.02 * int(back.group(2))
+    assert re.search(r"a real face scan: \d{5} vertices; \(64,\)", run.stdout)
