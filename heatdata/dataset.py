@@ -254,6 +254,20 @@ def render_object_views(row: dict, views: dict) -> pd.DataFrame:
     return views_to_frame(render_views(model, plan, noise=views["noise"], intrinsics=intrinsics), plan)
 
 
+def capture_view_table(captures: list[dict], label: str = "", *, depth_range=None,
+                       max_depth_jump: float | None = None) -> pd.DataFrame:
+    """Workflow step: one object's captures (:func:`heatdata.depth.find_captures`) as test views of a
+    :data:`VIEW_SCHEMA` frame (split ``test``: described as rendered test views are; angles unknown, NaN)."""
+    from .depth import MAX_DEPTH_JUMP, read_depth
+    from .tables import views_to_frame
+
+    views = [read_depth(c["depth"], c["intrinsics"], c["rgb"] or None, c["mask"] or None,
+                        depth_range=depth_range or None, max_depth_jump=max_depth_jump or MAX_DEPTH_JUMP,
+                        view_id=f"{c['object']}/capture/{c['name']}", object_id=c["object"], label=label)
+             for c in captures]
+    return views_to_frame(views, pd.DataFrame({"split": "test", "seed": 0}, index=range(len(views))))
+
+
 def describe_view_table(frame: pd.DataFrame, specs: list[DescriptorSpec], time_scales: pd.DataFrame | None = None
                         ) -> pd.DataFrame:
     """Workflow step: descriptor rows of the views of a :data:`VIEW_SCHEMA` frame."""

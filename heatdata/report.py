@@ -10,6 +10,7 @@ import yaml
 
 from .catalog import read_catalog
 from .descriptors import DescriptorSpec, file_name
+from .evaluate import precision_table
 from .figures import (RENDERED_NOTE, draw_example_views, plot_confusion, plot_descriptor_curves, plot_isomap,
                       plot_misclassified, plot_precision, plot_view_confusion)
 from .tables import frame_to_views, read_table
@@ -167,3 +168,26 @@ def trials_page(summary: pd.DataFrame, descriptor: str, runs: int) -> str:
                       "exhaustive: the exact filter over every object and degree (converged at 99%). "
                       + RENDERED_NOTE]),
         ("", "table", shown)])
+
+
+def captures_page(predictions: pd.DataFrame, primary: str) -> str:
+    """Captured depth images recognized against the library: precision per descriptor and library size, and
+    each capture's nearest library view with ``primary`` at the largest library, as an HTML page."""
+    table = precision_table(predictions)
+    overall = table[table["group"] == "all"].pivot_table(index=["descriptor", "library_size"], columns="level",
+                                                         values="precision").reset_index()
+    overall = overall.rename(columns={"library_size": "library views", "object": "object precision",
+                                      "class": "class precision"}).rename_axis(columns=None)
+    for column in ("object precision", "class precision"):
+        overall[column] = (100 * overall[column]).map("{:.1f}%".format)
+    mine = predictions[(predictions["descriptor"] == primary)
+                       & (predictions["library_size"] == predictions["library_size"].max())]
+    each = mine[["view_id", "object", "predicted_object", "predicted_view_id", "distance", "correct"]].round(
+        {"distance": 4})
+    captures = predictions["view_id"].nunique()
+    return html_page("Captured depth images", [
+        ("", "text", [f"{captures} captures of {predictions['object'].nunique()} objects, each described as a "
+                      "rendered test view and compared with the run's library views (the nearest wins)."]),
+        ("Precision", "table", overall[["descriptor", "library views", "object precision", "class precision"]]),
+        (f"Each capture with {primary}, {int(mine['library_size'].max()) if len(mine) else 0} library views",
+         "table", each)])

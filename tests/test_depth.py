@@ -11,7 +11,8 @@ import pytest
 from PIL import Image
 
 import heatdata as hd
-from heatdata.depth import back_project, fit_intrinsics, grid_faces
+from heatdata.dataset import capture_view_table
+from heatdata.depth import back_project, find_captures, fit_intrinsics, grid_faces
 
 FACE = Path(pymeshlab.__file__).parent / "tests/sample_meshes/rangemaps/face000.ply"  # a real range scan
 
@@ -178,3 +179,28 @@ def test_the_command_writes_a_view_and_a_ply(rendered, tmp_path, capsys, caplog)
     assert main(["view-from-depth", str(FACE), "--intrinsics", str(tmp_path / "mug.json"),
                  "-o", str(tmp_path / "f.npz")]) == 1
     assert "carries its own grid" in caplog.text
+
+
+def test_a_folder_of_captures_is_found_with_its_colour_masks_and_cameras(rendered, tmp_path):
+    (tmp_path / "beer-mug").mkdir()
+    (tmp_path / "cup").mkdir()
+    hd.write_depth(rendered, tmp_path / "beer-mug" / "a.png")  # its own a.json
+    hd.write_depth(rendered, tmp_path / "cup" / "b.png", tmp_path / "camera.json")  # the folder's shared camera
+    np.save(tmp_path / "cup" / "c.npy", np.full((480, 640), 0.9, np.float32))
+    Image.fromarray(np.zeros((480, 640, 3), np.uint8)).save(tmp_path / "cup" / "b.rgb.png")
+    Image.fromarray(np.full((480, 640), 255, np.uint8)).save(tmp_path / "cup" / "b.mask.png")
+    found = find_captures(tmp_path)
+    assert [(c["object"], c["name"]) for c in found] == [("beer-mug", "a"), ("cup", "b"), ("cup", "c")]
+    assert found[0]["intrinsics"].endswith("beer-mug/a.json") and found[1]["intrinsics"].endswith("/camera.json")
+    assert found[1]["rgb"].endswith("b.rgb.png") and found[1]["mask"].endswith("b.mask.png")
+    assert found[0]["rgb"] == found[2]["mask"] == ""
+    frame = capture_view_table([c for c in found if c["object"] == "cup"], "mug", depth_range=[0.5, 1.5])
+    assert list(frame["view_id"]) == ["cup/capture/b", "cup/capture/c"] and set(frame["split"]) == {"test"}
+    assert set(frame["label"]) == {"mug"} and frame["n_vertices"].iloc[1] == 640 * 480  # a flat wall at 0.9 m
+    (tmp_path / "camera.json").unlink()
+    with pytest.raises(hd.ViewError, match="b.png: no intrinsics"):
+        find_captures(tmp_path)
+    with pytest.raises(hd.ViewError, match="no capture"):
+        find_captures(tmp_path / "beer-mug")
+    with pytest.raises(hd.ViewError, match="no such folder"):
+        find_captures(tmp_path / "none")

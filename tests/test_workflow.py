@@ -185,6 +185,7 @@ def test_report_is_self_contained_html(tiny_run):
     ({"stitch": {"pairs": [{"object": "x", "first": "/no/top.ply", "second": "/no/bottom.ply"}]}},
      "stitch.pairs[0]: /no/top.ply, /no/bottom.ply do(es) not exist"),
     ({"stitch": {"pairs": [{"object": "x", "first": "a.ply"}]}}, "'second' is a required property"),
+    ({"captures": {"dir": "/no/captures"}}, "captures.dir: /no/captures: no such folder of captures"),
     ({"stitch": {"pairs": [{"object": "x", "first": str(ROOT / "README.md"), "second": str(ROOT / "README.md"),
                             "motion": [[1, 0, 0, 0], [0, -1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}]}},
      "stitch.pairs[0].motion is not a rigid motion"),
@@ -325,6 +326,52 @@ def test_smoke_config_plans_a_small_run(tmp_path):
     assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
     assert f"{tmp_path}/smoke/summary.md" in result.stdout
     assert re.search(r"describe +3\b", result.stdout) and re.search(r"classify +4\b", result.stdout)
+
+
+def test_captured_depth_images_are_recognized_against_the_library(tmp_path):
+    """Rule capture_views (thesis 2.1): a folder of depth PNGs, one subfolder per object, as test views."""
+    import json
+
+    from PIL import Image
+
+    import heatdata as hd
+
+    catalog = hd.read_catalog(ROOT / "data/models/catalog.csv").set_index("object", drop=False)
+    captures = tmp_path / "captures"
+    for obj in ("plastic-cup", "beer-mug"):
+        (captures / obj).mkdir(parents=True)
+        model = hd.load_catalog_model(catalog.loc[obj])
+        for k, azimuth in enumerate((50.0, 140.0, 230.0)):
+            view = hd.render_view(model, azimuth, 30.0, 1.0, seed=100 + k)
+            hd.write_depth(view, captures / obj / f"shot{k}.png", captures / "camera.json")  # one camera for all
+            rgb = np.zeros((480, 640, 3), np.uint8)
+            pixels = np.round(view.pixels).astype(int)
+            rgb[pixels[:, 1], pixels[:, 0]] = np.round(view.colors * 255)
+            Image.fromarray(rgb).save(captures / obj / f"shot{k}.rgb.png")
+    config = tiny_config(views={"train": 8, "test": 2}, library_sizes=[8, 4],
+                         captures={"dir": str(captures), "depth_range": [0.5, 1.5]})
+    config["descriptors"] = config["descriptors"][:3]
+    result = snakemake(tmp_path / "run", config)
+    assert result.returncode == 0, result.stderr[-3000:]
+    results = tmp_path / "run" / "results"
+    views, _ = read_table(results / "captures" / "views" / "plastic-cup.parquet")
+    assert len(views) == 3 and set(views["split"]) == {"test"} and views["colors"].map(len).min() > 0
+    assert json.loads(views["intrinsics"].iloc[0])["fx"] == 580.0
+    precision = pd.read_csv(results / "captures" / "precision.csv")
+    assert set(precision["descriptor"]) == {"pvhk/polar/center/32", "pvhk/arclength/closest/32",
+                                            "ft-pvhk/polar/center/32"}
+    overall = precision[(precision["group"] == "all") & (precision["level"] == "object")]
+    assert len(overall) == 6 and overall["precision"].between(0, 1).all()
+    page = (results / "figures" / "captures.html").read_text()
+    assert "6 captures of 2 objects" in page and "plastic-cup/capture/shot0" in page
+    backwards = snakemake(tmp_path / "run3", {**config, "captures": {"dir": str(captures), "depth_range": [1.5, 0.5]}},
+                          "--dry-run")
+    assert backwards.returncode != 0 and "near < far" in backwards.stdout + backwards.stderr
+    (captures / "unicorn").mkdir()
+    (captures / "unicorn" / "x.npy").write_bytes(b"")
+    stray = snakemake(tmp_path / "run2", config, "--dry-run")
+    assert stray.returncode != 0
+    assert "folder(s) ['unicorn'] are not among the run's objects" in stray.stdout + stray.stderr
 
 
 def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):

@@ -8,6 +8,7 @@ import pandas as pd
 
 import heatdata
 from heatdata.catalog import catalog_from_folder, read_catalog, sh3f_catalogs
+from heatdata.depth import find_captures
 from heatdata.descriptors import DESCRIPTORS, DescriptorSpec, file_name
 from heatdata.descriptors.base import article
 from heatdata.errors import HeatdataError
@@ -122,6 +123,20 @@ if config["comparison"]["enabled"]:
     missing = sorted(set(config["comparison"]["isomap_objects"]) - set(OBJECTS))
     if missing:
         _config_error(f"comparison.isomap_objects: {missing} are not among the run's objects")
+CAPTURES = {}  # object -> its captures (heatdata.depth.find_captures)
+if config["captures"]["dir"]:
+    try:
+        for capture in find_captures(config["captures"]["dir"]):
+            CAPTURES.setdefault(capture["object"], []).append(capture)
+    except HeatdataError as exc:
+        _config_error(f"captures.dir: {exc}")
+    unknown = sorted(set(CAPTURES) - set(OBJECTS))
+    if unknown:
+        _config_error(f"captures.dir: folder(s) {unknown} are not among the run's objects (a capture's folder names "
+                      "the object it shows)")
+    depth_range = config["captures"]["depth_range"]
+    if depth_range and (len(depth_range) != 2 or depth_range[0] >= depth_range[1]):
+        _config_error(f"captures.depth_range must be [near, far] with near < far, got {depth_range}")
 MULTIVIEW_DESCRIPTOR = config["multiview"]["descriptor"] or config["primary_descriptor"]
 if config["multiview"]["enabled"]:
     if MULTIVIEW_DESCRIPTOR not in [s.name for s in SPECS]:
