@@ -12,6 +12,23 @@ import scipy.sparse as sp
 from scipy.sparse import csgraph
 
 
+def mesh_edges(faces: np.ndarray, n: int) -> np.ndarray:
+    """(e, 2) int64: the unique undirected edges ``i < j`` of triangles over ``n`` vertices, sorted."""
+    f = np.asarray(faces)
+    a = np.concatenate([f[:, 0], f[:, 1], f[:, 2]])
+    b = np.concatenate([f[:, 1], f[:, 2], f[:, 0]])
+    adjacency = sp.csr_matrix((np.ones(len(a), np.int8), (np.minimum(a, b), np.maximum(a, b))), shape=(n, n))
+    adjacency.sum_duplicates()
+    rows = np.repeat(np.arange(n), np.diff(adjacency.indptr))
+    return np.column_stack([rows, adjacency.indices]).astype(np.int64)
+
+
+def component_labels(edges: np.ndarray, n: int) -> np.ndarray:
+    """(n,) int: the connected-component index of each of ``n`` vertices joined by ``edges`` (e, 2)."""
+    graph = sp.csr_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
+    return csgraph.connected_components(graph, directed=False)[1]
+
+
 def consistent_winding(faces: np.ndarray) -> tuple[np.ndarray, int]:
     """Faces wound consistently with their neighbours, and how many were reversed.
 

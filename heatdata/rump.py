@@ -40,10 +40,11 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components, dijkstra
+from scipy.sparse.csgraph import dijkstra
 from scipy.spatial import cKDTree
 
 from .errors import HeatdataError
+from .mesh import component_labels, mesh_edges
 from .spectrum import HeatOperator, eigen_spectrum, laplacian
 
 T_FIRST, T_LAST = 1.0 / 700.0, 1.0 / 10.0  # the time window of 8.3.2 (m^2, as L is in 1/m^2)
@@ -231,8 +232,7 @@ def rump_heat(vertices: np.ndarray, faces: np.ndarray, landmarks: np.ndarray, *,
     plane[:, 2] = 0.0
     center = int(np.argmin(np.linalg.norm(plane[:, :2] - target.mean(axis=0), axis=1)))
     hip = int(np.argmin(np.linalg.norm(plane[:, :2] - target[0], axis=1)))
-    edges = np.unique(np.sort(np.concatenate([rump_f[:, [0, 1]], rump_f[:, [1, 2]], rump_f[:, [2, 0]]]), axis=1),
-                      axis=0)
+    edges = mesh_edges(rump_f, len(rump_v))
     path = _shortest_path(plane, edges, center, hip)
     times = hbrd_times() if times is None else np.sort(np.asarray(times, dtype=np.float64))
     if times.ndim != 1 or not len(times) or times[0] <= 0:
@@ -312,8 +312,7 @@ def _rump(normalized: np.ndarray, faces: np.ndarray, target: np.ndarray, keep: n
         raise RumpError("no face of the surface lies above the landmarks' plane (z > 0): is ``toward`` the "
                         "sensor's side?")
     n = len(normalized)
-    graph = sp.coo_matrix((np.ones(3 * len(kept)), (kept.ravel(), np.roll(kept, 1, axis=1).ravel())), shape=(n, n))
-    _, label = connected_components(graph, directed=False)
+    label = component_labels(mesh_edges(kept, n), n)
     used = np.unique(kept)
     center = used[np.argmin(np.linalg.norm(normalized[used, :2] - target.mean(axis=0), axis=1))]
     keep = np.zeros(n, bool)

@@ -29,12 +29,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import minimize
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial.transform import Rotation
 
 from .errors import HeatdataError
-from .mesh import boundary_loops, consistent_winding
+from .mesh import boundary_loops, component_labels, consistent_winding, mesh_edges
 from .models import Model, vertex_colors
 
 log = logging.getLogger(__name__)
@@ -577,9 +575,7 @@ def closed_part(model: Model, tolerance: float = 1e-6) -> Model:
     keep[unique] = True
     keep &= good
     n = len(model.vertices)
-    graph = coo_matrix((np.ones(3 * int(keep.sum())), (faces[keep].ravel(), faces[keep][:, [1, 2, 0]].ravel())),
-                       shape=(n, n))
-    _, component = connected_components(graph, directed=False)
+    component = component_labels(mesh_edges(faces[keep], n), n)
     counts = np.bincount(component[faces[keep][:, 0]], minlength=component.max() + 1)
     keep &= component[faces[:, 0]] == int(np.argmax(counts))
     part = _submodel(replace(model, faces=faces), keep, model.name)

@@ -21,11 +21,9 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from .errors import ViewError
-from .mesh import boundary_loops, consistent_winding
+from .mesh import boundary_loops, component_labels, consistent_winding, mesh_edges
 
 log = logging.getLogger(__name__)
 
@@ -205,21 +203,12 @@ class View:
     @cached_property
     def edges(self) -> np.ndarray:
         """(e, 2) int64: unique undirected mesh edges, ``i < j``."""
-        f = self.faces
-        a = np.concatenate([f[:, 0], f[:, 1], f[:, 2]])
-        b = np.concatenate([f[:, 1], f[:, 2], f[:, 0]])
-        n = self.n_vertices
-        adjacency = sp.csr_matrix((np.ones(len(a), np.int8), (np.minimum(a, b), np.maximum(a, b))), shape=(n, n))
-        adjacency.sum_duplicates()
-        rows = np.repeat(np.arange(n), np.diff(adjacency.indptr))
-        return np.column_stack([rows, adjacency.indices]).astype(np.int64)
+        return mesh_edges(self.faces, self.n_vertices)
 
     @cached_property
     def component_labels(self) -> np.ndarray:
         """(n,) int: connected-component index of each vertex."""
-        e = self.edges
-        graph = sp.csr_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(self.n_vertices,) * 2)
-        return connected_components(graph, directed=False)[1]
+        return component_labels(self.edges, self.n_vertices)
 
     @property
     def n_components(self) -> int:
