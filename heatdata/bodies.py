@@ -171,3 +171,14 @@ def rendered_rumps(bodies: list[dict], *, distance: float = 1.2, noise: bool = T
         rotation, position = view.pose[:3, :3], view.pose[:3, 3]
         out.append((view, (model.vertices[template] - position) @ rotation))
     return out
+
+
+def population_table(bodies: list[dict], descriptors: np.ndarray, embedding: np.ndarray):
+    """One row per body: ``weight, muscle, isomap1`` (the Isomap's first axis) and the descriptor ``z0 .. z{K-1}``."""
+    import pandas as pd
+
+    table = pd.DataFrame(descriptors, columns=[f"z{k}" for k in range(descriptors.shape[1])])
+    table.insert(0, "isomap1", embedding[:, 0])
+    table.insert(0, "muscle", [b["muscle"] for b in bodies])
+    table.insert(0, "weight", [b["weight"] for b in bodies])
+    return table

@@ -456,20 +456,22 @@ def plot_stitch(first, second, stitched, strip_faces: int, path: str | Path, tit
     _save(fig, path, note="")
 
 
-def plot_rumps(examples: dict, descriptors: np.ndarray, weights: np.ndarray, embedding: np.ndarray,
-               thin: np.ndarray, path: str | Path, title: str, note: str = RENDERED_NOTE) -> None:
+def plot_rumps(heats: list, weights: np.ndarray, embedding: np.ndarray, thin: np.ndarray, path: str | Path,
+               title: str, note: str = RENDERED_NOTE) -> None:
     """HBRD on a population (thesis Fig. 8.6-8.8).
 
     Parameters
     ----------
-    examples : dict of str -> :class:`heatdata.rump.RumpHeat`
-        Two or three rumps to draw: the temperature difference at the first time, the
-        planar path in black (Fig. 8.6).
-    descriptors : (N, K) float
-        Every rump's HBRD (Fig. 8.7), coloured by ``weights`` (N,).
+    heats : list of :class:`heatdata.rump.RumpHeat`
+        Every rump: the thinnest and the heaviest are drawn, their temperature difference
+        at the first time with the planar path in black (Fig. 8.6); every descriptor
+        (Fig. 8.7) is coloured by ``weights`` (N,).
     embedding : (N, 3) float
-        Their 3D Isomap (Fig. 8.8); ``thin`` (N,) bool marks the thin ones (blue).
+        The descriptors' 3D Isomap (Fig. 8.8); ``thin`` (N,) bool marks the thin ones (blue).
     """
+    weights = np.asarray(weights, float)
+    descriptors = np.array([h.descriptor for h in heats])
+    examples = {f"weight {weights[k]:.2f}": heats[k] for k in (int(np.argmin(weights)), int(np.argmax(weights)))}
     fig = plt.figure(figsize=(4.0 * len(examples) + 9.0, 4.2))
     columns = len(examples) + 2
     for k, (label, heat) in enumerate(examples.items()):
@@ -485,7 +487,7 @@ def plot_rumps(examples: dict, descriptors: np.ndarray, weights: np.ndarray, emb
         fig.colorbar(image, ax=ax, fraction=0.046, label="temperature difference (equilibrium = 1)")
     times = next(iter(examples.values())).times
     ax = fig.add_subplot(1, columns, columns - 1)
-    colours = plt.get_cmap("viridis")(np.asarray(weights, float))
+    colours = plt.get_cmap("viridis")(weights)
     for z, colour in zip(descriptors, colours):
         ax.semilogx(times, z, color=colour, lw=1)
     ax.set_xlabel("time t (m$^2$)")

@@ -34,7 +34,7 @@ import time
 import numpy as np
 import pandas as pd
 
-from heatdata.bodies import population, rendered_rumps
+from heatdata.bodies import population, population_table, rendered_rumps
 from heatdata.figures import PROXY_NOTE, plot_rumps
 from heatdata.rump import condition_measures, population_hbrd
 from heatdata.view import kinect_intrinsics
@@ -82,20 +82,12 @@ def main() -> None:
     if args.ablation_out:
         table.round(4).to_csv(args.ablation_out, index=False)
     if args.out:
-        frame = pd.DataFrame(kept["descriptors"], columns=[f"z{k}" for k in range(kept["descriptors"].shape[1])])
-        frame.insert(0, "isomap1", kept["embedding"][:, 0])
-        frame.insert(0, "muscle", [b["muscle"] for b in bodies])
-        frame.insert(0, "weight", weights)
-        frame.round(6).to_csv(args.out, index=False)
+        population_table(bodies, kept["descriptors"], kept["embedding"]).round(6).to_csv(args.out, index=False)
     if args.figure:
-        thinnest, heaviest = int(np.argmin(weights)), int(np.argmax(weights))
-        plot_rumps({f"weight {weights[thinnest]:.2f}": kept["heats"][thinnest],
-                    f"weight {weights[heaviest]:.2f}": kept["heats"][heaviest]},
-                   kept["descriptors"], weights, kept["embedding"], kept["thin"], args.figure,
+        plot_rumps(kept["heats"], weights, kept["embedding"], kept["thin"], args.figure,
                    f"HBRD of {len(bodies)} MakeHuman bodies (a proxy, not goats), extent {args.extent}: Spearman "
                    f"{kept['spearman_isomap']:.2f} with the weight (Isomap's first axis); thinnest third told "
                    f"apart {kept['loo_accuracy_thin']:.0%} (leave one out)", note=PROXY_NOTE)
-
 
 if __name__ == "__main__":
     main()

@@ -1,8 +1,7 @@
 """HBRD on the proxy population of MakeHuman bodies (rule rump, thesis ch. 8)."""
 import numpy as np
-import pandas as pd
 
-from heatdata.bodies import population, rendered_rumps
+from heatdata.bodies import population, population_table, rendered_rumps
 from heatdata.figures import PROXY_NOTE, plot_rumps
 from heatdata.log import setup_logging
 from heatdata.report import rump_page
@@ -18,14 +17,8 @@ heats = population_hbrd(scans, extent=s["extent"])
 descriptors = np.array([h.descriptor for h in heats])
 weights = np.array([b["weight"] for b in bodies])
 measures = condition_measures(descriptors, weights, neighbours=s["neighbours"])
-table = pd.DataFrame(descriptors, columns=[f"z{k}" for k in range(descriptors.shape[1])])
-table.insert(0, "isomap1", measures["embedding"][:, 0])
-table.insert(0, "muscle", [b["muscle"] for b in bodies])
-table.insert(0, "weight", weights)
-table.to_csv(snakemake.output.descriptors, index=False)
-thinnest, heaviest = int(np.argmin(weights)), int(np.argmax(weights))
-plot_rumps({f"weight {weights[thinnest]:.2f}": heats[thinnest], f"weight {weights[heaviest]:.2f}": heats[heaviest]},
-           descriptors, weights, measures["embedding"], measures["thin"], snakemake.output.figure,
+population_table(bodies, descriptors, measures["embedding"]).to_csv(snakemake.output.descriptors, index=False)
+plot_rumps(heats, weights, measures["embedding"], measures["thin"], snakemake.output.figure,
            f"HBRD of {len(bodies)} MakeHuman bodies (a proxy, not goats): Spearman {measures['spearman_isomap']:.2f} "
            f"with the weight (Isomap's first axis)", note=PROXY_NOTE)
 with open(snakemake.output.page, "w") as out:
