@@ -434,6 +434,17 @@ class Stitched:
     open_loops: int
 
 
+def rigid_motion(motion) -> np.ndarray:
+    """``motion`` as a (4, 4) float64 rigid transform, or a :class:`StitchError`: a rotation (no reflection), a
+    translation, last row 0 0 0 1."""
+    m = np.asarray(motion, np.float64)
+    if (m.shape != (4, 4) or not np.allclose(m[:3, :3] @ m[:3, :3].T, np.eye(3), atol=1e-6)
+            or np.linalg.det(m[:3, :3]) < 0 or not np.allclose(m[3], [0.0, 0.0, 0.0, 1.0])):
+        raise StitchError(f"motion must be a 4x4 rigid transform (a rotation, no reflection, last row 0 0 0 1), "
+                          f"got shape {m.shape}")
+    return m
+
+
 def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.0, samples: int = 128,
            workers: int = 2, name: str | None = None, motion: np.ndarray | None = None) -> Stitched:
     """JASNOM: align ``second`` onto ``first`` by their longest boundaries and stitch them into one model.
@@ -475,10 +486,7 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
     if motion is None:
         alignment = align(b1, b2, alpha=alpha, beta=beta, samples=samples, workers=workers)
     else:
-        motion = np.asarray(motion, np.float64)
-        if (motion.shape != (4, 4) or not np.allclose(motion[:3, :3] @ motion[:3, :3].T, np.eye(3), atol=1e-6)
-                or np.linalg.det(motion[:3, :3]) < 0):
-            raise StitchError(f"motion must be a 4x4 rigid transform (a rotation, no reflection), got {motion.shape}")
+        motion = rigid_motion(motion)
         alignment = alignment_at(b1, b2, motion[:3, :3], motion[:3, 3], alpha=alpha, beta=beta, samples=samples)
     if alignment.facing > 0 and motion is not None:
         log.warning("%s and %s do not face each other across their boundaries at the given motion (mean cosine of "

@@ -13,6 +13,7 @@ from heatdata.descriptors import DESCRIPTORS, DescriptorSpec, file_name
 from heatdata.descriptors.base import article
 from heatdata.errors import HeatdataError
 from heatdata.report import CONFUSION_PATTERN
+from heatdata.stitch import rigid_motion
 from snakemake.exceptions import WorkflowError
 
 RESULTS = config["results"]
@@ -90,9 +91,9 @@ def stitched_objects(catalog):
         missing = [pair[key] for key in ("first", "second") if not Path(pair[key]).is_file()]
         if missing:
             _config_error(f"stitch.pairs[{k}]: {', '.join(missing)} do(es) not exist")
-        motion = np.asarray(pair.get("motion", np.eye(4)), float)
-        if not (np.allclose(motion[:3, :3] @ motion[:3, :3].T, np.eye(3), atol=1e-6)
-                and np.linalg.det(motion[:3, :3]) > 0 and np.allclose(motion[3], [0, 0, 0, 1])):
+        try:
+            rigid_motion(pair.get("motion", np.eye(4)))
+        except HeatdataError:
             _config_error(f"stitch.pairs[{k}].motion is not a rigid motion (a rotation, no reflection, last row "
                           "0 0 0 1)")
         if pair["object"] in catalog.index or pair["object"] in [r["object"] for r in rows]:
