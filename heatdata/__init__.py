@@ -16,7 +16,7 @@ from .descriptors import (COLOR_MAPS, DESCRIPTORS, Descriptor, DescriptorSpec, c
                           sample_boundary, source_vertex, view_time_scale)
 from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
 from .library import combined_costs, consecutive_costs, library_subset, other_object_distances, select_sources
-from .models import Model, load_model
+from .models import Model, hue_rotated, load_model
 from .multiview import AppearanceModel, ExhaustiveFilter, ParticleFilter, appearance_model, learn_similarity
 from .recognition import precision_by, classify_candidates, confusion_matrix, nearest_neighbours
 from .render import camera_pose, render_view
@@ -44,6 +44,6 @@ __all__ = [
     "other_object_distances", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "RenderError",
     "sample_boundary", "select_sources", "source_vertex", "Spectrum", "SpectrumError", "View", "view_time_scale",
     "ViewError", "weighted_mhd", "view_from_depth", "read_depth", "read_organized_cloud", "write_depth", "hbrd",
-    "rump_heat", "RumpError",
+    "rump_heat", "RumpError", "hue_rotated",
     "__version__",
 ]

