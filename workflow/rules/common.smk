@@ -55,17 +55,20 @@ def load_objects():
     return table.set_index("object", drop=False)
 
 
+def checked_spec(d, where):
+    """A config's descriptor (``where``: its key, for the error) checked against its kind: options, availability."""
+    try:
+        spec = DescriptorSpec(**d)
+    except (HeatdataError, TypeError) as exc:
+        _config_error(f"{where}: {exc}")
+    if DESCRIPTORS[spec.kind] is not None:
+        _config_error(f"{where}: {spec.kind} is not available here: {DESCRIPTORS[spec.kind]}")
+    return spec
+
+
 def descriptor_specs():
     """The configured descriptors, each checked against its kind (options, availability on this machine)."""
-    specs = []
-    for k, d in enumerate(config["descriptors"]):
-        try:
-            spec = DescriptorSpec(**d)
-        except (HeatdataError, TypeError) as exc:
-            _config_error(f"descriptors[{k}]: {exc}")
-        if DESCRIPTORS[spec.kind] is not None:
-            _config_error(f"descriptors[{k}]: {spec.kind} is not available here: {DESCRIPTORS[spec.kind]}")
-        specs.append(spec)
+    specs = [checked_spec(d, f"descriptors[{k}]") for k, d in enumerate(config["descriptors"])]
     names = [s.name for s in specs]
     if len(set(names)) < len(names):
         _config_error(f"descriptors: the same descriptor twice in {names}")
@@ -109,10 +112,7 @@ if STITCHED:
     CATALOG = pd.concat([CATALOG, stitched_objects(CATALOG)])
 OBJECTS = CATALOG.index.tolist()
 if config["compact"]["enabled"]:
-    try:
-        COMPACT_SPEC = DescriptorSpec(**config["compact"]["descriptor"])
-    except (HeatdataError, TypeError) as exc:
-        _config_error(f"compact.descriptor: {exc}")
+    COMPACT_SPEC = checked_spec(config["compact"]["descriptor"], "compact.descriptor")
     if not COMPACT_SPEC.impl.multi_source:
         _config_error(f"compact.descriptor: {article(COMPACT_SPEC.kind)} {COMPACT_SPEC.kind} has no heat source to take candidates of (ch. 6)")
     if min(config["library_sizes"]) < 2:
@@ -154,12 +154,7 @@ if config["multiview"]["enabled"]:
         _config_error(f"multiview.library_views {large} exceed views.train = {config['views']['train']}")
 if config["people"]["enabled"]:
     for k, d in enumerate(config["people"]["descriptors"]):
-        try:
-            spec = DescriptorSpec(**d)
-        except (HeatdataError, TypeError) as exc:
-            _config_error(f"people.descriptors[{k}]: {exc}")
-        if DESCRIPTORS[spec.kind] is not None:
-            _config_error(f"people.descriptors[{k}]: {spec.kind} is not available here: {DESCRIPTORS[spec.kind]}")
+        spec = checked_spec(d, f"people.descriptors[{k}]")
         if spec.impl.fitted or spec.impl.time_scaled:
             _config_error(f"people.descriptors[{k}]: {article(spec.kind)} {spec.kind} needs "
                           f"{'fitting' if spec.impl.fitted else 'time scales'}; people are described one view at a time")
