@@ -210,6 +210,11 @@ def test_config_from_the_command_line_is_read_by_the_schema_and_errors_are_one_l
     assert len(text.splitlines()) < 30
     result = snakemake(tmp_path, tiny_config(), "--dry-run", "--config", 'views={"train": "many"}')
     assert "config error: views.train: 'many' is not of type 'integer'" in result.stdout + result.stderr
+    # a descriptor's options are the kind's, not the schema's: '16' was refused as not a whole number
+    result = snakemake(tmp_path, tiny_config(), "--dry-run", "--config",
+                       'descriptors=[{"kind": "pvhk", "samples": 16, "source": "center", "sampling": "polar"}]',
+                       "primary_descriptor=pvhk/polar/center/16")
+    assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
 
 
 def make_models_dir(root: Path, classes: dict) -> Path:

@@ -15,7 +15,10 @@ def typed(value, schema):
     if isinstance(value, list):
         return [typed(v, schema.get("items", {})) for v in value]
     types = schema.get("type", [])
-    if isinstance(value, str) and {"integer", "number", "boolean"} & set([types] if isinstance(types, str) else types):
+    # a number or boolean where the schema allows one, or where it says nothing (a descriptor's kind-specific options)
+    untyped = not types and "enum" not in schema
+    if isinstance(value, str) and (untyped or {"integer", "number", "boolean"} & set(
+            [types] if isinstance(types, str) else types)):
         parsed = yaml.safe_load(value)
         return value if parsed is None or isinstance(parsed, (str, dict, list)) else parsed
     return value
