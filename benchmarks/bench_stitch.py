@@ -42,9 +42,7 @@ def main() -> None:
         faces += [np.column_stack([a, a + s, b]), np.column_stack([b, a + s, b + s])]
     faces.append(np.column_stack([np.full(s, len(vertices) - 1), 1 + last * s + (j + 1) % s, 1 + last * s + j]))
     faces = np.vstack(faces).astype(np.int64)
-    model = Model(name="ellipsoid", vertices=vertices, faces=faces,
-                  corner_colors=np.full((len(faces), 3, 3), 0.5, np.float32),
-                  corner_uv=np.zeros((len(faces), 3, 2), np.float32), face_texture=np.full(len(faces), -1, np.int32))
+    model = Model.untextured("ellipsoid", vertices, faces, (0.5, 0.5, 0.5))
     a, b = split_model(model, [0.0, 0.0, 1.0])
     b = transformed(b, Rotation.from_rotvec([0.4, -0.9, 0.2]).as_matrix(), [0.2, 0.1, -0.1])
     start = time.perf_counter()

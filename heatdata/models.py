@@ -66,6 +66,16 @@ class Model:
     source: str = ""
     repairs: list = field(default_factory=list)
 
+    @classmethod
+    def untextured(cls, name: str, vertices: np.ndarray, faces: np.ndarray, colors=DEFAULT_GREY, **fields) -> "Model":
+        """A model without textures: ``colors`` one RGB for every face, or (m, 3, 3) per face corner; ``fields``:
+        the other attributes (``label``, ``source``, ...)."""
+        faces = np.asarray(faces, np.int64)
+        corner_colors = np.broadcast_to(np.asarray(colors, np.float32), (len(faces), 3, 3)).copy()
+        return cls(name=name, vertices=np.asarray(vertices, np.float64), faces=faces, corner_colors=corner_colors,
+                   corner_uv=np.zeros((len(faces), 3, 2), np.float32), face_texture=np.full(len(faces), -1, np.int32),
+                   **fields)
+
     @property
     def extents(self) -> np.ndarray:
         """(3,) float64: bounding-box size along x, y, z in metres."""

@@ -51,10 +51,7 @@ SPEC = DescriptorSpec("pvhk", 64, "center", "polar")  # the default run's primar
 
 
 def view_model(view, name: str, label: str) -> Model:
-    faces = view.faces
-    return Model(name=name, vertices=view.vertices, faces=faces, corner_colors=view.colors[faces].astype(np.float32),
-                 corner_uv=np.zeros((len(faces), 3, 2), np.float32), face_texture=np.full(len(faces), -1, np.int32),
-                 label=label)
+    return Model.untextured(name, view.vertices, view.faces, view.colors[view.faces], label=label)
 
 
 def rotation_error(found: np.ndarray, truth: np.ndarray) -> float:

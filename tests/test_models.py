@@ -123,3 +123,13 @@ def test_a_hue_rotated_twin_turns_colours_and_textures_and_keeps_greys_and_the_m
     np.testing.assert_allclose(model.corner_colors[0, 0], red)  # the original is left alone
     with pytest.raises(hd.ModelError, match="finite"):
         hue_rotated(model, float("nan"))
+
+
+def test_an_untextured_model_has_one_colour_or_its_corners_and_no_texture():
+    grey = hd.Model.untextured("tri", np.eye(3), [[0, 1, 2]])
+    np.testing.assert_allclose(grey.corner_colors, 0.7)
+    assert grey.face_texture.tolist() == [-1] and grey.corner_uv.shape == (1, 3, 2) and grey.textures == []
+    corners = np.random.default_rng(0).random((1, 3, 3))
+    coloured = hd.Model.untextured("tri", np.eye(3), [[0, 1, 2]], corners, label="tile")
+    np.testing.assert_allclose(coloured.corner_colors, corners.astype(np.float32))
+    assert coloured.label == "tile" and coloured.faces.dtype == np.int64

@@ -18,10 +18,7 @@ def model_of(mesh: trimesh.Trimesh, name: str = "ellipsoid") -> Model:
     colors = np.zeros((len(mesh.faces), 3, 3), np.float32)
     colors[..., 0] = 0.8
     colors[mesh.triangles_center[:, 1] > 0.03] = [0.1, 0.3, 0.9]
-    return Model(name=name, vertices=np.asarray(mesh.vertices, dtype=np.float64),
-                 faces=np.asarray(mesh.faces, dtype=np.int64), corner_colors=colors,
-                 corner_uv=np.zeros((len(mesh.faces), 3, 2), np.float32),
-                 face_texture=np.full(len(mesh.faces), -1, np.int32))
+    return Model.untextured(name, mesh.vertices, mesh.faces, colors)
 
 
 @pytest.fixture(scope="module")
@@ -134,9 +131,7 @@ def test_bad_meshes_are_clear_errors(ellipsoid, caplog):
     with pytest.raises(StitchError, match="closed"):
         boundary(ellipsoid)
     a, b = split_model(ellipsoid, [0.0, 1.0, 0.0])
-    triangle = Model(name="triangle", vertices=np.eye(3), faces=np.array([[0, 1, 2]]),
-                     corner_colors=np.zeros((1, 3, 3), np.float32), corner_uv=np.zeros((1, 3, 2), np.float32),
-                     face_texture=np.full(1, -1, np.int32))
+    triangle = Model.untextured("triangle", np.eye(3), [[0, 1, 2]], (0.0, 0.0, 0.0))
     assert len(boundary(triangle).loop) == 3
     fin = Model(name="fin", vertices=np.vstack([a.vertices, [[0.0, 0.5, 0.0]]]),
                 faces=np.vstack([a.faces, [[a.faces[0, 0], a.faces[0, 1], len(a.vertices)]]]),
@@ -211,9 +206,7 @@ def test_the_closed_part_merges_seams_keeps_the_largest_piece_and_faces_outwards
     speck = trimesh.creation.icosphere(subdivisions=0, radius=0.01)  # a small separate piece
     faces = np.vstack([seamed, speck.faces + len(vertices)])[:, ::-1]  # and everything wound inwards
     vertices = np.vstack([vertices, speck.vertices + 1.0])
-    messy = Model(name="messy", vertices=vertices, faces=faces,
-                  corner_colors=np.zeros((len(faces), 3, 3), np.float32),
-                  corner_uv=np.zeros((len(faces), 3, 2), np.float32), face_texture=np.full(len(faces), -1, np.int32))
+    messy = Model.untextured("messy", vertices, faces, (0.0, 0.0, 0.0))
     part = closed_part(messy)
     mesh = as_trimesh(part)
     assert len(part.faces) == len(ellipsoid.faces) and mesh.is_watertight and mesh.volume > 0
