@@ -81,7 +81,7 @@ def hole_sensitivity(specs: list[DescriptorSpec], sizes: list, *, hole: float = 
     for j, spec in enumerate(specs):
         library = np.stack([d[j].values for d in solid])
         queries = np.stack([d[j].values for d in holed])
-        nearest = np.argmin(spec.impl.distance_matrix(queries, library), axis=1)
+        nearest = spec.impl.nearest(queries, library)[0]
         for i in range(len(holed)):
             following = i + 1 if (i + 1) % azimuths else i + 1 - azimuths  # the next angle of the same box
             d_hole, d_step = distance(solid[i][j], holed[i][j]), distance(solid[i][j], solid[following][j])

@@ -23,6 +23,9 @@ from scipy.spatial.distance import cdist
 from .errors import HeatdataError
 
 SHORTLIST = 64  # pairs nearest in L1 whose exact MHD :func:`nearest_pair_mhd` computes
+WARM_START = 4  # items nearest in L1 that :func:`nearest_mhd` tries first
+BOUND_WINDOW = 3  # samples either side of a point inside the lower bound's envelope (:func:`nearest_mhd`)
+SEARCH_BLOCK = 4096  # library items whose envelopes :func:`nearest_mhd` holds at once
 
 
 def _curve_x(m: int, dtype) -> np.ndarray:
@@ -43,6 +46,21 @@ def _unit_mean(weights: np.ndarray, what: str) -> np.ndarray:
     if np.any(weights < 0) or np.any(weights.sum(axis=1) <= 0):
         raise HeatdataError(f"{what}: part weights must be non-negative and not all zero")
     return weights / weights.mean(axis=1, keepdims=True)
+
+
+def _weights(query_weights, library_weights, queries: np.ndarray, library: np.ndarray, dtype
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """The part weights of queries and library rescaled to mean 1 (unit weights if neither is given)."""
+    if (query_weights is None) != (library_weights is None):
+        raise HeatdataError("give part weights for both the queries and the library, or for neither")
+    if query_weights is None:
+        return np.ones(queries.shape, dtype), np.ones(library.shape, dtype)
+    wq = _unit_mean(query_weights, "query weights").astype(dtype)
+    wl = _unit_mean(library_weights, "library weights").astype(dtype)
+    if wq.shape != queries.shape or wl.shape != library.shape:
+        raise HeatdataError(f"weights of shapes {wq.shape}, {wl.shape} do not match descriptors of shapes "
+                            f"{queries.shape}, {library.shape}")
+    return wq, wl
 
 
 def mhd(z1: np.ndarray, z2: np.ndarray) -> float:
@@ -116,16 +134,7 @@ def mhd_matrix(queries: np.ndarray, library: np.ndarray, *, query_weights: np.nd
     library = np.atleast_2d(np.asarray(library, dtype))
     _check_finite(queries, "queries")
     _check_finite(library, "library")
-    if (query_weights is None) != (library_weights is None):
-        raise HeatdataError("give part weights for both the queries and the library, or for neither")
-    if query_weights is None:
-        wq, wl = np.ones(queries.shape, dtype), np.ones(library.shape, dtype)
-    else:
-        wq = _unit_mean(query_weights, "query weights").astype(dtype)
-        wl = _unit_mean(library_weights, "library weights").astype(dtype)
-        if wq.shape != queries.shape or wl.shape != library.shape:
-            raise HeatdataError(f"weights of shapes {wq.shape}, {wl.shape} do not match descriptors of shapes "
-                                f"{queries.shape}, {library.shape}")
+    wq, wl = _weights(query_weights, library_weights, queries, library, dtype)
     m, m2 = queries.shape[1], library.shape[1]
     kernel = _mhd_offsets if m == m2 else _mhd_tensor
     out = np.empty((len(queries), len(library)))
@@ -136,6 +145,67 @@ def mhd_matrix(queries: np.ndarray, library: np.ndarray, *, query_weights: np.nd
             q, n = slice(q0, q0 + q_block), slice(n0, n0 + n_block)
             out[q, n] = kernel(queries[q, None, :], library[None, n, :], wq[q, None, :], wl[None, n, :])
     return out
+
+
+def nearest_mhd(queries: np.ndarray, library: np.ndarray, *, query_weights: np.ndarray | None = None,
+                library_weights: np.ndarray | None = None, within: np.ndarray | None = None
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """The nearest library descriptor of each query under eq. 3.1 (or, with weights, eq. 5.14): exact.
+
+    The same answer as ``argmin`` over :func:`mhd_matrix` in float64 (the first of equally
+    near items), without the matrix. A compiled loop keeps each query's best distance so
+    far, starting from its :data:`WARM_START` items nearest in L1. For descriptors of one
+    length, an item is skipped when a lower bound of both directed sums exceeds that best
+    (LB_Keogh's envelope over :data:`BOUND_WINDOW` samples: a point farther in index lies at
+    least ``window / M`` away in abscissa); otherwise the directed sums are summed point by
+    point, each point's nearest point sought outwards from the nearest abscissa until the
+    abscissa gap alone is larger, and abandoned once over the best. Memory: the inputs and
+    the envelopes of :data:`SEARCH_BLOCK` library items.
+
+    Parameters
+    ----------
+    queries : (Q, M) float
+    library : (N, M') float
+        N >= 1; the lengths may differ (no bound is used then).
+    query_weights : (Q, M) float, optional
+    library_weights : (N, M') float, optional
+        Part weights (each rescaled to mean 1, as :func:`mhd_matrix`); both or neither.
+    within : (Q,) float, optional
+        Seek only items nearer than this to each query (e.g. the best of an earlier search:
+        Alg. 5.2 searches object by object); default infinity.
+
+    Returns
+    -------
+    index : (Q,) int64
+        -1 for a query no item is nearer to than ``within``.
+    distance : (Q,) float64
+        ``within`` for those.
+    """
+    from ._mhd_kernel import nearest
+
+    queries = np.ascontiguousarray(np.atleast_2d(queries), np.float64)
+    library = np.ascontiguousarray(np.atleast_2d(library), np.float64)
+    _check_finite(queries, "queries")
+    _check_finite(library, "library")
+    if not library.size:
+        raise HeatdataError("nearest_mhd needs a library of one descriptor or more")
+    wq, wl = _weights(query_weights, library_weights, queries, library, np.float64)
+    within = np.full(len(queries), np.inf) if within is None else np.asarray(within, np.float64).reshape(-1)
+    if within.shape != (len(queries),):
+        raise HeatdataError(f"within needs one distance per query ({len(queries)}), got {within.shape}")
+    same = queries.shape[1] == library.shape[1]
+    warm = min(WARM_START, len(library))
+    first = np.zeros((len(queries), warm if same else 1), np.int64)  # tried first: the items nearest in L1
+    if same:
+        step = max(1, 2 ** 22 // len(library))
+        for q0 in range(0, len(queries), step):
+            l1 = cdist(queries[q0:q0 + step], library, "cityblock")
+            first[q0:q0 + step] = np.argpartition(l1, warm - 1, axis=1)[:, :warm]
+    index, distance = np.empty(len(queries), np.int64), np.empty(len(queries))
+    nearest(queries, library, np.ascontiguousarray(wq), np.ascontiguousarray(wl), _curve_x(queries.shape[1], float),
+            _curve_x(library.shape[1], float), within, first, BOUND_WINDOW if same else 0, SEARCH_BLOCK, index,
+            distance)
+    return index, distance
 
 
 def _mhd_offsets(a: np.ndarray, b: np.ndarray, wa: np.ndarray, wb: np.ndarray) -> np.ndarray:

@@ -15,7 +15,7 @@ from .descriptors import kind_of
 from .distance import SHORTLIST
 from .errors import HeatdataError
 from .library import library_subset
-from .recognition import classify_candidates, nearest_neighbours
+from .recognition import classify_candidates
 
 log = logging.getLogger(__name__)
 
@@ -65,9 +65,7 @@ def classify(descriptors: pd.DataFrame, descriptor: str, *, library: str = "trai
     if impl.time_scaled:
         query, index, distance = _fixed_time_neighbours(query, lib, descriptor, impl)
     else:
-        nn = nearest_neighbours(np.stack(query["values"].to_numpy()), np.stack(lib["values"].to_numpy()),
-                                distance=impl.distance_matrix)
-        index, distance = nn.index, nn.distance
+        index, distance = impl.nearest(np.stack(query["values"].to_numpy()), np.stack(lib["values"].to_numpy()))
     match = lib.iloc[index]
     predictions = pd.DataFrame({
         "descriptor": descriptor,
@@ -119,7 +117,8 @@ def _fixed_time_neighbours(query: pd.DataFrame, lib: pd.DataFrame, descriptor: s
     """Alg. 5.2: per query view, the nearest library view over objects, each at its own time scale.
 
     Returns the query views (one row each), the positional index of each one's nearest
-    library row in ``lib``, and the weighted distance (eq. 5.14).
+    library row in ``lib``, and the weighted distance (eq. 5.14). Each object is searched
+    only for library views nearer than the best so far (``within`` of :meth:`Kind.nearest`).
     """
     views = query.drop_duplicates("view_id")
     best = np.full(len(views), np.inf)
@@ -134,11 +133,10 @@ def _fixed_time_neighbours(query: pd.DataFrame, lib: pd.DataFrame, descriptor: s
         q_weights, l_weights = _stack(at_time["weights"]), _stack(candidates["weights"])
         if (q_weights is None) != (l_weights is None):
             raise HeatdataError(f"descriptor {descriptor!r}: part weights on the test or the library rows only")
-        d = impl.distance_matrix(np.stack(at_time["values"].to_numpy()), np.stack(candidates["values"].to_numpy()),
-                                 query_weights=q_weights, library_weights=l_weights)
-        nearest = np.argmin(d, axis=1)
-        distance = d[np.arange(len(views)), nearest]
-        closer = distance < best
+        nearest, distance = impl.nearest(np.stack(at_time["values"].to_numpy()),
+                                         np.stack(candidates["values"].to_numpy()), query_weights=q_weights,
+                                         library_weights=l_weights, within=best)  # only a nearer one matters
+        closer = nearest >= 0
         best[closer] = distance[closer]
         index[closer] = positions[nearest[closer]]
     return views, index, best

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from .descriptors import stack_values
-from .distance import SHORTLIST, mhd_matrix, nearest_pair_mhd
+from .distance import SHORTLIST, nearest_mhd, nearest_pair_mhd
 from .errors import HeatdataError
 
 
@@ -20,24 +20,30 @@ class NearestNeighbours:
     distance: np.ndarray
 
 
-def nearest_neighbours(queries: np.ndarray, library: np.ndarray, *, distance=mhd_matrix, **kwargs
+def nearest_neighbours(queries: np.ndarray, library: np.ndarray, *, distance=None, **kwargs
                        ) -> NearestNeighbours:
-    """Nearest library descriptor of each query, under eq. 3.1 or a kind's own distance.
+    """Nearest library descriptor of each query (the first of equals), under eq. 3.1 or a kind's own distance.
 
     Parameters
     ----------
     queries : (Q, M) float, or a list of Descriptor
     library : (N, M') float, or a list of Descriptor
-    distance : callable
+    distance : callable, optional
         ``distance(queries, library, **kwargs)`` -> (Q, N), e.g. a kind's
-        :meth:`heatdata.descriptors.Kind.distance_matrix`; default :func:`heatdata.mhd_matrix`.
+        :meth:`heatdata.descriptors.Kind.distance_matrix`. Default: eq. 3.1 (eq. 5.14 with
+        ``query_weights`` and ``library_weights``) by the exact search of
+        :func:`heatdata.distance.nearest_mhd`, which needs no distance matrix.
 
     Returns
     -------
     NearestNeighbours
         ``index`` (Q,) int and ``distance`` (Q,) float.
     """
-    d = distance(stack_values(queries, "queries"), stack_values(library, "library"), **kwargs)
+    queries, library = stack_values(queries, "queries"), stack_values(library, "library")
+    if distance is None:
+        index, nearest = nearest_mhd(queries, library, **kwargs)
+        return NearestNeighbours(index=index, distance=nearest)
+    d = distance(queries, library, **kwargs)
     index = np.argmin(d, axis=1)
     return NearestNeighbours(index=index, distance=d[np.arange(len(index)), index])
 

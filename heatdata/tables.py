@@ -169,19 +169,36 @@ def read_table(path: str | Path, *, columns: list[str] | None = None, filters: l
     """Read a heatdata Parquet table and its run metadata.
 
     ``columns`` and ``filters`` (pyarrow's, e.g. ``[("descriptor", "==", name)]``) read
-    only part of a large table.
+    only part of a large table; filtered, it is read one row group at a time, so memory
+    holds one group and the rows kept (``pq.read_table`` with filters decoded them all:
+    1.2 GB for the chairs' 9,280 PVHK rows of 406,000, 450 MB now).
     """
     path = Path(path)
     if not path.is_file():
         raise HeatdataError(f"{path}: no such table")
     try:
-        table = pq.read_table(path, columns=columns, filters=filters)
+        if filters:
+            expression = pq.filters_to_expression(filters)
+            file = pq.ParquetFile(path)
+            needed = None if columns is None else sorted(set(columns) | _filter_columns(filters))
+            parts = [file.read_row_group(k, columns=needed).filter(expression) for k in range(file.num_row_groups)]
+            table = pa.concat_tables(parts) if parts else file.schema_arrow.empty_table()
+            table = table.select(columns) if columns is not None else table
+            table = table.replace_schema_metadata(file.schema_arrow.metadata)
+        else:
+            table = pq.read_table(path, columns=columns)
     except Exception as exc:
         raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
     raw = table.schema.metadata or {}
     meta = json.loads(raw.get(b"heatdata_run", b"{}"))
     meta["heatdata_version"] = raw.get(b"heatdata_version", b"").decode()
     return table.to_pandas(), meta
+
+
+def _filter_columns(filters: list) -> set[str]:
+    """The column names of pyarrow's DNF ``filters`` (a list of tuples, or a list of such lists)."""
+    groups = filters if filters and isinstance(filters[0], list) else [filters]
+    return {name for group in groups for name, _, _ in group}
 
 
 def concat_tables(paths: list[str | Path], out: str | Path) -> None:

@@ -63,6 +63,14 @@ def test_concatenate_and_read_part_of_a_table(tmp_path):
     assert frame["object"].tolist() == ["a", "b"] and meta["part"] == "a"
     only, _ = read_table(tmp_path / "all.parquet", columns=["object"], filters=[("descriptor", "==", "pvst")])
     assert only.to_dict("list") == {"object": ["b"]}
+    # row group by row group (two here), as pyarrow's own filtered read; metadata kept, "in" and OR-ed groups too
+    both, meta = read_table(tmp_path / "all.parquet", filters=[("object", "in", ["a", "b"])])
+    assert both["object"].tolist() == ["a", "b"] and meta["part"] == "a"
+    either, _ = read_table(tmp_path / "all.parquet", columns=["descriptor"],
+                           filters=[[("object", "==", "b")], [("distance", "<", 0.0)]])
+    assert either.to_dict("list") == {"descriptor": ["pvst"]}
+    none, _ = read_table(tmp_path / "all.parquet", columns=["object"], filters=[("object", "==", "z")])
+    assert none.empty and list(none.columns) == ["object"]
     write_table(pd.DataFrame({"x": [1.0]}), tmp_path / "other.parquet", pa.schema([("x", pa.float64())]))
     with pytest.raises(hd.HeatdataError, match="schema differs"):
         concat_tables([parts[0], tmp_path / "other.parquet"], tmp_path / "bad.parquet")

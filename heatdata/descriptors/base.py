@@ -176,6 +176,27 @@ class Kind:
         """(Q, N) distances between (Q, M) query and (N, M) library values."""
         raise NotImplementedError
 
+    def nearest(self, queries: np.ndarray, library: np.ndarray, *, query_weights=None, library_weights=None,
+                within=None, chunk: int = 4096) -> tuple[np.ndarray, np.ndarray]:
+        """(Q,) index and distance of each query's nearest library row (the first of equals), under
+        :meth:`distance_matrix`, ``chunk`` queries at a time so that memory stays bounded.
+
+        ``within`` (Q,): only rows nearer than this count; a query with none gets index -1
+        and distance ``within`` (as :func:`heatdata.distance.nearest_mhd`).
+        """
+        index, distance = np.empty(len(queries), np.int64), np.empty(len(queries))
+        for q0 in range(0, len(queries), chunk):
+            rows = slice(q0, q0 + chunk)
+            d = self.distance_matrix(queries[rows], library,
+                                     query_weights=None if query_weights is None else query_weights[rows],
+                                     library_weights=library_weights)
+            index[rows] = np.argmin(d, axis=1)
+            distance[rows] = d[np.arange(len(d)), index[rows]]
+        if within is not None:
+            far = distance >= within
+            index[far], distance[far] = -1, np.asarray(within, np.float64)[far]
+        return index, distance
+
     def fit(self, spec: "DescriptorSpec", views: list) -> dict[str, np.ndarray]:
         """What the kind learns from library ``views``, as named arrays (only if :attr:`fitted`)."""
         raise HeatdataError(f"{article(self.name)} {self.name} is not fitted")

@@ -18,7 +18,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from ..distance import mhd_matrix
+from ..distance import mhd_matrix, nearest_mhd
 from ..errors import ViewError
 from ..spectrum import HeatOperator, eigen_spectrum
 from ..view import View
@@ -89,6 +89,11 @@ class BoundaryKind(Kind):
     def distance_matrix(self, queries, library, *, query_weights=None, library_weights=None):
         """Eq. 3.1 between the curves (i/M, z_i); eq. 5.14 with part weights."""
         return mhd_matrix(queries, library, query_weights=query_weights, library_weights=library_weights)
+
+    def nearest(self, queries, library, *, query_weights=None, library_weights=None, within=None, chunk=None):
+        """Exact search under eq. 3.1 / 5.14 without the distance matrix (:func:`heatdata.distance.nearest_mhd`)."""
+        return nearest_mhd(queries, library, query_weights=query_weights, library_weights=library_weights,
+                           within=within)
 
     @staticmethod
     def _common(spec: DescriptorSpec, source: int) -> dict:
