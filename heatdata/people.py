@@ -129,7 +129,7 @@ def pose_summary(measures: dict, views: str) -> pd.DataFrame:
                           "between": m["between"]} for name, m in measures.items()])
 
 
-def twin_predictions(descriptors: dict, people, library, *, distances: dict | None = None) -> pd.DataFrame:
+def twin_predictions(descriptors: dict, people, library, *, searches: dict | None = None) -> pd.DataFrame:
     """Which person each test view is (Fig. 3.12): the person of its nearest library view, per descriptor.
 
     Parameters
@@ -140,15 +140,16 @@ def twin_predictions(descriptors: dict, people, library, *, distances: dict | No
         Each view's person.
     library : (N,) bool
         The library views; the others are tested.
-    distances : dict, optional
-        Descriptor name -> ``f(queries, library)`` -> (Q, L) distances (default eq. 3.1).
+    searches : dict, optional
+        Descriptor name -> ``f(queries, library)`` -> each query's nearest library index and
+        distance, e.g. :func:`kind_searches` (default eq. 3.1, :func:`heatdata.distance.nearest_mhd`).
 
     Returns
     -------
     pandas.DataFrame
         ``descriptor, view, person, predicted, correct`` per test view (``view``: its index).
     """
-    from .distance import mhd_matrix
+    from .distance import nearest_mhd
 
     people, library = np.asarray(people), np.asarray(library, bool)
     if library.all() or not library.any():
@@ -160,8 +161,8 @@ def twin_predictions(descriptors: dict, people, library, *, distances: dict | No
     rows = []
     for name, values in descriptors.items():
         values = np.asarray(values, np.float64)
-        d = (distances or {}).get(name, mhd_matrix)(values[tests], values[library])
-        predicted = people[library][np.argmin(d, axis=1)]
+        nearest, _ = (searches or {}).get(name, nearest_mhd)(values[tests], values[library])
+        predicted = people[library][nearest]
         rows += [{"descriptor": name, "view": int(k), "person": people[k], "predicted": p}
                  for k, p in zip(tests, predicted, strict=True)]
     table = pd.DataFrame(rows)
@@ -181,6 +182,11 @@ def described(views: list, specs: list) -> dict:
 def kind_distances(specs: list) -> dict:
     """Descriptor name -> its kind's distance matrix function (eq. 3.1 for the heat kinds)."""
     return {spec.name: spec.impl.distance_matrix for spec in specs}
+
+
+def kind_searches(specs: list) -> dict:
+    """Descriptor name -> its kind's nearest-neighbour search (:meth:`heatdata.descriptors.Kind.nearest`)."""
+    return {spec.name: spec.impl.nearest for spec in specs}
 
 
 def twin_experiment(specs: list, *, frames: int = 40, body: dict | None = None, clothes: dict | None = None,
@@ -209,7 +215,7 @@ def twin_experiment(specs: list, *, frames: int = 40, body: dict | None = None, 
                                 seed=seed + 1000 * k, **view_options)
     table = pd.concat(tables, ignore_index=True)
     values = described(views, specs)
-    predictions = twin_predictions(values, table["person"], table["library"], distances=kind_distances(specs))
+    predictions = twin_predictions(values, table["person"], table["library"], searches=kind_searches(specs))
     return predictions.assign(pair="MakeHuman"), values, table, views
 
 
@@ -269,7 +275,7 @@ def reallusion_experiment(specs: list, people: pd.DataFrame, *, azimuths, twin: 
     library = np.arange(len(pair_views)) % 2 == 0
     pair = f"Reallusion {twin}"
     predictions = twin_predictions(described(pair_views, specs), pair_people, library,
-                                   distances=kind_distances(specs)).assign(pair=pair)
+                                   searches=kind_searches(specs)).assign(pair=pair)
     middle = len(dense) // 2
     examples = {pair: [(pair_views[middle], f"{twin} {original}"), (pair_views[len(dense) + middle],
                                                                       f"{twin} {rotated}")]}

@@ -57,7 +57,8 @@ def test_twin_predictions_take_the_nearest_library_view_s_person():
     values = np.array([[0.0, 0.0], [1.0, 1.0], [0.1, 0.0], [0.9, 1.0]])
     people = ["A", "B", "A", "B"]
     table = twin_predictions({"d": values}, people, [True, True, False, False],
-                             distances={"d": lambda q, lib: np.abs(q[:, None] - lib[None]).sum(axis=2)})
+                             searches={"d": lambda q, lib: (np.abs(q[:, None] - lib[None]).sum(axis=2).argmin(axis=1),
+                                                            None)})
     assert list(table["predicted"]) == ["A", "B"] and table["correct"].all()
     with pytest.raises(HeatdataError, match="no library view of"):
         twin_predictions({"d": values}, people, [True, False, False, False])

@@ -12,6 +12,7 @@ import pytest
 import trimesh
 import yaml
 
+from heatdata.descriptors import DescriptorSpec
 from heatdata.tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, TRIAL_SCHEMA, VIEW_SCHEMA, read_table
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -396,7 +397,9 @@ def test_the_rump_proxy_orders_bodies_and_says_they_are_not_goats(tmp_path):
 
 def test_people_s_poses_and_colour_twins_reach_the_report(tmp_path):
     """Rule people (thesis 3.5): one body's poses in the Isomap and two people of one shape told apart by colour."""
-    people = {"enabled": True, "frames": 8, "image_scale": 0.25, "neighbours": 3}
+    shape = {"kind": "pvhk", "samples": 64, "source": "center", "sampling": "polar"}
+    colour = {**shape, "kind": "c-pvhk", "color_map": "c2"}  # the rule's default descriptors
+    people = {"enabled": True, "frames": 8, "image_scale": 0.25, "neighbours": 3, "descriptors": [shape, colour]}
     result = snakemake(tmp_path, tiny_config(people=people), "results/figures/people.html")
     assert result.returncode == 0, result.stderr[-3000:]
     results = tmp_path / "results"
@@ -405,7 +408,7 @@ def test_people_s_poses_and_colour_twins_reach_the_report(tmp_path):
     assert frames["isomap1"].notna().sum() == 8  # the first person's sequence
     twins = pd.read_csv(results / "people" / "twins.csv")
     assert len(twins) == 2 * 8 and set(twins["pair"]) == {"MakeHuman"}
-    assert twins[twins["descriptor"].str.startswith("c-pvhk")]["correct"].all()
+    assert twins[twins["descriptor"] == DescriptorSpec(**colour).name]["correct"].all()
     page = (results / "figures" / "people.html").read_text()
     assert "Twins (Fig. 3.12)" in page and "not real sensor data" in page
     assert (results / "figures" / "people_twins.png").stat().st_size > 20_000
