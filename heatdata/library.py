@@ -11,18 +11,23 @@ cycles that wind once around (integral) but also cycles that wind w > 1 times, t
 with weight 1/w. Those are fractional, and can cost less per turn than any single
 winding. :func:`select_sources` therefore:
 
-1. drops the edges that no cycle cheaper than a known one can use. An edge's bound is
-   the cheapest walk once around through it, not required to close (a forward and a
-   backward min-plus sweep, O(edges)); the known cycle is the cheapest closed one
-   through the best open walk's start. Any cycle through a dropped edge costs more
-   than that cycle, so the optimum is among the edges kept (reduced-cost fixing);
+1. drops every edge that lies on no cheapest cycle. An edge's bound is the cheapest
+   cycle through it: a start's distance to the edge's tail, the edge, and the distance
+   from its head back around to that start, minimized over the starts of the first layer
+   (min-plus products from every start, :mod:`heatdata._minplus_kernel`; starts whose
+   cheapest open walk cannot beat a known cycle are left out). These distances are the
+   dynamic program of :func:`cyclic_dp`: the optimum is known before the LP, which is
+   solved on the edges of the optimal cycles and certifies it (reduced-cost fixing with
+   the optimum as the bound). The earlier bound, the cheapest open walk through the edge,
+   kept 550,000 of 2.5M edges on near-flat real costs, and the LP then took minutes
+   (``benchmarks/bench_compact_lp.py``);
 2. solves the relaxation on the edges kept by column generation (edges of negative
    reduced cost are added from the duals until none is left, which proves the LP
    optimal over all edges kept);
 3. if the result is not integral, branches on the nodes of the smallest layer. Fixing
    one node makes the LP a shortest path (totally unimodular, so integral), and
-   excluding the nodes already tried bounds the rest; a node whose cheapest open walk
-   costs at least the best cycle found is excluded without an LP.
+   excluding the nodes already tried bounds the rest; a node whose cheapest cycle costs
+   at least the best cycle found is excluded without an LP.
 """
 
 from __future__ import annotations
@@ -80,26 +85,51 @@ class _Graph:
 
     costs: list[np.ndarray]
     offsets: np.ndarray = field(init=False)  # first node id of each layer
-    kept: list[np.ndarray] = field(init=False)  # (n_i, n_i+1) bool: edges some cycle <= upper may use
-    upper: float = field(init=False)  # the cost of a known cycle
-    start_bound: np.ndarray = field(init=False)  # (n_0,) cheapest open walk from each layer-0 node
-    cycle: np.ndarray = field(init=False)  # (K,) its node per layer
+    kept: list[np.ndarray] = field(init=False)  # (n_i, n_i+1) bool: edges on a cycle costing at most upper
+    upper: float = field(init=False)  # the cost of the cheapest cycle
+    start_bound: np.ndarray = field(init=False)  # (n_0,) a lower bound of any cycle through each layer-0 node
+    cycle: np.ndarray = field(init=False)  # (K,) the cheapest cycle's node per layer
 
     def __post_init__(self):
+        from ._minplus_kernel import minplus
+
         self.offsets = np.concatenate([[0], np.cumsum([c.shape[0] for c in self.costs])])
-        forward = [np.zeros(self.costs[0].shape[0])]  # cheapest walk from any layer-0 node
-        for c in self.costs:
-            forward.append(np.min(forward[-1][:, None] + c, axis=0))
-        backward = [np.zeros(self.costs[0].shape[0])]  # cheapest walk on to any layer-0 node
+        # The cheapest open walk once around from each layer-0 node (one backward min-plus sweep) bounds every
+        # cycle through it from below: starts that cannot beat the cycle through the best of them are left out.
+        walk = np.zeros(self.costs[0].shape[0])
         for c in reversed(self.costs):
-            backward.append(np.min(c + backward[-1][None, :], axis=1))
-        backward = backward[::-1]
-        self.start_bound = backward[0]
-        self.cycle = self._cheapest_cycle_through(int(np.argmin(backward[0])))
+            walk = np.min(c + walk[None, :], axis=1)
+        first = _cycle_cost(self.costs, self._cheapest_cycle_through(int(np.argmin(walk))))
+        starts = np.flatnonzero(walk <= first + self._slack(first))
+        # Distances from each start kept to every node: forward[i] is (starts, n_i); forward[K] closes the circle.
+        forward = [None, np.ascontiguousarray(self.costs[0][starts])]
+        for c in self.costs[1:]:
+            forward.append(minplus(forward[-1], c))
+        closed = forward[-1][np.arange(len(starts)), starts]  # the cheapest cycle through each start
+        self.start_bound = walk.copy()
+        self.start_bound[starts] = closed
+        self.cycle = self._cheapest_cycle_through(int(starts[np.argmin(closed)]))
         self.upper = _cycle_cost(self.costs, self.cycle)
-        slack = 1e-9 * max(1.0, abs(self.upper))
-        self.kept = [forward[i][:, None] + c + backward[i + 1][None, :] <= self.upper + slack
-                     for i, c in enumerate(self.costs)]
+        slack = self._slack(self.upper)
+        # An edge's bound is the cheapest cycle through it: a start's distance to its tail, the edge, and the
+        # distance from its head back to that start (backward[i] is (live starts, n_i)), minimized over starts.
+        live = np.flatnonzero(closed <= self.upper + slack)
+        back = np.full((len(live), self.costs[0].shape[0]), np.inf)
+        back[np.arange(len(live)), starts[live]] = 0.0
+        self.kept = [None] * self.layers
+        for i in range(self.layers - 1, -1, -1):
+            c = self.costs[i]
+            if i == 0:
+                bound = np.full(c.shape, np.inf)
+                bound[starts[live]] = c[starts[live]] + back
+            else:
+                bound = c + minplus(np.ascontiguousarray(forward[i][live].T), back)
+                back = minplus(back, np.ascontiguousarray(c.T))
+            self.kept[i] = bound <= self.upper + slack
+
+    @staticmethod
+    def _slack(cost: float) -> float:
+        return 1e-9 * max(1.0, abs(cost))
 
     def _cheapest_cycle_through(self, start: int) -> np.ndarray:
         """The cheapest closed walk through layer-0 node ``start`` (a shortest path, O(edges))."""
@@ -286,7 +316,7 @@ def select_sources(edge_costs: list, *, name: str = "object") -> tuple[np.ndarra
                  name, value, graph.nodes(0), shift)
         best, choice, excluded = graph.upper, graph.cycle, []
         while True:
-            # a start whose cheapest open walk costs at least the best cycle found cannot beat it
+            # a start whose cheapest cycle costs at least the best cycle found cannot beat it
             tol = 1e-9 * max(1.0, abs(best))
             hopeless = [int(s) for s in np.flatnonzero(graph.start_bound >= best - tol) if s not in excluded]
             if excluded or hopeless:  # else the relaxation solved above still holds
@@ -442,9 +472,9 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
     alphas : list of float
         Mixing parameters of eq. 6.11.
     solver : {"lp", "dp"}
-        ``"lp"``: :func:`select_sources` (cvxpy). ``"dp"``: :func:`cyclic_dp`, the same
-        optimum (the tests compare them) in seconds where the LP is slow: on near-flat
-        costs, column generation and branching can take minutes per object.
+        ``"lp"``: :func:`select_sources` (cvxpy, the LP of eq. 6.7-6.9 on the edges its
+        bounds keep). ``"dp"``: :func:`cyclic_dp`, the same optimum (the tests compare them)
+        without an LP solver.
 
     Returns
     -------

@@ -1,5 +1,6 @@
 """One source per library view around the circle: the LP of thesis 6.3 against a dynamic program."""
 
+import itertools
 import logging
 import subprocess
 import sys
@@ -10,6 +11,7 @@ import pytest
 
 import heatdata as hd
 import heatdata.library as library
+from heatdata._minplus_kernel import minplus
 from heatdata.evaluate import evaluate_compact, precision_table
 
 
@@ -37,6 +39,37 @@ def test_column_generation_finds_edges_left_out_at_the_start(monkeypatch):
     rng = np.random.default_rng(2)
     for _ in range(8):
         check(random_costs(rng, int(rng.integers(3, 9)), 5, 20))
+
+
+def test_the_edges_kept_are_those_of_the_cheapest_cycles():
+    rng = np.random.default_rng(4)
+    for trial in range(12):
+        costs = random_costs(rng, int(rng.integers(2, 5)), 1, 5)
+        if trial % 2:  # near-flat costs with ties, as on real descriptors
+            costs = [np.round(c * 2) / 2 for c in costs]
+        graph = library._Graph(costs)
+        cycles = {choice: library._cycle_cost(costs, np.array(choice))
+                  for choice in itertools.product(*(range(c.shape[0]) for c in costs))}
+        best = min(cycles.values())
+        assert graph.upper == pytest.approx(best, abs=1e-12)
+        for i, kept in enumerate(graph.kept):
+            on_best = np.zeros_like(kept)
+            for choice, cost in cycles.items():
+                if cost <= best + 1e-9:
+                    on_best[choice[i], choice[(i + 1) % len(costs)]] = True
+            assert np.array_equal(kept, on_best), (trial, i)
+        # a lower bound of every cycle through each start, exact for the starts it searched from
+        through = [min(cost for choice, cost in cycles.items() if choice[0] == s) for s in range(costs[0].shape[0])]
+        assert np.all(graph.start_bound <= np.array(through) + 1e-12)
+
+
+def test_minplus_product_against_broadcasting():
+    rng = np.random.default_rng(5)
+    a, b = rng.random((7, 5)), rng.random((5, 9))
+    a[2] = np.inf
+    a[3, 1] = np.inf
+    expected = np.min(a[:, :, None] + b[None, :, :], axis=1)
+    assert np.array_equal(minplus(a, b), expected)
 
 
 def test_a_fractional_relaxation_is_branched_to_the_exact_cycle(caplog):

@@ -72,6 +72,17 @@ def test_krylov_heat_matches_expm_multiply(square, with_color):
         assert np.max(np.abs(got[k] - reference)) < 1e-8
 
 
+def test_a_shifted_operator_reuses_the_analysis_and_solves_its_own_matrix(square):
+    L = hd.laplacian(square.vertices, square.edges)
+    rates = np.random.default_rng(3).uniform(0.5, 2.0, square.n_vertices)
+    op = hd.HeatOperator(L, rates)
+    shifted = op.shifted(10.0)
+    y = np.random.default_rng(4).standard_normal(square.n_vertices)
+    dense = L.toarray() + 10.0 * np.diag(rates)
+    assert np.allclose(shifted.factor.solve_A(y), np.linalg.solve(dense, y), rtol=1e-10, atol=1e-12)
+    assert np.array_equal(shifted.factor.P(), op.factor.P())
+
+
 def test_heat_is_conserved(square):
     rates = np.random.default_rng(3).uniform(0.5, 2.0, square.n_vertices)
     op = hd.HeatOperator(hd.laplacian(square.vertices, square.edges), rates)
