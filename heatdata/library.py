@@ -112,7 +112,7 @@ class _Graph:
         self.upper = _cycle_cost(self.costs, self.cycle)
         slack = self._slack(self.upper)
         # An edge's bound is the cheapest cycle through it: a start's distance to its tail, the edge, and the
-        # distance from its head back to that start (backward[i] is (live starts, n_i)), minimized over starts.
+        # distance from its head back to that start (back: (live starts, n_i+1)), minimized over starts.
         live = np.flatnonzero(closed <= self.upper + slack)
         back = np.full((len(live), self.costs[0].shape[0]), np.inf)
         back[np.arange(len(live)), starts[live]] = 0.0
