@@ -6,31 +6,56 @@
 >>> d = hd.pvhk(view, samples=64, source="closest")
 
 The README's "Using the library" runs a whole example (recognition, the baselines, a compact library).
+
+The descriptors, distances, spectra and views are imported with the package; the other stages are imported
+the first time one of their names is used (``hd.render_view`` imports open3d, ``hd.load_model`` trimesh), so
+a job that only compares descriptor tables does not load the renderer (~260 MB of open3d).
 """
 
-from .catalog import catalog_from_folder, embedded_catalog, import_sh3f, load_catalog_model, read_catalog
-from .depth import read_depth, read_organized_cloud, view_from_depth, write_depth
-from .distance import chi_square_matrix, mhd, mhd_matrix, nearest_pair_mhd, weighted_mhd
+import importlib
+
 from .descriptors import (COLOR_MAPS, DESCRIPTORS, Descriptor, DescriptorSpec, c_pvhk, describe, distance, fit_spec,
                           ft_pvhk, global_derivative, heat_kernel, object_time_scale, part_weights, pvhk, pvst,
                           sample_boundary, source_vertex, view_time_scale)
+from .distance import chi_square_matrix, mhd, mhd_matrix, nearest_pair_mhd, weighted_mhd
 from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
-from .library import combined_costs, consecutive_costs, library_subset, other_object_distances, select_sources
-from .models import Model, hue_rotated, load_model
-from .multiview import AppearanceModel, ExhaustiveFilter, ParticleFilter, appearance_model, learn_similarity
-from .recognition import precision_by, classify_candidates, confusion_matrix, nearest_neighbours
-from .render import camera_pose, render_view
-from .rump import RumpError, hbrd, rump_heat
-from .sources import candidate_descriptors, candidate_sources
 from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat,
                        lambda2, laplacian)
-from . import stitch  # the module: hd.stitch.stitch(first, second), hd.stitch.split_model(...)
-from .stitch import StitchError
 from .version import __version__
 from .view import View, kinect_intrinsics
 
 # ``hd.distance`` is the descriptor-level distance function; the module of distance matrices stays
-# importable as ``heatdata.distance`` (``from heatdata.distance import mhd_matrix``).
+# importable as ``heatdata.distance`` (``from heatdata.distance import mhd_matrix``). It is bound above, after
+# the module was loaded, so importing the module later does not rebind it.
+
+#: names imported on first use, by module
+_LAZY = {
+    "catalog": ["catalog_from_folder", "embedded_catalog", "import_sh3f", "load_catalog_model", "read_catalog"],
+    "depth": ["read_depth", "read_organized_cloud", "view_from_depth", "write_depth"],
+    "library": ["combined_costs", "consecutive_costs", "library_subset", "other_object_distances", "select_sources"],
+    "models": ["Model", "hue_rotated", "load_model"],
+    "multiview": ["AppearanceModel", "ExhaustiveFilter", "ParticleFilter", "appearance_model", "learn_similarity"],
+    "recognition": ["precision_by", "classify_candidates", "confusion_matrix", "nearest_neighbours"],
+    "render": ["camera_pose", "render_view"],
+    "rump": ["RumpError", "hbrd", "rump_heat"],
+    "sources": ["candidate_descriptors", "candidate_sources"],
+    "stitch": ["StitchError"],
+}
+_MODULE_OF = {name: module for module, names in _LAZY.items() for name in names}
+
+
+def __getattr__(name: str):
+    if name == "stitch":  # the module: hd.stitch.stitch(first, second), hd.stitch.split_model(...)
+        return importlib.import_module(".stitch", __name__)
+    if name not in _MODULE_OF:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{_MODULE_OF[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
 
 __all__ = [
     "AppearanceModel", "appearance_model", "learn_similarity", "ParticleFilter", "ExhaustiveFilter", "precision_by",
