@@ -7,6 +7,7 @@ report in :mod:`heatdata.report`.
 from __future__ import annotations
 
 import logging
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -16,6 +17,7 @@ from .distance import SHORTLIST
 from .errors import HeatdataError
 from .library import library_subset
 from .recognition import classify_candidates
+from .tables import iter_table, read_table
 
 log = logging.getLogger(__name__)
 
@@ -94,15 +96,17 @@ def _usable(lib: pd.DataFrame, query: pd.DataFrame, descriptor: str
     A PVST sample that never reaches its threshold, or a descriptor that failed on a view,
     is NaN. Such library views are left out; such test views get no prediction.
     """
-    def bad_views(rows):
-        return set(rows.loc[~rows["values"].map(lambda v: bool(np.isfinite(v).all())), "view_id"])
-
-    bad_lib, bad_query = bad_views(lib), bad_views(query)
+    bad_lib, bad_query = _nan_views(lib), _nan_views(query)
     if bad_lib or bad_query:
         log.warning("%s: %d library and %d test views have NaN values (see their repairs); the library views "
                     "are left out and the test views count as wrong", descriptor, len(bad_lib), len(bad_query))
     unusable = query["view_id"].isin(bad_query)
     return lib[~lib["view_id"].isin(bad_lib)], query[~unusable], query[unusable]
+
+
+def _nan_views(rows: pd.DataFrame) -> set[str]:
+    """The ``view_id`` of rows with a NaN value."""
+    return set(rows.loc[~rows["values"].map(lambda v: bool(np.isfinite(v).all())), "view_id"])
 
 
 def _stack(column: pd.Series) -> np.ndarray | None:
@@ -154,6 +158,48 @@ def evaluate_library_sizes(descriptors: pd.DataFrame, descriptor: str, sizes: li
         subset = pd.concat([library_subset(rows, size), tests])
         results.append(classify(subset, descriptor).assign(library_size=size))
     return pd.concat(results, ignore_index=True)
+
+
+def evaluate_table(path: str | Path, descriptor: str, sizes: list[int]) -> pd.DataFrame:
+    """:func:`evaluate_library_sizes` on a descriptor table on disk, reading its test rows a row group at a time.
+
+    Memory holds the library rows and one row group of test rows, not the whole table (a
+    run's table has one row group per object, :func:`heatdata.tables.concat_tables`): the
+    chairs' FT-PVHK has 406,000 test rows, each test view at every object's time scale
+    (Alg. 5.2). A time-scaled test view whose rows are not all in one group waits for the
+    next; one still missing a time scale at the end is an error, as in :func:`classify`.
+    """
+    columns = [*CLASSIFY_COLUMNS, "time_object", "weights"]
+    rows = [("descriptor", "==", descriptor)]
+    train, _ = read_table(path, columns=columns, filters=[*rows, ("split", "==", "train")])
+    if train.empty:
+        raise HeatdataError(f"{path}: no library ('train') rows of descriptor {descriptor!r}")
+    bad = _nan_views(train)
+    if bad:
+        log.warning("%s: %d library views have NaN values (see their repairs) and are left out", descriptor, len(bad))
+    libraries = {size: library[~library["view_id"].isin(bad)]
+                 for size, library in ((size, library_subset(train, size)) for size in sizes)}
+    time_scaled = kind_of(train["kind"].iloc[0]).time_scaled
+    objects = train["object"].nunique()
+    parts: dict[int, list[pd.DataFrame]] = {size: [] for size in sizes}
+
+    def add(tests: pd.DataFrame) -> None:
+        for size, library in libraries.items():
+            parts[size].append(classify(pd.concat([library, tests]), descriptor).assign(library_size=size))
+
+    pending = None
+    for group in iter_table(path, columns=columns, filters=[*rows, ("split", "==", "test")]):
+        tests = group if pending is None else pd.concat([pending, group], ignore_index=True)
+        if time_scaled:  # a view is whole once it has a row at every object's time scale
+            whole = tests.groupby("view_id")["time_object"].transform("nunique") >= objects
+            tests, pending = tests[whole], tests[~whole]
+        if not tests.empty:
+            add(tests)
+    if pending is not None and not pending.empty:
+        add(pending)  # raises: a test view without a row at some object's time scale
+    if not parts[sizes[0]]:
+        raise HeatdataError(f"{path}: no test rows of descriptor {descriptor!r}")
+    return pd.concat([part for size in sizes for part in parts[size]], ignore_index=True)
 
 
 def evaluate_compact(candidates: pd.DataFrame, libraries: pd.DataFrame, *, shortlist: int | None = SHORTLIST

@@ -9,6 +9,7 @@ documented in ``docs/tables.md``.
 from __future__ import annotations
 
 import json
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -173,26 +174,72 @@ def read_table(path: str | Path, *, columns: list[str] | None = None, filters: l
     holds one group and the rows kept (``pq.read_table`` with filters decoded them all:
     1.2 GB for the chairs' 9,280 PVHK rows of 406,000, 450 MB now).
     """
+    file = _open(path)
+    try:
+        if filters:
+            parts = list(_row_groups(file, columns, filters))
+            table = pa.concat_tables(parts) if parts else _empty(file, columns)
+        else:
+            table = file.read(columns=columns)
+    except Exception as exc:
+        raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
+    return table.to_pandas(), _run_metadata(file)
+
+
+def iter_table(path: str | Path, *, columns: list[str] | None = None, filters: list | None = None
+               ) -> Iterator[pd.DataFrame]:
+    """The rows of a heatdata table one Parquet row group at a time, filtered as in :func:`read_table`.
+
+    For tables larger than memory: a run's descriptor table has one row group per object
+    (:func:`concat_tables` writes each object's table as it comes), so this yields one
+    object's rows at a time. Groups with no row kept are skipped.
+    """
+    file = _open(path)
+    try:
+        for table in _row_groups(file, columns, filters or []):
+            if table.num_rows:
+                yield table.to_pandas()
+    except Exception as exc:
+        raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
+
+
+def read_metadata(path: str | Path) -> dict:
+    """The run metadata of a heatdata table (as :func:`read_table` returns it), without reading its rows."""
+    return _run_metadata(_open(path))
+
+
+def _open(path: str | Path) -> pq.ParquetFile:
     path = Path(path)
     if not path.is_file():
         raise HeatdataError(f"{path}: no such table")
     try:
-        if filters:
-            expression = pq.filters_to_expression(filters)
-            file = pq.ParquetFile(path)
-            needed = None if columns is None else sorted(set(columns) | _filter_columns(filters))
-            parts = [file.read_row_group(k, columns=needed).filter(expression) for k in range(file.num_row_groups)]
-            table = pa.concat_tables(parts) if parts else file.schema_arrow.empty_table()
-            table = table.select(columns) if columns is not None else table
-            table = table.replace_schema_metadata(file.schema_arrow.metadata)
-        else:
-            table = pq.read_table(path, columns=columns)
+        return pq.ParquetFile(path)
     except Exception as exc:
         raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
-    raw = table.schema.metadata or {}
+
+
+def _row_groups(file: pq.ParquetFile, columns: list[str] | None, filters: list) -> Iterator[pa.Table]:
+    """Each row group of ``file`` with only the rows ``filters`` keep and only ``columns``."""
+    expression = pq.filters_to_expression(filters) if filters else None
+    needed = None if columns is None or not filters else sorted(set(columns) | _filter_columns(filters))
+    for k in range(file.num_row_groups):
+        table = file.read_row_group(k, columns=needed)
+        if expression is not None:
+            table = table.filter(expression)
+        yield table.select(columns) if columns is not None else table
+
+
+def _empty(file: pq.ParquetFile, columns: list[str] | None) -> pa.Table:
+    table = file.schema_arrow.empty_table()
+    return table.select(columns) if columns is not None else table
+
+
+def _run_metadata(file: pq.ParquetFile) -> dict:
+    """The run parameters a heatdata table carries, with ``heatdata_version``."""
+    raw = file.schema_arrow.metadata or {}
     meta = json.loads(raw.get(b"heatdata_run", b"{}"))
     meta["heatdata_version"] = raw.get(b"heatdata_version", b"").decode()
-    return table.to_pandas(), meta
+    return meta
 
 
 def _filter_columns(filters: list) -> set[str]:

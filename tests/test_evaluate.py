@@ -4,6 +4,8 @@ import logging
 
 import numpy as np
 import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
 import pytest
 
 import heatdata as hd
@@ -112,6 +114,54 @@ def test_fixed_time_classification_compares_each_object_at_its_own_time():
     assert classify(weighted, "ft")["distance"].item() == pytest.approx(expected)
     with pytest.raises(hd.HeatdataError, match="no row at the time scale of object 'b'"):
         classify(rows.drop(index=3), "ft")
+
+
+def random_table(seed=0, objects=("a", "b", "c"), n_train=6, n_test=4):
+    """A PVHK and an FT-PVHK (each test view at every object's time) of random curves near each object's own."""
+    rng = np.random.default_rng(seed)
+    centre = {obj: rng.normal(size=8) for obj in objects}
+    rows = []
+    for obj in objects:
+        for split, count in (("train", n_train), ("test", n_test)):
+            for i in range(count):
+                view = {"object": obj, "label": obj, "split": split, "view_id": f"{obj}/{split}/{i:03d}",
+                        "azimuth": 360.0 * i / count}
+                rows.append({**view, "descriptor": "d", "kind": "pvhk", "time_object": "",
+                             "values": centre[obj] + rng.normal(scale=0.8, size=8), "weights": None})
+                for time_object in (objects if split == "test" else [obj]):
+                    rows.append({**view, "descriptor": "ft", "kind": "ft-pvhk", "time_object": time_object,
+                                 "values": centre[obj] + rng.normal(scale=0.8, size=8),
+                                 "weights": rng.uniform(0.5, 1.0, size=8)})
+    return pd.DataFrame(rows)
+
+
+@pytest.mark.parametrize("descriptor", ["d", "ft"])
+def test_a_table_on_disk_is_classified_group_by_group_as_in_memory(tmp_path, descriptor):
+    """Row groups of 5 rows cut the FT-PVHK's test views between groups: they wait for their other time scales."""
+    from heatdata.evaluate import evaluate_table
+
+    rows = random_table()
+    path = tmp_path / "descriptors.parquet"
+    pq.write_table(pa.Table.from_pandas(rows, preserve_index=False), path, row_group_size=5)
+    expected = evaluate_library_sizes(rows, descriptor, [6, 2])
+    found = evaluate_table(path, descriptor, [6, 2])
+    key = ["library_size", "view_id"]
+    pd.testing.assert_frame_equal(found.sort_values(key, ignore_index=True),
+                                  expected.sort_values(key, ignore_index=True))
+    assert 0.3 < expected["correct"].mean() < 1.0  # neither trivial nor hopeless
+
+
+def test_a_table_on_disk_with_a_missing_time_scale_or_descriptor_is_refused(tmp_path):
+    from heatdata.evaluate import evaluate_table
+
+    rows = random_table()
+    path = tmp_path / "descriptors.parquet"
+    lost = (rows["view_id"] == "b/test/001") & (rows["time_object"] == "c")
+    pq.write_table(pa.Table.from_pandas(rows[~lost], preserve_index=False), path, row_group_size=7)
+    with pytest.raises(hd.HeatdataError, match="test view b/test/001 has no row at the time scale of object 'c'"):
+        evaluate_table(path, "ft", [2])
+    with pytest.raises(hd.HeatdataError, match="no library .* rows of descriptor 'nope'"):
+        evaluate_table(path, "nope", [2])
 
 
 def test_views_with_nan_descriptors_are_left_out_or_counted_wrong(caplog):
