@@ -160,7 +160,8 @@ def evaluate_library_sizes(descriptors: pd.DataFrame, descriptor: str, sizes: li
     return pd.concat(results, ignore_index=True)
 
 
-def evaluate_table(path: str | Path, descriptor: str, sizes: list[int]) -> pd.DataFrame:
+def evaluate_table(path: str | Path, descriptor: str, sizes: list[int], *, library_split: str = "train"
+                   ) -> pd.DataFrame:
     """:func:`evaluate_library_sizes` on a descriptor table on disk, reading its test rows a row group at a time.
 
     Memory holds the library rows and one row group of test rows, not the whole table (a
@@ -168,12 +169,19 @@ def evaluate_table(path: str | Path, descriptor: str, sizes: list[int]) -> pd.Da
     chairs' FT-PVHK has 406,000 test rows, each test view at every object's time scale
     (Alg. 5.2). A time-scaled test view whose rows are not all in one group waits for the
     next; one still missing a time scale at the end is an error, as in :func:`classify`.
+
+    ``library_split="test"`` is the protocol of thesis 5.5: the library views are chosen
+    among the test views (each at its own object's time scale), which are all queried, so
+    each library view is also a query that finds itself. The default keeps them apart:
+    the library comes from the ``train`` views, rendered at other angles with other noise.
     """
     columns = [*CLASSIFY_COLUMNS, "time_object", "weights"]
     rows = [("descriptor", "==", descriptor)]
-    train, _ = read_table(path, columns=columns, filters=[*rows, ("split", "==", "train")])
-    if train.empty:
-        raise HeatdataError(f"{path}: no library ('train') rows of descriptor {descriptor!r}")
+    own_time = [group[group["time_object"].isin(["", None]) | (group["time_object"] == group["object"])]
+                for group in iter_table(path, columns=columns, filters=[*rows, ("split", "==", library_split)])]
+    if not own_time:
+        raise HeatdataError(f"{path}: no library ({library_split!r}) rows of descriptor {descriptor!r}")
+    train = pd.concat(own_time, ignore_index=True).assign(split="train")
     bad = _nan_views(train)
     if bad:
         log.warning("%s: %d library views have NaN values (see their repairs) and are left out", descriptor, len(bad))

@@ -151,6 +151,23 @@ def test_a_table_on_disk_is_classified_group_by_group_as_in_memory(tmp_path, des
     assert 0.3 < expected["correct"].mean() < 1.0  # neither trivial nor hopeless
 
 
+@pytest.mark.parametrize("descriptor", ["d", "ft"])
+def test_the_thesis_protocol_takes_the_library_among_the_test_views(tmp_path, descriptor):
+    """5.5: library views are test views (at their own object's time scale), so each one finds itself."""
+    from heatdata.evaluate import evaluate_table
+
+    rows = random_table()
+    path = tmp_path / "descriptors.parquet"
+    pq.write_table(pa.Table.from_pandas(rows, preserve_index=False), path, row_group_size=5)
+    every = evaluate_table(path, descriptor, [4], library_split="test")
+    assert len(every) == 12 and every["correct"].all() and (every["distance"] == 0).all()
+    assert (every["predicted_view_id"] == every["view_id"]).all()
+    two = evaluate_table(path, descriptor, [2], library_split="test")
+    itself = two[two["azimuth"].isin([0.0, 180.0])]  # the library's azimuths of 4 test views
+    assert len(itself) == 6 and (itself["predicted_view_id"] == itself["view_id"]).all()
+    assert (itself["distance"] == 0).all() and (two["distance"] > 0).sum() == 6
+
+
 def test_a_table_on_disk_with_a_missing_time_scale_or_descriptor_is_refused(tmp_path):
     from heatdata.evaluate import evaluate_table
 
