@@ -125,21 +125,27 @@ def _fixed_time_neighbours(query: pd.DataFrame, lib: pd.DataFrame, descriptor: s
     only for library views nearer than the best so far (``within`` of :meth:`Kind.nearest`).
     """
     views = query.drop_duplicates("view_id")
+    view_of_row = pd.Index(views["view_id"]).get_indexer(query["view_id"])
+    values, weights = np.stack(query["values"].to_numpy()), _stack(query["weights"])
+    lib_values, lib_weights = np.stack(lib["values"].to_numpy()), _stack(lib["weights"])
+    if (weights is None) != (lib_weights is None):
+        raise HeatdataError(f"descriptor {descriptor!r}: part weights on the test or the library rows only")
+    at_time = query.groupby("time_object").indices
     best = np.full(len(views), np.inf)
     index = np.zeros(len(views), dtype=np.int64)
     for obj, positions in lib.groupby("object").indices.items():
-        at_time = query[query["time_object"] == obj].set_index("view_id").reindex(views["view_id"])
-        if at_time["values"].isna().any():
-            missing = at_time.index[at_time["values"].isna()][0]
-            raise HeatdataError(f"descriptor {descriptor!r}: test view {missing} has no row at the time scale "
-                                f"of object {obj!r} (time_object); describe test views with every object's")
-        candidates = lib.iloc[positions]
-        q_weights, l_weights = _stack(at_time["weights"]), _stack(candidates["weights"])
-        if (q_weights is None) != (l_weights is None):
-            raise HeatdataError(f"descriptor {descriptor!r}: part weights on the test or the library rows only")
-        nearest, distance = impl.nearest(np.stack(at_time["values"].to_numpy()),
-                                         np.stack(candidates["values"].to_numpy()), query_weights=q_weights,
-                                         library_weights=l_weights, within=best)  # only a nearer one matters
+        rows = at_time.get(obj, np.zeros(0, dtype=np.int64))
+        rows = rows[np.argsort(view_of_row[rows], kind="stable")]  # in the order of ``views``
+        if not np.array_equal(view_of_row[rows], np.arange(len(views))):
+            counts = np.bincount(view_of_row[rows], minlength=len(views))
+            view = views["view_id"].iloc[int(np.flatnonzero(counts != 1)[0])]
+            problem = "no row" if counts.min() == 0 else "several rows"
+            raise HeatdataError(f"descriptor {descriptor!r}: test view {view} has {problem} at the time scale of "
+                                f"object {obj!r} (time_object); describe test views with every object's")
+        nearest, distance = impl.nearest(values[rows], lib_values[positions],
+                                         query_weights=None if weights is None else weights[rows],
+                                         library_weights=None if lib_weights is None else lib_weights[positions],
+                                         within=best)  # only a nearer one matters
         closer = nearest >= 0
         best[closer] = distance[closer]
         index[closer] = positions[nearest[closer]]
