@@ -126,7 +126,8 @@ def _fixed_time_neighbours(query: pd.DataFrame, lib: pd.DataFrame, descriptor: s
     """
     views = query.drop_duplicates("view_id")
     view_of_row = pd.Index(views["view_id"]).get_indexer(query["view_id"])
-    values, weights = np.stack(query["values"].to_numpy()), _stack(query["weights"])
+    values = query["values"].to_numpy()  # (rows,) arrays, stacked object by object (memory)
+    weights = None if query["weights"].isna().any() else query["weights"].to_numpy()
     lib_values, lib_weights = np.stack(lib["values"].to_numpy()), _stack(lib["weights"])
     if (weights is None) != (lib_weights is None):
         raise HeatdataError(f"descriptor {descriptor!r}: part weights on the test or the library rows only")
@@ -142,8 +143,8 @@ def _fixed_time_neighbours(query: pd.DataFrame, lib: pd.DataFrame, descriptor: s
             problem = "no row" if counts.min() == 0 else "several rows"
             raise HeatdataError(f"descriptor {descriptor!r}: test view {view} has {problem} at the time scale of "
                                 f"object {obj!r} (time_object); describe test views with every object's")
-        nearest, distance = impl.nearest(values[rows], lib_values[positions],
-                                         query_weights=None if weights is None else weights[rows],
+        nearest, distance = impl.nearest(np.stack(values[rows]), lib_values[positions],
+                                         query_weights=None if weights is None else np.stack(weights[rows]),
                                          library_weights=None if lib_weights is None else lib_weights[positions],
                                          within=best)  # only a nearer one matters
         closer = nearest >= 0
