@@ -151,6 +151,34 @@ def test_multiview_trials_and_their_figure(tiny_run):
     assert "<table" in (results / "figures" / "multiview.html").read_text()
 
 
+def test_the_protocol_and_time_scale_scripts_read_a_run_s_table(tiny_run, tmp_path):
+    """scripts/protocols.py and scripts/ft_time_scales.py (issue 17) on the tiny run's descriptor table."""
+    table = tiny_run / "results/descriptors.parquet"
+    out = tmp_path / "protocols.csv"
+    result = subprocess.run([sys.executable, ROOT / "scripts/protocols.py", table, "--descriptor",
+                             "pvhk/polar/center/32", "ft-pvhk/polar/center/32", "--sizes", "6", "3", "--out", out],
+                            capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr[-2000:]
+    protocols = pd.read_csv(out).set_index(["descriptor", "protocol", "library_size"])
+    assert len(protocols) == 8 and protocols["test_views"].eq(12).all()
+    # the thesis's protocol with every test view in the library: each finds itself
+    assert protocols.loc[("pvhk/polar/center/32", "thesis", 6), "precision"] == 1.0
+    assert protocols.loc[("ft-pvhk/polar/center/32", "thesis", 6), "precision"] == 1.0
+    out = tmp_path / "time_scales.csv"
+    result = subprocess.run([sys.executable, ROOT / "scripts/ft_time_scales.py", table, "ft-pvhk/polar/center/32",
+                             "--sizes", "8", "4", "--out", out], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr[-2000:]
+    scales = pd.read_csv(out)
+    assert len(scales) == 16 and set(scales["rule"]) == {"nearest", "normalized", "plausible", "known"}
+    assert scales["test_views"].eq(12).all() and scales["precision"].between(0, 1).all()
+    # the workflow's own predictions are the "nearest" rule, weighted
+    precision = pd.read_csv(tiny_run / "results/evaluation/precision.csv")
+    workflow = precision[(precision["level"] == "object") & (precision["group"] == "all")
+                         & (precision["descriptor"] == "ft-pvhk/polar/center/32")].set_index("library_size")
+    nearest = scales[(scales["rule"] == "nearest") & (scales["weights"] == "weighted")].set_index("library_size")
+    assert np.allclose(nearest.loc[[8, 4], "precision"], workflow.loc[[8, 4], "precision"], atol=1e-4)
+
+
 def test_rerun_with_nothing_changed_runs_no_job(tiny_run):
     result = snakemake(tiny_run, tiny_config(**EXPERIMENTS), "--dry-run")
     assert result.returncode == 0
