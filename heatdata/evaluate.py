@@ -212,7 +212,7 @@ def evaluate_table(path: str | Path, descriptor: str, sizes: list[int], *, libra
             add(tests)
     if pending is not None and not pending.empty:
         add(pending)  # raises: a test view without a row at some object's time scale
-    if not parts[sizes[0]]:
+    if not any(parts.values()):
         raise HeatdataError(f"{path}: no test rows of descriptor {descriptor!r}")
     return pd.concat([part for size in sizes for part in parts[size]], ignore_index=True)
 
