@@ -36,6 +36,11 @@ COLUMNS = ["object", "view_id", "split", "azimuth", "kind", "time_object", "time
            "weights"]
 
 
+def stack(frame: pd.DataFrame, column: str) -> np.ndarray:
+    """(rows, M) array of a list column."""
+    return np.stack(frame[column].to_numpy())
+
+
 def spread(kind, values: np.ndarray, weights: np.ndarray | None) -> float:
     """Median distance from each library view of one object to its nearest other one (0 with one view)."""
     if len(values) < 2:
@@ -59,7 +64,6 @@ def main() -> None:
     kind = kind_of(train["kind"].iloc[0])
     objects = sorted(train["object"].unique())
     time_scale = train.groupby("object")["time"].first().loc[objects].to_numpy()
-    stack = lambda frame, column: np.stack(frame[column].to_numpy())  # noqa: E731
     libraries = {size: library_subset(train, size) for size in args.sizes}
     results = []
     for size, library in libraries.items():
@@ -83,7 +87,9 @@ def main() -> None:
                 nearest = kind.nearest(stack(own, "values"), every,
                                        query_weights=stack(own, "weights") if weighted else None,
                                        library_weights=every_weights)[0]
-                truth.extend(own["object"]), distances.append(d), known.extend(owner[nearest])
+                truth.extend(own["object"])
+                distances.append(d)
+                known.extend(owner[nearest])
                 own_scale.extend(own["t_global"])
             truth, d = np.array(truth), np.concatenate(distances)
             mask = time_scale[None, :] <= np.array(own_scale)[:, None]
