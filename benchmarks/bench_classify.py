@@ -63,13 +63,12 @@ def main() -> None:
         out = subprocess.run([sys.executable, __file__, args.table, "--descriptor", args.descriptor, "--size",
                               str(args.size), "--method", method], capture_output=True, text=True, check=True)
         results[method] = json.loads(out.stdout.splitlines()[-1])
-    old, new = ({view: (predicted, distance) for view, predicted, distance
-                 in zip(r["view_ids"], r["predicted"], r["distance"], strict=True)} for r in (results["matrix"],
-                                                                                           results["search"]))
-    same = old.keys() == new.keys() and all(old[v][0] == new[v][0] for v in old)
-    a, b = (np.array([answers[v][1] for v in sorted(old)]) for answers in (old, new))
-    gap = float(np.nanmax(np.abs(a - b) / np.maximum(np.abs(a), 1e-12)))
     old, new = results["matrix"], results["search"]
+    by_view = [{view: (predicted, distance) for view, predicted, distance
+                in zip(r["view_ids"], r["predicted"], r["distance"], strict=True)} for r in (old, new)]
+    same = by_view[0].keys() == by_view[1].keys() and all(by_view[0][v][0] == by_view[1][v][0] for v in by_view[0])
+    a, b = (np.array([answers[v][1] for v in sorted(by_view[0])]) for answers in by_view)
+    gap = float(np.nanmax(np.abs(a - b) / np.maximum(np.abs(a), 1e-12)))
     print(f"{args.descriptor}, {args.size} library views per object, {new['views']} test views")
     for name, r in (("distance matrix + argmin", old), ("exact search, streamed", new)):
         print(f"  {name:28s} {r['seconds']:7.1f} s   peak {r['peak_mb']:6.0f} MB   precision {r['precision']:.1%}")
