@@ -15,6 +15,7 @@ height        real size along y (up), metres
 depth         real size along z, metres
 rotation      optional 9 numbers (row-major 3x3) applied before scaling
 scale         optional factor from file units to metres when no size is given
+hue           optional degrees by which the model's colours are turned (a colour twin, 3.4)
 name          human-readable name
 source        where the model came from (library and creator)
 licence       licence of the model
@@ -34,12 +35,12 @@ import numpy as np
 import pandas as pd
 
 from .errors import ModelError
-from .models import SUPPORTED_SUFFIXES, Model, load_model
+from .models import SUPPORTED_SUFFIXES, Model, hue_rotated, load_model
 
 log = logging.getLogger(__name__)
 
 CATALOG_COLUMNS = ["object", "label", "file", "width", "height", "depth", "rotation", "name", "source", "licence",
-                   "scale"]
+                   "scale", "hue"]
 SH3F_LICENCES = {"blendswap-cc-0": "CC0-1.0"}
 
 
@@ -128,8 +129,37 @@ def load_catalog_model(row: pd.Series | dict) -> Model:
     rotation = None
     if str(row.get("rotation", "")).strip():
         rotation = np.array([float(x) for x in str(row["rotation"]).split()]).reshape(3, 3)
-    return load_model(row["path"], size=size, scale=_number(row.get("scale"), 1.0), rotation=rotation,
-                      name=row["object"], label=row["label"])
+    model = load_model(row["path"], size=size, scale=_number(row.get("scale"), 1.0), rotation=rotation,
+                       name=row["object"], label=row["label"])
+    hue = _number(row.get("hue"), 0.0)
+    return hue_rotated(model, hue, name=row["object"]) if hue % 360 else model
+
+
+def colour_twins(catalog: pd.DataFrame, objects: list[str], degrees: float) -> pd.DataFrame:
+    """Catalogue rows of colour twins (thesis 3.4): each of ``objects`` with its colours turned by ``degrees``.
+
+    A twin is object ``<object>-hue<degrees>``, of the same class, file and size; only its
+    colour tells it from the original (:func:`heatdata.models.hue_rotated`, applied by
+    :func:`load_catalog_model`).
+
+    Raises
+    ------
+    ModelError
+        An object is not in the catalogue, the turn is a whole number of turns, or a twin's id is taken.
+    """
+    missing = sorted(set(objects) - set(catalog["object"]))
+    if missing:
+        raise ModelError(f"colour twins of {missing}: not in the catalogue")
+    if not np.isfinite(degrees) or degrees % 360 == 0:
+        raise ModelError(f"a colour twin needs a hue turn that is not a whole number of turns, got {degrees}")
+    twins = catalog[catalog["object"].isin(objects)].copy()
+    twins["name"] = [f"{n or o}, hue turned {degrees:g} degrees" for n, o in zip(twins["name"], twins["object"])]
+    twins["object"] = [f"{o}-hue{degrees:g}" for o in twins["object"]]
+    twins["hue"] = degrees
+    taken = sorted(set(twins["object"]) & set(catalog["object"]))
+    if taken:
+        raise ModelError(f"colour twins {taken}: object ids already in the catalogue")
+    return twins
 
 
 def parse_properties(text: str) -> dict[str, str]:

@@ -386,7 +386,7 @@ def build_parser() -> argparse.ArgumentParser:
     desc.add_argument("--samples", type=int, help="boundary samples (default 64); 0: one per boundary vertex")
     desc.add_argument("--source", help="closest (default), center, interior or a vertex index")
     desc.add_argument("--sampling", choices=["arclength", "polar"], help="boundary sampling (default arclength)")
-    desc.add_argument("--color-map", default=None, help=f"c1, c2, c3, c4 or hue: compute a {COLOR_KIND}")
+    desc.add_argument("--color-map", default=None, help=f"c1, c2, c3, c4, hue or sat-hue: compute a {COLOR_KIND}")
     desc.add_argument("--kind", choices=list(KINDS), help=f"default {DEFAULT_KIND}, or {COLOR_KIND} with "
                       "--color-map; 'heatdata kinds' lists every kind and its options")
     desc.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 import heatdata as hd
-from heatdata.catalog import catalog_from_folder, parse_properties, sh3f_entries
+from heatdata.catalog import catalog_from_folder, colour_twins, parse_properties, sh3f_entries
 from test_models import write_textured_quad
 
 SH3F_DIR = Path("/usr/share/sweethome3d/furniture")
@@ -156,3 +156,25 @@ def test_several_libraries_with_names_kept_and_left_out(tmp_path):
     assert sh3f_catalog(first, name_pattern="piano", allow_empty=True).empty
     with pytest.raises(hd.ModelError, match="no furniture matches 'mug' without 'mug'"):
         sh3f_catalogs([first, second], name_pattern="mug", exclude_pattern="mug")
+
+
+def test_colour_twins_are_the_same_model_turned_in_hue(catalog):
+    twins = colour_twins(catalog, ["yogurt-bottle", "bread"], 120)
+    assert twins["object"].tolist() == ["yogurt-bottle-hue120", "bread-hue120"]
+    assert twins["label"].tolist() == ["bottle", "food"] and (twins["hue"] == 120).all()
+    original = hd.load_catalog_model(catalog.set_index("object", drop=False).loc["bread"])
+    twin = hd.load_catalog_model(twins.iloc[1])
+    assert twin.name == "bread-hue120" and np.array_equal(twin.vertices, original.vertices)
+    turned = hd.hue_rotated(original, 120)
+    assert all(np.array_equal(a, b) for a, b in zip(twin.textures, turned.textures))
+    assert not np.allclose(twin.textures[0], original.textures[0])
+
+
+def test_colour_twin_errors(catalog):
+    with pytest.raises(hd.ModelError, match="not in the catalogue"):
+        colour_twins(catalog, ["no-such-object"], 120)
+    with pytest.raises(hd.ModelError, match="whole number of turns"):
+        colour_twins(catalog, ["bread"], 360)
+    with_twin = pd.concat([catalog, colour_twins(catalog, ["bread"], 90)])
+    with pytest.raises(hd.ModelError, match="already in the catalogue"):
+        colour_twins(with_twin, ["bread"], 90)

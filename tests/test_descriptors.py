@@ -8,6 +8,7 @@ import scipy.sparse.linalg as sla
 
 import heatdata as hd
 from conftest import grid_mesh
+from heatdata.descriptors.boundary import color_rates
 
 
 @pytest.mark.parametrize("sampling", ["arclength", "polar"])
@@ -88,12 +89,33 @@ def test_constant_color_rates_give_the_plain_pvhk(mug):
     assert colored.time == pytest.approx(3.7 * plain.time)
 
 
+def test_the_shape_clock_sees_a_colour_the_same_all_over(mug):
+    view = hd.render_view(mug, 10.0, 30.0, 1.4, seed=5)
+    plain = hd.pvhk(view, 64)
+    colored = hd.c_pvhk(view, 64, color_map=lambda rgb: np.full(len(rgb), 3.7), clock="shape")
+    assert colored.time == pytest.approx(plain.time)  # the colourless view's 1/lambda_2
+    later = hd.ft_pvhk(view, plain.time / 3.7, 64)  # C = kI: the coloured heat at t is the plain heat at t/k
+    assert np.max(np.abs(colored.values - later.values)) < 1e-7
+    assert np.max(np.abs(colored.values - plain.values)) > 1e-3
+
+
+def test_sat_hue_gives_greys_one_rate_whatever_their_shade():
+    vertices, faces = grid_mesh(11, 11)
+    shades = np.linspace(0.1, 0.9, len(vertices))[:, None] * np.ones(3)
+    view = hd.View.from_arrays(vertices, faces, shades)
+    assert np.array_equal(color_rates(view, "sat-hue"), np.ones(len(vertices)))
+    red, blue = (hd.View.from_arrays(vertices, faces, np.tile(c, (len(vertices), 1)))
+                 for c in ([1.0, 0, 0], [0, 0, 1.0]))
+    assert color_rates(red, "sat-hue") == pytest.approx(1.0)
+    assert color_rates(blue, "sat-hue") == pytest.approx(1.0 + 8.0 * 2.0 / 3.0)
+
+
 def test_color_changes_the_descriptor():
     vertices, faces = grid_mesh(21, 21)
     colors = np.where(vertices[:, [0]] > 0, [[1.0, 0, 0]], [[0, 0, 1.0]])  # red right half, blue left
     view = hd.View.from_arrays(vertices, faces, colors)
     plain = hd.pvhk(view, 64, source="center")
-    for name in ("c1", "c2", "c3", "c4", "hue"):
+    for name in ("c1", "c2", "c3", "c4", "hue", "sat-hue"):
         colored = hd.c_pvhk(view, 64, name, source="center")
         assert colored.kind == "c-pvhk" and colored.color_map == name
         assert np.max(np.abs(colored.values - plain.values)) > 1e-3

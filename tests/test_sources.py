@@ -41,17 +41,17 @@ def test_all_interior_vertices_and_too_many_asked(square):
     assert len(hd.candidate_sources(square, len(interior))) == len(interior)
 
 
-@pytest.mark.parametrize("kind", ["pvhk", "c-pvhk", "ft-pvhk"])
-def test_candidate_descriptors_from_one_spectrum_match_one_solve_per_source(mug, kind):
+@pytest.mark.parametrize("kind, clock", [("pvhk", None), ("c-pvhk", "colour"), ("c-pvhk", "shape"), ("ft-pvhk", None)])
+def test_candidate_descriptors_from_one_spectrum_match_one_solve_per_source(mug, kind, clock):
     view = hd.render_view(mug, 30.0, 30.0, 1.15, seed=0)
     sources = hd.candidate_sources(view, 20)
-    spec = hd.DescriptorSpec(kind=kind, sampling="polar", color_map="c3" if kind == "c-pvhk" else None)
+    spec = hd.DescriptorSpec(kind=kind, sampling="polar", color_map="c3" if kind == "c-pvhk" else None, clock=clock)
     times = [0.02, 0.05] if kind == "ft-pvhk" else None
     many = hd.candidate_descriptors(view, sources, spec, times=times)
     assert len(many) == len(sources) * (2 if times else 1)
     for k in (0, 7, 19):  # against the Krylov solve of describe(), source by source
         single = hd.describe(view, [hd.DescriptorSpec(kind=kind, sampling="polar", source=int(sources[k]),
-                                                      color_map=spec.get("color_map"))],
+                                                      color_map=spec.get("color_map"), clock=clock)],
                              times=times, part_weights=False)
         for j, one in enumerate(single):
             d = many[k * len(single) + j]

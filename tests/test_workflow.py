@@ -199,6 +199,7 @@ def test_report_is_self_contained_html(tiny_run):
     ({"colour": 1}, "colour"),
     ({"library_sizes": [8, 50]}, "library_sizes [50] exceed views.train = 8"),
     ({"objects": ["unicorn"]}, "unicorn"),
+    ({"colour_twins": {"objects": ["bread"]}}, "colour_twins: colour twins of ['bread']: not in the catalogue"),
     ({"views": {"train": 8, "test": 6, "elevation": 95}}, "95"),
     ({"primary_descriptor": "pvhk/polar/center/64"}, "primary_descriptor"),
     ({"compact": {"enabled": True}, "library_sizes": [8, 1]}, "two or more views around the circle"),
@@ -448,6 +449,37 @@ def test_people_s_poses_and_colour_twins_reach_the_report(tmp_path):
     missing = snakemake(tmp_path / "missing", tiny_config(people={"enabled": True, "reallusion": "no.sh3f"}),
                         "--dry-run")
     assert missing.returncode != 0 and "people.reallusion: no.sh3f does not exist" in missing.stdout + missing.stderr
+
+
+def test_colour_twins_join_the_run_and_only_colour_tells_them_apart(tmp_path):
+    """Key colour_twins (thesis 3.4): a twin, the same mesh in turned colours, is rendered and described like any
+    object."""
+    shape = {"kind": "pvhk", "samples": 32, "source": "center", "sampling": "polar"}
+    colour = {**shape, "kind": "c-pvhk", "color_map": "sat-hue", "clock": "shape"}
+    config = tiny_config(objects=["yogurt-bottle", "beer-mug"], colour_twins={"objects": ["yogurt-bottle"]},
+                         descriptors=[shape, colour], library_sizes=[8])
+    result = snakemake(tmp_path, config)
+    assert result.returncode == 0, result.stderr[-3000:]
+    results = tmp_path / "results"
+    twin_row = pd.read_csv(results / "catalog.csv").set_index("object").loc["yogurt-bottle-hue120"]
+    assert twin_row["hue"] == 120 and twin_row["label"] == "bottle"
+    original, twin = (read_table(results / "views" / f"{o}.parquet")[0]
+                      for o in ("yogurt-bottle", "yogurt-bottle-hue120"))
+    assert np.array_equal(original["azimuth"], twin["azimuth"])  # the same views (their noise is their own)
+    mean_colour = [np.concatenate(t["colors"].tolist()).reshape(-1, 3).mean(axis=0) for t in (original, twin)]
+    assert np.abs(mean_colour[0] - mean_colour[1]).max() > 0.05
+    # 120 degrees turn red to green: the twin's (R, G, B) is the original's (B, R, G)
+    assert np.allclose(mean_colour[1], np.roll(mean_colour[0], 1), atol=0.01)
+    predictions, _ = read_table(results / "evaluation" / "predictions.parquet")
+    pair = predictions[predictions["object"].str.startswith("yogurt")]
+    precision = pair.groupby("descriptor")["correct"].mean()
+    assert precision[DescriptorSpec(**colour).name] > precision[DescriptorSpec(**shape).name]
+    out, picture = tmp_path / "twins.csv", tmp_path / "twins.png"
+    subprocess.run([sys.executable, str(ROOT / "scripts" / "colour_twins.py"), str(results), "--out", str(out),
+                    "--figure", str(picture)], check=True, capture_output=True, cwd=ROOT)
+    table = pd.read_csv(out).set_index("descriptor")
+    assert table.loc[list(precision.index), "pairs"].round(4).tolist() == precision.round(4).tolist()
+    assert picture.stat().st_size > 10_000
 
 
 def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):

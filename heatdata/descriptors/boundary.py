@@ -10,7 +10,9 @@ polar angle about the image centre (angle 0 = +x axis, counter-clockwise), falli
 back to the nearest-angle boundary vertex for a ray that misses the boundary (a centre
 outside the shape). ``samples=None`` returns one value per boundary vertex.
 
-The colour maps of 3.4.2 turn a view's RGB into the diffusion rates of eq. 2.10.
+The colour maps of 3.4.2 turn a view's RGB into the diffusion rates of eq. 2.10; ``sat-hue``
+(not in the thesis) weighs the hue by the saturation, so that greys, whose hue is undefined
+(0, the hue of red, by convention), all get one rate.
 """
 
 from __future__ import annotations
@@ -32,13 +34,20 @@ def _hue(rgb: np.ndarray) -> np.ndarray:
     return rgb_to_hsv(np.clip(rgb, 0.0, 1.0))[:, 0]
 
 
-#: Scalar maps of 3.4.2 from RGB to the diffusion rate c(v); h is the hue in [0, 1].
+def _saturated_hue(rgb: np.ndarray) -> np.ndarray:
+    """Rates ``1 + 8 s h``: 1 on greys (s = 0), up to 9 on saturated colours (issue 17's colour twins)."""
+    hsv = rgb_to_hsv(np.clip(rgb, 0.0, 1.0))
+    return 1.0 + 8.0 * hsv[:, 1] * hsv[:, 0]
+
+
+#: Scalar maps of 3.4.2 from RGB to the diffusion rate c(v); h is the hue in [0, 1], s the saturation.
 COLOR_MAPS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
     "c1": lambda rgb: (_hue(rgb) + 0.5) * 2.0,
     "c2": lambda rgb: (_hue(rgb) + 1e-3) * 2.0,
     "c3": lambda rgb: (_hue(rgb) + 5.0) * 2.0,
     "c4": lambda rgb: (_hue(rgb) + 0.5) * 10.0,
     "hue": lambda rgb: 0.5 + 0.5 * _hue(rgb),  # hue scaled to [0.5, 1], the example of 2.4
+    "sat-hue": _saturated_hue,
 }
 
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..distance import mhd_matrix, nearest_mhd
 from ..errors import ViewError
-from ..spectrum import HeatOperator, eigen_spectrum
+from ..spectrum import HeatOperator, eigen_spectrum, lambda2
 from ..view import View
 from .base import Descriptor, DescriptorSpec, Kind, Option, integer, one_of, register
 from .boundary import COLOR_MAPS, SAMPLINGS, SOURCE_RULES, color_rates, sample_boundary
@@ -61,8 +61,11 @@ SAMPLES = Option("samples", 64, "boundary samples M (None: one value per boundar
 SOURCE = Option("source", "closest", "source rule: closest (eq. 2.7), center (eq. 2.8), interior, or a vertex index",
                 _source)
 SAMPLING = Option("sampling", "arclength", "boundary sampling (2.3.3): arclength or polar", one_of(SAMPLINGS))
-COLOR_MAP = Option("color_map", None, "colour map of 3.4.2 (c1, c2, c3, c4, hue) or a function of RGB",
+COLOR_MAP = Option("color_map", None, "colour map of 3.4.2 (c1, c2, c3, c4, hue), sat-hue, or a function of RGB",
                    _color_map)
+CLOCKS = ("colour", "shape")
+CLOCK = Option("clock", "colour", "whose 1/lambda_2 stops the C-PVHK: colour (the coloured operator's, eq. 2.11) "
+               "or shape (the colourless Laplacian's, so that a uniform change of colour shows)", one_of(CLOCKS))
 BOUNDARY_OPTIONS = (SAMPLES, SOURCE, SAMPLING)
 
 
@@ -106,7 +109,7 @@ class HeatKind(BoundaryKind):
     multi_source = True
     value_label = "temperature (equilibrium = 1)"
 
-    def times(self, work: ViewWork, op: HeatOperator, spec: DescriptorSpec, context: dict) -> tuple:
+    def times(self, work: ViewWork, connected: View, op: HeatOperator, spec: DescriptorSpec, context: dict) -> tuple:
         """The times to read the temperature at; the PVHK's is t_s = 1/lambda_2 (2.3.1)."""
         return (1.0 / work.lambda2(op),)
 
@@ -118,7 +121,7 @@ class HeatKind(BoundaryKind):
         connected, s_local, s = work.component(spec.source)
         op = work.operator(connected, spec.get("color_map"))
         repairs = tuple(connected.repairs[len(work.view.repairs):])
-        spec_times = self.times(work, op, spec, context)
+        spec_times = self.times(work, connected, op, spec, context)
         weights, lam2, notes = self.weights(work, connected, op, spec, context)
         temps = work.heat(op, s_local, spec_times, connected.boundary)
         out = []
@@ -128,7 +131,7 @@ class HeatKind(BoundaryKind):
                                   weights=weights, **self._common(spec, s)))
         return out
 
-    def spectrum_times(self, spectrum, spec: DescriptorSpec, times) -> tuple:
+    def spectrum_times(self, spectrum, connected: View, spec: DescriptorSpec, times) -> tuple:
         return (1.0 / spectrum.lambda2,)
 
     def candidates(self, view: View, sources: np.ndarray, spec: DescriptorSpec, *, times=None, modes: int = 32
@@ -153,7 +156,7 @@ class HeatKind(BoundaryKind):
             op = heat_operator(connected, None if color_map is None else color_rates(connected, color_map))
             spectrum = eigen_spectrum(op, modes)
             while True:
-                spec_times = self.spectrum_times(spectrum, spec, times)
+                spec_times = self.spectrum_times(spectrum, connected, spec, times)
                 if spectrum.truncation(min(spec_times)) <= TRUNCATION or len(spectrum.values) >= op.n - 2:
                     break
                 spectrum = eigen_spectrum(op, 2 * len(spectrum.values))
@@ -176,14 +179,37 @@ class PVHK(HeatKind):
 
 
 class ColorPVHK(HeatKind):
+    """The C-PVHK of eq. 2.10-2.11, stopped at the coloured or the colourless 1/lambda_2 (option ``clock``).
+
+    With the thesis's clock (``"colour"``) the descriptor cannot see a colour that is the
+    same all over the view: rates ``c`` everywhere divide lambda_2 by ``c`` and stretch
+    the heat's time by ``c``, and the two cancel at t_s, so an object and its colour twin
+    give the same curve. The ``"shape"`` clock (not in the thesis) stops at the colourless
+    Laplacian's 1/lambda_2 instead: the view's mean rate then shows as a change of time.
+    """
+
     name = "c-pvhk"
     summary = "Colour PVHK: diffusion rates from the view's hue (eq. 2.10-2.11, 3.4.2)"
-    options = BOUNDARY_OPTIONS + (COLOR_MAP,)
+    options = BOUNDARY_OPTIONS + (COLOR_MAP, CLOCK)
 
     def validate(self, options: dict) -> dict:
         if options["color_map"] is None:
-            raise ViewError("a c-pvhk needs a color_map (c1, c2, c3, c4, hue or a function)")
+            raise ViewError("a c-pvhk needs a color_map (c1, c2, c3, c4, hue, sat-hue or a function)")
         return options
+
+    def label(self, options: Mapping) -> str:
+        label = super().label(options)
+        return label if options["clock"] == "colour" else f"{label}/{options['clock']}-clock"
+
+    def times(self, work, connected, op, spec, context) -> tuple:
+        if spec.clock == "shape":
+            return (1.0 / work.lambda2(work.operator(connected, None)),)
+        return super().times(work, connected, op, spec, context)
+
+    def spectrum_times(self, spectrum, connected, spec, times) -> tuple:
+        if spec.clock == "shape":
+            return (1.0 / lambda2(heat_operator(connected)),)
+        return super().spectrum_times(spectrum, connected, spec, times)
 
 
 class FixedTimePVHK(HeatKind):
@@ -193,7 +219,7 @@ class FixedTimePVHK(HeatKind):
     time_scaled = True
     weighted = True
 
-    def times(self, work, op, spec, context) -> tuple:
+    def times(self, work, connected, op, spec, context) -> tuple:
         times = context.get("times")
         chosen = times.get(spec.name) if isinstance(times, Mapping) else times
         return checked_times(chosen, f"{work.view.name}: the ft-pvhk {spec.name}")
@@ -204,7 +230,7 @@ class FixedTimePVHK(HeatKind):
         weights, notes = _part_weights(work, connected, op, spec.samples, spec.sampling)
         return weights, work.lambda2(op), notes
 
-    def spectrum_times(self, spectrum, spec, times) -> tuple:
+    def spectrum_times(self, spectrum, connected, spec, times) -> tuple:
         return checked_times(times, f"the ft-pvhk {spec.name}")
 
 
@@ -255,14 +281,16 @@ def pvhk(view: View, samples: int | None = 64, source: str | int = "closest", *,
 
 
 def c_pvhk(view: View, samples: int | None = 64, color_map: str | Callable = "c3", source: str | int = "closest",
-           *, sampling: str = "arclength", method: str = "krylov", modes: int = 30) -> Descriptor:
+           *, sampling: str = "arclength", clock: str = "colour", method: str = "krylov", modes: int = 30
+           ) -> Descriptor:
     """Colour PVHK (eq. 2.10-2.11): diffusion rates ``c(v)`` from the view's RGB.
 
-    ``color_map`` is one of :data:`COLOR_MAPS` (``c1``..``c4`` of 3.4.2, ``hue``) or a
-    function from (n, 3) RGB in [0, 1] to (n,) positive rates. Other parameters as
-    :func:`pvhk`.
+    ``color_map`` is one of :data:`COLOR_MAPS` (``c1``..``c4`` of 3.4.2, ``hue``,
+    ``sat-hue``) or a function from (n, 3) RGB in [0, 1] to (n,) positive rates.
+    ``clock="shape"`` stops at the colourless view's 1/lambda_2 instead of the coloured
+    one's (:class:`ColorPVHK`). Other parameters as :func:`pvhk`.
     """
-    spec = DescriptorSpec("c-pvhk", samples, source, sampling, color_map)
+    spec = DescriptorSpec("c-pvhk", samples, source, sampling, color_map, clock)
     return describe(view, [spec], method=method, modes=modes)[0]
 
 

@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 
 import heatdata
-from heatdata.catalog import catalog_from_folder, read_catalog, sh3f_catalogs
+from heatdata.catalog import catalog_from_folder, colour_twins, read_catalog, sh3f_catalogs
 from heatdata.depth import find_captures
 from heatdata.descriptors import DESCRIPTORS, DescriptorSpec, file_name
 from heatdata.descriptors.base import article
@@ -38,7 +38,6 @@ def load_objects():
                               "dpkg -L sweethome3d-furniture lists their .sh3f files)")
             table = sh3f_catalogs(sh3f["files"], name_pattern=sh3f["names"] or None, label=sh3f["label"] or None,
                                   exclude_pattern=sh3f["exclude"] or None)
-            table["path"] = [f"{RESULTS}/models/{o}/{f}" for o, f in zip(table["object"], table["file"])]
         elif config["models_dir"]:
             table = catalog_from_folder(config["models_dir"], scale=config["models_scale"])
         else:
@@ -52,6 +51,14 @@ def load_objects():
         table = table[table["object"].isin(config["objects"])]
     if table.empty:
         _config_error("no objects to process")
+    twins = config["colour_twins"]
+    if twins["objects"]:
+        try:
+            table = pd.concat([table, colour_twins(table, twins["objects"], twins["hue"])], ignore_index=True)
+        except HeatdataError as exc:
+            _config_error(f"colour_twins: {exc}")
+    if sh3f["files"]:  # each object (a twin too) is extracted to its own folder by rule extract_model
+        table["path"] = [f"{RESULTS}/models/{o}/{f}" for o, f in zip(table["object"], table["file"])]
     return table.set_index("object", drop=False)
 
 
