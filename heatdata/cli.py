@@ -24,7 +24,7 @@ from .dataset import describe_object, view_plan
 from .depth import MAX_DEPTH_JUMP, read_depth, read_organized_cloud
 from .descriptors import COLOR_KIND, DEFAULT_KIND, DESCRIPTORS, KINDS, DescriptorSpec, describe, file_name
 from .errors import HeatdataError
-from .evaluate import classify, evaluate_library_sizes, precision_by_object, precision_table
+from .evaluate import TIME_RULES, classify, evaluate_library_sizes, precision_by_object, precision_table
 from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_view_confusion
 from .log import progress, setup_logging
 from .models import SUPPORTED_SUFFIXES, load_model, save_model
@@ -241,9 +241,9 @@ def cmd_classify(args: argparse.Namespace) -> None:
     parts = []
     for name, size in progress(jobs, desc="classifying", unit="library"):
         if size is None:  # every train view
-            parts.append(classify(descriptors, name).assign(library_size=int(train.max())))
+            parts.append(classify(descriptors, name, time_rule=args.time_rule).assign(library_size=int(train.max())))
         else:
-            parts.append(evaluate_library_sizes(descriptors, name, [size]))
+            parts.append(evaluate_library_sizes(descriptors, name, [size], time_rule=args.time_rule))
     predictions = pd.concat(parts, ignore_index=True)
     if args.out:
         write_table(predictions, args.out, PREDICTION_SCHEMA, {"descriptors": str(args.descriptors)})
@@ -402,6 +402,9 @@ def build_parser() -> argparse.ArgumentParser:
     cls.add_argument("--library-size", type=_number(1, whole=True), action="append", metavar="N",
                      help="library views per object, evenly spaced in azimuth among the train views "
                      "(repeatable; default: every train view)")
+    cls.add_argument("--time-rule", choices=TIME_RULES, default=TIME_RULES[0],
+                     help="which objects an ft-pvhk test view is compared with, each at its time scale: plausible "
+                     "(default: those whose time scale is at most the view's own 1/lambda_2) or every")
     cls.add_argument("--out", type=Path, help="write predictions.parquet here")
     cls.set_defaults(func=cmd_classify)
 

@@ -92,9 +92,11 @@ def fixed_time_rows():
         ("a", "test", "a/test/000", "a", base + 0.45),  # 0.05 from b's library, 0.45 from a's
         ("a", "test", "a/test/000", "b", base + 3.0),  # 2.5 from b's library
     ]
+    scale = {"a": 0.1, "b": 0.2}  # the objects' time scales (Alg. 5.1); the test view's 1/lambda_2 reaches both
     return pd.DataFrame([{
         "object": obj, "label": obj, "split": split, "view_id": view, "azimuth": 0.0, "descriptor": "ft",
-        "kind": "ft-pvhk", "time_object": time_object, "values": values, "weights": np.ones(8)}
+        "kind": "ft-pvhk", "time_object": time_object, "time": scale[time_object],
+        "t_global": scale[obj] if split == "train" else 0.5, "values": values, "weights": np.ones(8)}
         for obj, split, view, time_object, values in rows])
 
 
@@ -116,21 +118,39 @@ def test_fixed_time_classification_compares_each_object_at_its_own_time():
         classify(rows.drop(index=3), "ft")
 
 
+@pytest.mark.parametrize("t_global, plausible", [(0.5, "b"), (0.15, "a"), (0.05, "b")])
+def test_the_plausible_rule_skips_objects_whose_time_scale_the_view_does_not_reach(t_global, plausible):
+    """b's time scale (0.2) is reached by a view with 1/lambda_2 = 0.5, not by one with 0.15; 0.05 reaches none,
+    and then every object is compared, as by the rule ``every``."""
+    from heatdata.evaluate import classify
+
+    rows = fixed_time_rows()
+    rows.at[3, "values"] = rows.at[1, "values"] + 0.01  # at b's time the view is nearest b's library
+    rows.loc[rows["split"] == "test", "t_global"] = t_global
+    assert classify(rows, "ft", time_rule="every")["predicted_object"].item() == "b"
+    assert classify(rows, "ft")["predicted_object"].item() == plausible
+    with pytest.raises(hd.HeatdataError, match="unknown time_rule 'label'"):
+        classify(rows, "ft", time_rule="label")
+    with pytest.raises(hd.HeatdataError, match="lacks column.*t_global"):
+        classify(rows.drop(columns="t_global"), "ft")
+
+
 def random_table(seed=0, objects=("a", "b", "c"), n_train=6, n_test=4):
     """A PVHK and an FT-PVHK (each test view at every object's time) of random curves near each object's own."""
     rng = np.random.default_rng(seed)
     centre = {obj: rng.normal(size=8) for obj in objects}
+    scale = {obj: 1.0 + k for k, obj in enumerate(objects)}  # time scales; a view's 1/lambda_2 reaches its own
     rows = []
     for obj in objects:
         for split, count in (("train", n_train), ("test", n_test)):
             for i in range(count):
                 view = {"object": obj, "label": obj, "split": split, "view_id": f"{obj}/{split}/{i:03d}",
-                        "azimuth": 360.0 * i / count}
-                rows.append({**view, "descriptor": "d", "kind": "pvhk", "time_object": "",
+                        "azimuth": 360.0 * i / count, "t_global": scale[obj] + rng.uniform(0.0, 1.5)}
+                rows.append({**view, "descriptor": "d", "kind": "pvhk", "time_object": "", "time": view["t_global"],
                              "values": centre[obj] + rng.normal(scale=0.8, size=8), "weights": None})
                 for time_object in (objects if split == "test" else [obj]):
                     rows.append({**view, "descriptor": "ft", "kind": "ft-pvhk", "time_object": time_object,
-                                 "values": centre[obj] + rng.normal(scale=0.8, size=8),
+                                 "time": scale[time_object], "values": centre[obj] + rng.normal(scale=0.8, size=8),
                                  "weights": rng.uniform(0.5, 1.0, size=8)})
     return pd.DataFrame(rows)
 

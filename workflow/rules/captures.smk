@@ -63,6 +63,7 @@ rule evaluate_captures:
     params:
         sizes=config["library_sizes"],
         primary=config["primary_descriptor"],
+        time_rule=config["time_scale_rule"],
         version=VERSION,
     log:
         f"{RESULTS}/logs/evaluate_captures.log",

@@ -9,6 +9,7 @@ rule classify:
         temp(f"{RESULTS}/evaluation/parts/{{descriptor}}-{{size}}.parquet"),
     params:
         descriptor=lambda wildcards: SPEC_FILES[wildcards.descriptor].name,
+        time_rule=config["time_scale_rule"],
         version=VERSION,
     wildcard_constraints:
         descriptor="|".join(map(re.escape, SPEC_FILES)),
