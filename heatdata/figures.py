@@ -21,6 +21,7 @@ from .descriptors import kind_of  # noqa: E402
 from .errors import HeatdataError  # noqa: E402
 from .recognition import confusion_matrix  # noqa: E402
 
+MAX_LEGEND_OBJECTS = 20  # the per-object precision panel names at most this many objects
 RENDERED_NOTE = "Views are rendered from 3D models with simulated Kinect noise, not real sensor data."
 PROXY_NOTE = ("Bodies are MakeHuman models rendered with simulated Kinect noise: a proxy for goats' rumps, not goats, "
               "not real sensor data.")
@@ -43,11 +44,17 @@ def plot_precision(precision: pd.DataFrame, path: str | Path, primary: str | Non
     objects = precision[(precision["level"] == "object") & (precision["group"] != "all")
                         & (precision["descriptor"] == primary)]
     right.set_prop_cycle(color=plt.cm.tab20.colors)
+    many = objects["group"].nunique() > MAX_LEGEND_OBJECTS  # then grey lines and their median, no legend of names
     for name, rows in objects.groupby("group"):
         rows = rows.sort_values("library_size")
-        right.plot(rows["library_size"], 100 * rows["precision"], ".-", label=name)
+        style = {"color": "grey", "alpha": 0.35, "lw": 0.8} if many else {"label": name}
+        right.plot(rows["library_size"], 100 * rows["precision"], ".-", **style)
+    if many:
+        median = objects.groupby("library_size")["precision"].median()
+        right.plot(median.index, 100 * median, "o-", color="black", lw=2,
+                   label=f"median of {objects['group'].nunique()} objects (grey: each)")
     right.set_ylabel(f"object precision per object (%)\n{primary}", fontsize=9)
-    right.legend(fontsize=6, ncol=2)
+    right.legend(fontsize=6 if not many else 8, ncol=1 if many else 2)
     for ax in (left, right):
         ax.set_xticks(sizes, [str(s) for s in sizes])
         ax.set_xlabel("library views per object")
