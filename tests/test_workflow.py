@@ -200,6 +200,7 @@ def test_report_is_self_contained_html(tiny_run):
     ({"library_sizes": [8, 50]}, "library_sizes [50] exceed views.train = 8"),
     ({"objects": ["unicorn"]}, "unicorn"),
     ({"colour_twins": {"objects": ["bread"]}}, "colour_twins: colour twins of ['bread']: not in the catalogue"),
+    ({"time_scale_rule": "label"}, "time_scale_rule: 'label' is not one of ['plausible', 'every']"),
     ({"views": {"train": 8, "test": 6, "elevation": 95}}, "95"),
     ({"primary_descriptor": "pvhk/polar/center/64"}, "primary_descriptor"),
     ({"compact": {"enabled": True}, "library_sizes": [8, 1]}, "two or more views around the circle"),
