@@ -355,6 +355,15 @@ def test_config_readme_describes_every_key_and_file():
     assert [p.name for p in (ROOT / "config").glob("*.yaml") if f"`{p.name}`" not in readme] == []
 
 
+def test_the_twins_config_plans_22_objects(tmp_path):
+    result = subprocess.run([str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(ROOT), "--cores", "2",
+                             "--configfile", "config/twins.yaml", "--config", f"results={tmp_path}/twins", "--dry-run"],
+                            capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
+    assert re.search(r"render +22\b", result.stdout) and re.search(r"classify +36\b", result.stdout)
+    assert f"{tmp_path}/twins/views/bread-hue120.parquet" in result.stdout
+
+
 def test_smoke_config_plans_a_small_run(tmp_path):
     result = subprocess.run([str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(ROOT), "--cores", "2",
                              "--configfile", "config/smoke.yaml", "--config", f"results={tmp_path}/smoke", "--dry-run"],
