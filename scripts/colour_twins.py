@@ -51,9 +51,7 @@ def figure(predictions: pd.DataFrame, path: Path) -> None:
     paired = predictions[(predictions["pair"] != "") & (predictions["library_size"] == size)]
     shape = paired[paired["predicted_pair"] == paired["pair"]]
     table = 100 * shape.groupby(["descriptor", "pair"])["correct"].mean().unstack()
-    order = sorted(table.index,
-                   key=lambda name: (name.startswith("c-"), name.endswith("-clock"), "sat-hue" in name, name))
-    table = table.loc[order]
+    table = table.loc[pd.unique(shape["descriptor"])]  # the run's order: its config's
     table["all pairs"] = 100 * shape.groupby("descriptor")["correct"].mean()
     fig, ax = plt.subplots(figsize=(11, 0.45 * len(table) + 1.6))
     ax.imshow(table.to_numpy(), cmap="RdYlGn", vmin=40, vmax=100, aspect="auto")
