@@ -63,9 +63,7 @@ def classify(descriptors: pd.DataFrame, descriptor: str, *, library: str = "trai
     """
     if time_rule not in TIME_RULES:
         raise HeatdataError(f"unknown time_rule {time_rule!r} (use {' or '.join(TIME_RULES)})")
-    missing = sorted(set(CLASSIFY_COLUMNS) - set(descriptors.columns))
-    if missing:
-        raise HeatdataError(f"descriptor {descriptor!r}: the table lacks column(s) {', '.join(missing)}")
+    _require_columns(descriptors, CLASSIFY_COLUMNS, descriptor)
     rows = descriptors[descriptors["descriptor"] == descriptor]
     lib, query = rows[rows["split"] == library], rows[rows["split"] == queries]
     if lib.empty or query.empty:
@@ -79,9 +77,7 @@ def classify(descriptors: pd.DataFrame, descriptor: str, *, library: str = "trai
     impl = kind_of(kinds[0])
     lib, query, unusable = _usable(lib, query, descriptor)
     if impl.time_scaled:
-        missing = sorted(set(TIME_SCALED_COLUMNS) - set(descriptors.columns))
-        if missing:
-            raise HeatdataError(f"descriptor {descriptor!r}: the table lacks column(s) {', '.join(missing)}")
+        _require_columns(descriptors, TIME_SCALED_COLUMNS, descriptor)
         query, index, distance = _fixed_time_neighbours(query, lib, descriptor, impl, time_rule)
     else:
         index, distance = impl.nearest(np.stack(query["values"].to_numpy()), np.stack(lib["values"].to_numpy()))
@@ -104,6 +100,12 @@ def classify(descriptors: pd.DataFrame, descriptor: str, *, library: str = "trai
             "distance": np.nan, "correct": False, "library_size": predictions["library_size"].iloc[0]})],
             ignore_index=True)
     return predictions
+
+
+def _require_columns(descriptors: pd.DataFrame, columns, descriptor: str) -> None:
+    missing = sorted(set(columns) - set(descriptors.columns))
+    if missing:
+        raise HeatdataError(f"descriptor {descriptor!r}: the table lacks column(s) {', '.join(missing)}")
 
 
 def _usable(lib: pd.DataFrame, query: pd.DataFrame, descriptor: str
@@ -173,9 +175,9 @@ def _fixed_time_neighbours(query: pd.DataFrame, lib: pd.DataFrame, descriptor: s
                                          query_weights=None if weights is None else np.stack(weights[rows]),
                                          library_weights=None if lib_weights is None else lib_weights[positions],
                                          within=best[searched])  # only a nearer one matters
-        closer = searched[nearest >= 0]
-        best[closer] = distance[nearest >= 0]
-        index[closer] = positions[nearest[nearest >= 0]]
+        found = nearest >= 0
+        best[searched[found]] = distance[found]
+        index[searched[found]] = positions[nearest[found]]
     return views, index, best
 
 

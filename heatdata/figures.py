@@ -44,7 +44,8 @@ def plot_precision(precision: pd.DataFrame, path: str | Path, primary: str | Non
     objects = precision[(precision["level"] == "object") & (precision["group"] != "all")
                         & (precision["descriptor"] == primary)]
     right.set_prop_cycle(color=plt.cm.tab20.colors)
-    many = objects["group"].nunique() > MAX_LEGEND_OBJECTS  # then grey lines and their median, no legend of names
+    count = objects["group"].nunique()
+    many = count > MAX_LEGEND_OBJECTS  # then grey lines and their median, no legend of names
     for name, rows in objects.groupby("group"):
         rows = rows.sort_values("library_size")
         style = {"color": "grey", "alpha": 0.35, "lw": 0.8} if many else {"label": name}
@@ -52,7 +53,7 @@ def plot_precision(precision: pd.DataFrame, path: str | Path, primary: str | Non
     if many:
         median = objects.groupby("library_size")["precision"].median()
         right.plot(median.index, 100 * median, "o-", color="black", lw=2,
-                   label=f"median of {objects['group'].nunique()} objects (grey: each)")
+                   label=f"median of {count} objects (grey: each)")
     right.set_ylabel(f"object precision per object (%)\n{primary}", fontsize=9)
     right.legend(fontsize=6 if not many else 8, ncol=1 if many else 2)
     for ax in (left, right):
