@@ -2,18 +2,19 @@
 
 Alg. 5.2 computes each view's FT-PVHK at its own object's time scale; for a test view that is its label. The
 workflow instead describes every test view at every object's time scale and compares it with each object's
-library at that object's scale, the nearest over all objects winning (``nearest``). Distances at different
-time scales are not on one scale, though: a small time scale leaves a peaked temperature profile, whose
-distances are larger. This script measures, for each library size, with and without the part weights of
-eq. 5.14:
+library at that object's scale, the nearest over the objects its ``time_scale_rule`` allows winning.
+Distances at different time scales are not on one scale, though: a small time scale leaves a peaked
+temperature profile, whose distances are larger. This script measures, for each library size, with and
+without the part weights of eq. 5.14:
 
-* ``nearest``: the workflow's label-free rule;
+* ``nearest``: over every object (the workflow's ``time_scale_rule: every``, its default before issue 17);
 * ``normalized``: the same distances, each divided by its object's spread at its own time scale (the median,
   over the object's library views, of the distance to the nearest other library view of the object), also
   label-free;
 * ``plausible``: ``nearest`` among the objects whose time scale (Alg. 5.1: the smallest 1/lambda_2 of their
   library views) is at most the test view's own 1/lambda_2, which its own object's nearly always is (all
-  objects when none is); label-free;
+  objects when none is); label-free, and the workflow's default (``time_scale_rule: plausible``, computed there by
+  :func:`heatdata.evaluate.classify`: the same predictions);
 * ``known``: the test view at its true object's time scale against every library view (each at its own
   object's): the thesis's Alg. 5.2 read literally, which uses the test view's label.
 
