@@ -46,7 +46,7 @@ import scipy.sparse as sp
 from scipy.spatial.distance import cdist
 
 from .descriptors import stack_values
-from .distance import _check_finite
+from .distance import _check_finite, mhd_matrix
 from .errors import HeatdataError
 
 log = logging.getLogger(__name__)
@@ -56,6 +56,8 @@ FULL_POOL = 50_000  # when at most this many edges are kept, the first LP has th
 START_EDGES = 4  # else: each node's cheapest kept out-edges in the first edge set
 ADD_EDGES = 4  # most negative reduced-cost edges added per node and round
 INTEGRAL_TOL = 1e-6
+CONSECUTIVE_DISTANCES = ("l1", "mhd")  # d of eq. 6.6
+RHO_NORMS = ("l1", "l2")  # the norm of eq. 6.4 and 6.10
 
 
 def _check(edge_costs: list, name: str) -> list[np.ndarray]:
@@ -380,33 +382,42 @@ def _stacked_views(views: list, name: str) -> list[np.ndarray]:
     return views
 
 
-def consecutive_costs(views: list[np.ndarray]) -> list[np.ndarray]:
-    """c of eq. 6.6: the L1 distance from each candidate of view i to each of view i+1 (the last to the first).
+def consecutive_costs(views: list[np.ndarray], distance: str = "l1") -> list[np.ndarray]:
+    """c of eq. 6.6: the distance d from each candidate of view i to each of view i+1 (the last to the first).
 
-    The same distance as rho (:func:`other_object_distances`), so that alpha in eq. 6.11
-    mixes terms of one unit; for the near matches of neighbouring views it is close to
-    the MHD (which it bounds from above), at a fraction of the cost.
+    ``"l1"`` (the default) is the distance rho takes (:func:`other_object_distances`), so
+    that alpha in eq. 6.11 mixes terms of one unit; for the near matches of neighbouring
+    views it is close to the MHD (which it bounds from above), at a fraction of the cost.
+    ``"mhd"`` is the descriptor distance of the thesis (eq. 3.1), ~12 us a pair: 250 x 250
+    candidates cost ~0.8 s per pair of views.
 
     Parameters
     ----------
     views : list of K (n_i, M) arrays, or of K lists of Descriptor
         Candidate descriptors of one object's library views, in azimuth order (one
         :func:`heatdata.candidate_descriptors` list per view will do).
+    distance : {"l1", "mhd"}
 
     Returns
     -------
     list of K (n_i, n_{i+1}) float64
     """
+    if distance not in CONSECUTIVE_DISTANCES:
+        raise HeatdataError(f"unknown distance {distance!r} for c of eq. 6.6 (use one of {CONSECUTIVE_DISTANCES})")
     views = _stacked_views(views, "library")
-    return [cdist(views[i], views[(i + 1) % len(views)], "cityblock") for i in range(len(views))]
+    pairs = [(views[i], views[(i + 1) % len(views)]) for i in range(len(views))]
+    if distance == "mhd":
+        return [mhd_matrix(a, b) for a, b in pairs]
+    return [cdist(a, b, "cityblock") for a, b in pairs]
 
 
-def other_object_distances(candidates: dict[str, list[np.ndarray]], *, block: int = 1024
+def other_object_distances(candidates: dict[str, list[np.ndarray]], *, norm: str = "l1", block: int = 1024
                            ) -> dict[str, list[np.ndarray]]:
-    """rho of Alg. 6.3 (eq. 6.3-6.4): each candidate's L1 distance to the nearest candidate of another object.
+    """rho of Alg. 6.3 (eq. 6.3-6.4): each candidate's distance to the nearest candidate of another object.
 
-    Eq. 6.3-6.4 and 6.10 write a norm, ``min_z ||z_v - z||``; heatdata takes the L1 norm,
-    ``sum_i |z_i - z'_i|`` (an upper bound of the MHD of eq. 3.1, in its units), for c too.
+    Eq. 6.3-6.4 and 6.10 write a norm, ``min_z ||z_v - z||``. heatdata's default is the L1
+    norm, ``sum_i |z_i - z'_i|`` (an upper bound of the MHD of eq. 3.1, in its units), the
+    default for c too; ``"l2"`` is the Euclidean norm.
     The exact MHD over an extended library of 40 views x 250 candidates per object costs
     ~12 us per pair, ~40 min per chair, and a shortlist by L1 misses the MHD's nearest
     for ~30% of the candidates (``benchmarks/bench_nearest_mhd.py``).
@@ -415,6 +426,7 @@ def other_object_distances(candidates: dict[str, list[np.ndarray]], *, block: in
     ----------
     candidates : dict from object to a list of (n_i, M) arrays (or of lists of Descriptor)
         The extended library: every candidate descriptor of every library view.
+    norm : {"l1", "l2"}
     block : int
         Candidates per batch (the work array is block x the other objects' candidates).
 
@@ -422,6 +434,8 @@ def other_object_distances(candidates: dict[str, list[np.ndarray]], *, block: in
     -------
     dict from object to a list of (n_i,) float64, matching ``candidates``
     """
+    if norm not in RHO_NORMS:
+        raise HeatdataError(f"unknown norm {norm!r} for rho of eq. 6.4 (use one of {RHO_NORMS})")
     if len(candidates) < 2:
         raise HeatdataError(f"distances to other objects need two or more objects, got {list(candidates)}")
     candidates = {obj: _stacked_views(views, obj) for obj, views in candidates.items()}
@@ -432,7 +446,8 @@ def other_object_distances(candidates: dict[str, list[np.ndarray]], *, block: in
     rho = {}
     for obj, views in candidates.items():
         others = np.vstack([d for other, d in stacked.items() if other != obj])
-        nearest = np.concatenate([cdist(stacked[obj][k:k + block], others, "cityblock").min(axis=1)
+        metric = "cityblock" if norm == "l1" else "euclidean"
+        nearest = np.concatenate([cdist(stacked[obj][k:k + block], others, metric).min(axis=1)
                                   for k in range(0, len(stacked[obj]), block)])
         rho[obj] = np.split(nearest, np.cumsum([len(v) for v in views])[:-1])
     return rho
@@ -457,8 +472,8 @@ def combined_costs(consecutive: list[np.ndarray], rho: list[np.ndarray], alpha: 
             for i, c in enumerate(consecutive)]
 
 
-def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[float], *, solver: str = "lp"
-                      ) -> pd.DataFrame:
+def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[float], *, solver: str = "lp",
+                      distance: str = "l1", norm: str = "l1") -> pd.DataFrame:
     """Alg. 6.3 for every object, library size and alpha, and the initial library for comparison.
 
     Parameters
@@ -475,6 +490,10 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
         ``"lp"``: :func:`select_sources` (cvxpy, the LP of eq. 6.7-6.9 on the edges its
         bounds keep). ``"dp"``: :func:`cyclic_dp`, the same optimum (the tests compare them)
         without an LP solver.
+    distance : {"l1", "mhd"}
+        d of eq. 6.6 (:func:`consecutive_costs`).
+    norm : {"l1", "l2"}
+        The norm of eq. 6.4 and 6.10 (:func:`other_object_distances`).
 
     Returns
     -------
@@ -487,6 +506,9 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
 
     if solver not in ("lp", "dp"):
         raise HeatdataError(f"unknown solver {solver!r} (use 'lp' or 'dp')")
+    if distance not in CONSECUTIVE_DISTANCES or norm not in RHO_NORMS:
+        raise HeatdataError(f"unknown distance {distance!r} or norm {norm!r} (use one of {CONSECUTIVE_DISTANCES} "
+                            f"for c, of {RHO_NORMS} for rho)")
     train = candidates[candidates["split"] == "train"]
     failed = train.loc[[not np.all(np.isfinite(v)) for v in train["values"]], "view_id"].unique()
     if len(failed):
@@ -505,7 +527,7 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
         views = {obj: [g for _, g in rows.groupby("azimuth", sort=True)] for obj, rows in subset.groupby("object")}
         stacked = {obj: [np.stack(g["values"].to_numpy()) for g in groups] for obj, groups in views.items()}
         tic = time.perf_counter()
-        rho = other_object_distances(stacked) if min(alphas) < 1.0 else None
+        rho = other_object_distances(stacked, norm=norm) if min(alphas) < 1.0 else None
         if rho is not None:
             log.info("%d views per object: distances to the other objects' candidates in %.1f s", size,
                      time.perf_counter() - tic)
@@ -517,7 +539,7 @@ def compact_libraries(candidates: pd.DataFrame, sizes: list[int], alphas: list[f
             if len(groups) < 2:
                 raise HeatdataError(f"{name}: a compact library needs two or more views around the circle")
             start = time.perf_counter()
-            consecutive = consecutive_costs(stacked[obj])
+            consecutive = consecutive_costs(stacked[obj], distance)
             for alpha in alphas:
                 tic = time.perf_counter()
                 costs = consecutive if rho is None or alpha == 1.0 else combined_costs(consecutive, rho[obj], alpha)

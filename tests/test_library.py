@@ -134,6 +134,25 @@ def test_consecutive_costs_and_other_object_distances_against_brute_force():
     np.testing.assert_allclose(rho["b"][0], l1.min(axis=1))
     with pytest.raises(hd.HeatdataError, match="two or more objects"):
         library.other_object_distances({"a": views})
+    with pytest.raises(hd.HeatdataError, match="unknown distance 'l2' for c of eq. 6.6"):
+        library.consecutive_costs(views, "l2")
+    with pytest.raises(hd.HeatdataError, match="unknown norm 'mhd' for rho"):
+        library.other_object_distances({"a": views, "b": other}, norm="mhd")
+
+
+def test_the_thesis_distances_for_c_and_rho():
+    """c in the MHD of eq. 3.1 (eq. 6.6's d) and rho in the Euclidean norm (eq. 6.4), each pair by hand."""
+    rng = np.random.default_rng(8)
+    views = [rng.random((n, 12)) for n in (3, 2)]
+    costs = library.consecutive_costs(views, "mhd")
+    assert [c.shape for c in costs] == [(3, 2), (2, 3)]
+    for i, j in np.ndindex(3, 2):
+        assert costs[0][i, j] == pytest.approx(hd.mhd(views[0][i], views[1][j]), rel=1e-5)
+        assert costs[1][j, i] == pytest.approx(hd.mhd(views[1][j], views[0][i]), rel=1e-5)
+    other = [rng.random((4, 12))]
+    rho = library.other_object_distances({"a": views, "b": other}, norm="l2")
+    l2 = np.sqrt(((views[0][:, None, :] - other[0][None, :, :]) ** 2).sum(axis=2))
+    np.testing.assert_allclose(rho["a"][0], l2.min(axis=1))
 
 
 def test_combined_costs_mix_the_two_terms():
@@ -162,6 +181,11 @@ def test_compact_libraries_follow_alpha_and_classify_the_test_views():
     assert np.allclose(by_dp["cost"], libraries["cost"], equal_nan=True)
     with pytest.raises(hd.HeatdataError, match="unknown solver"):
         library.compact_libraries(table, [8], [1.0], solver="simplex")
+    with pytest.raises(hd.HeatdataError, match="unknown distance 'cosine' or norm 'l1'"):
+        library.compact_libraries(table, [8], [1.0], distance="cosine")
+    thesis = library.compact_libraries(table, [8], [0.0, 1.0], distance="mhd", norm="l2")
+    for alpha, source in (("1", 0), ("0", 2)):  # the same choices as in L1 on these well-separated candidates
+        assert (thesis.loc[thesis["descriptor"] == f"compact alpha={alpha}", "source"] == source).all()
     predictions = evaluate_compact(table, libraries)
     assert len(predictions) == 3 * 2 * 4  # libraries x sizes x test views
     assert predictions.loc[predictions["descriptor"] == "compact alpha=1", "correct"].all()

@@ -9,7 +9,7 @@ rule candidates:
     output:
         f"{RESULTS}/compact/candidates/{{object}}.parquet",
     params:
-        compact=config["compact"],
+        compact={key: config["compact"][key] for key in ("descriptor", "library_candidates", "test_candidates")},
         version=VERSION,
     log:
         f"{RESULTS}/logs/candidates/{{object}}.log",
@@ -55,7 +55,7 @@ rule evaluate_compact:
         figure=report(f"{RESULTS}/figures/compact_precision.png", caption="../report/compact_precision.rst",
                       category="Compact libraries"),
     params:
-        compact=config["compact"],
+        shortlist=config["compact"]["shortlist"],
         version=VERSION,
     log:
         f"{RESULTS}/logs/evaluate_compact.log",

@@ -12,5 +12,6 @@ columns = ["object", "label", "view_id", "split", "azimuth", "source_rule", "sou
 parts = [read_table(path, columns=columns, filters=[("split", "==", "train")]) for path in snakemake.input]
 candidates = pd.concat([frame for frame, _ in parts], ignore_index=True)
 with threadpool_limits(snakemake.threads):
-    libraries = compact_libraries(candidates, snakemake.params.sizes, compact["alphas"], solver=compact["solver"])
+    libraries = compact_libraries(candidates, snakemake.params.sizes, compact["alphas"], solver=compact["solver"],
+                                  distance=compact["distance"], norm=compact["norm"])
 write_table(libraries, snakemake.output[0], COMPACT_LIBRARY_SCHEMA, {**parts[0][1], "compact": compact})

@@ -14,7 +14,7 @@ tests = pd.concat([read_table(path, columns=columns, filters=[("split", "==", "t
                    for path in snakemake.input.candidates], ignore_index=True)
 libraries, meta = read_table(snakemake.input.libraries)
 with threadpool_limits(snakemake.threads):
-    predictions = evaluate_compact(tests, libraries, shortlist=snakemake.params.compact["shortlist"])
+    predictions = evaluate_compact(tests, libraries, shortlist=snakemake.params.shortlist)
 write_table(predictions, snakemake.output.predictions, PREDICTION_SCHEMA, meta)
 precision = precision_table(predictions)
 precision.to_csv(snakemake.output.precision, index=False)
