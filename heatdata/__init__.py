@@ -19,8 +19,8 @@ from .descriptors import (COLOR_MAPS, DESCRIPTORS, Descriptor, DescriptorSpec, c
                           sample_boundary, source_vertex, view_time_scale)
 from .distance import chi_square_matrix, mhd, mhd_matrix, nearest_pair_mhd, weighted_mhd
 from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
-from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, heat_models,
-                       krylov_heat, lambda2, laplacian)
+from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat,
+                       lambda2, laplacian)
 from .version import __version__
 from .view import View, kinect_intrinsics
 
@@ -63,8 +63,8 @@ __all__ = [
     "chi_square_matrix", "DESCRIPTORS", "distance", "embedded_catalog", "fit_spec", "library_subset",
     "classify_candidates", "COLOR_MAPS", "combined_costs", "confusion_matrix", "consecutive_costs", "describe",
     "Descriptor", "DescriptorSpec", "eigen_spectrum", "first_crossings", "ft_pvhk", "global_derivative",
-    "heat_kernel", "heat_model", "heat_models", "HeatdataError", "HeatModel", "HeatOperator", "import_sh3f",
-    "kinect_intrinsics", "krylov_heat", "lambda2", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "Model",
+    "heat_kernel", "heat_model", "HeatdataError", "HeatModel", "HeatOperator", "import_sh3f", "kinect_intrinsics",
+    "krylov_heat", "lambda2", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "Model",
     "ModelError", "nearest_neighbours", "stitch", "StitchError", "nearest_pair_mhd", "object_time_scale",
     "other_object_distances", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "RenderError",
     "sample_boundary", "select_sources", "source_vertex", "Spectrum", "SpectrumError", "View", "view_time_scale",

@@ -109,8 +109,8 @@ def candidate_descriptors(view: View, sources: np.ndarray, spec: DescriptorSpec,
     component, ``Phi_B diag(exp(-lambda t)) Phi_S^T`` times ``sum(c)`` (eq. 2.9/2.11 with
     the heat kernel's symmetry), with eigenpairs doubled until the first mode left out
     weighs less than 1e-7 at the earliest time. A PVST's crossing times need early
-    times, where a truncated expansion is not accurate: its sources share one
-    factorization and lambda_2, and each gets its own heat model (250 took 15.7 s on a
+    times, where a truncated expansion is not accurate: its sources share the
+    factorizations and lambda_2, and each gets its own heat models (64 take ~2 s on a
     4,263-vertex chair view). Kinds without a source (the histogram baselines) are an
     error.
 

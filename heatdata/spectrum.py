@@ -122,11 +122,9 @@ class HeatOperator:
         return HeatOperator(self.L, self.c, self.name, sigma=sigma, analysis=self.factor)
 
     def apply_inverse(self, y: np.ndarray) -> np.ndarray:
-        """``(S + sigma I)^{-1} y`` restricted to the complement of the null vector, for (n,) or (n, k) ``y``."""
-        scale = self.sqrt_c if y.ndim == 1 else self.sqrt_c[:, None]
-        null = self.null if y.ndim == 1 else self.null[:, None]
-        out = scale * self.factor.solve_A(scale * y)
-        return out - null * (self.null @ out)
+        """``(S + sigma I)^{-1} y`` restricted to the complement of the null vector."""
+        out = self.sqrt_c * self.factor.solve_A(self.sqrt_c * y)
+        return out - self.null * (self.null @ out)
 
     def apply_S(self, y: np.ndarray) -> np.ndarray:
         """``S y = C^{-1/2} L C^{-1/2} y`` for (n,) or (n, k) ``y``."""
@@ -266,144 +264,32 @@ def heat_model(
         Steps between convergence checks (each costs a small eigenproblem and the
         temperatures at ``times``): more than 1 pays when many steps are expected.
     """
-    return heat_models(op, [source], np.atleast_1d(np.asarray(times, dtype=np.float64))[None, :], at, tol=tol,
-                       max_steps=max_steps, check_every=check_every)[0]
-
-
-def heat_models(
-    op: HeatOperator,
-    sources,
-    times: np.ndarray,
-    at: np.ndarray | None = None,
-    *,
-    tol: float = 1e-7,
-    max_steps: int = 120,
-    check_every: int = 1,
-    memory: float = 64e6,
-) -> list[HeatModel]:
-    """:func:`heat_model` for many sources on one factorization, their Krylov spaces built in lockstep.
-
-    Each source has its own Krylov space, as in :func:`heat_model` and to the same
-    tolerance; the steps of all sources are taken together: one solve with a column per
-    source, Gram-Schmidt and the convergence checks as batched matrix products and
-    eigenproblems. A source leaves the batch when it converges. This is what makes the
-    candidate PVSTs of a view (6.2, Fig. 6.6) cheap next to one model per source.
-
-    Parameters
-    ----------
-    op : HeatOperator
-    sources : (s,) int
-    times : (s, k) or (k,) float
-        Each source's times at which convergence is checked (the same for all when 1-D).
-    at : (b,) int, optional
-        Vertices to report (default: all).
-    tol, max_steps, check_every
-        As in :func:`heat_model`.
-    memory : float
-        Bytes for the Krylov bases of one batch: sources are taken ``memory / (8 n
-        (max_steps + 1))`` at a time (16 on a 4,000-vertex view).
-
-    Returns
-    -------
-    list of s HeatModel
-    """
-    sources = np.atleast_1d(np.asarray(sources, dtype=np.int64))
-    times = np.asarray(times, dtype=np.float64)
-    times = np.broadcast_to(times, (len(sources), times.shape[-1])) if times.ndim == 1 else times
-    if times.shape[0] != len(sources) or times.ndim != 2 or times.shape[1] == 0:
-        raise SpectrumError(f"{op.name}: times must be (k,) or one row per source ({len(sources)}), got "
-                            f"shape {times.shape}")
+    times = np.atleast_1d(np.asarray(times, dtype=np.float64))
     if np.any(times <= 0) or not np.all(np.isfinite(times)):
         raise SpectrumError(f"{op.name}: diffusion times must be positive and finite, got {times}")
-    if len(sources) and (sources.min() < 0 or sources.max() >= op.n):
-        raise SpectrumError(f"{op.name}: sources must be vertex indices in 0..{op.n - 1}")
     at = np.arange(op.n) if at is None else np.asarray(at)
-    block = max(1, int(memory // (8 * op.n * (min(max_steps, op.n - 1) + 1))))
-    models: list[HeatModel] = []
-    for b0 in range(0, len(sources), block):
-        models += _lockstep_models(op, sources[b0:b0 + block], times[b0:b0 + block], at, tol, max_steps,
-                                   check_every)
-    return models
+    v = op.pulse(source)
+    steady = op.null * (op.null @ v)
+    r = v - steady
+    beta = np.linalg.norm(r)
+    equilibrium = op.c[source] / op.c.sum()
+    scale = 1.0 / (op.sqrt_c[at] * equilibrium)
 
+    def project(Q, H) -> HeatModel:
+        theta, U = np.linalg.eigh(H)
+        return HeatModel(theta, beta * (U[0][:, None] * (U.T @ Q[:, at])), steady[at], scale)
 
-def _lockstep_models(op: HeatOperator, sources: np.ndarray, times: np.ndarray, at: np.ndarray, tol: float,
-                     max_steps: int, check_every: int) -> list[HeatModel]:
-    """The Krylov models of :func:`heat_models` for one batch.
+    previous: list[np.ndarray] = []
 
-    Live sources are the rows ``[:live]`` of the work arrays, so that every step works on
-    contiguous slices: a finished source is swapped with the last live row. Full
-    re-orthogonalization (two Gram-Schmidt passes) keeps each basis orthonormal.
-    """
-    n, k = op.n, len(sources)
-    steps = min(max_steps, n - 1)
-    pulses = np.zeros((n, k))
-    pulses[sources, np.arange(k)] = op.sqrt_c[sources]  # C^{1/2} e_s: the unit pulse of eq. 2.5
-    steady = op.null[:, None] * (op.null @ pulses)
-    start = (pulses - steady).T
-    beta = np.linalg.norm(start, axis=1)
-    scale = 1.0 / (op.sqrt_c[at][None, :] * (op.c[sources] / op.c.sum())[:, None])  # to equilibrium = 1
-    steady = np.ascontiguousarray(steady[at].T)  # (k, b)
-    Q = np.empty((k, steps + 1, n))  # row r's basis vectors are Q[r, :m]
-    H = np.zeros((k, steps + 1, steps + 1))  # H[r] = Q[r] S Q[r]^T
-    Q[:, 0] = start / beta[:, None]
-    H[:, 0, 0] = np.einsum("kn,nk->k", Q[:, 0], op.apply_S(Q[:, 0].T))
-    row = np.arange(k)  # which source each work row holds
-    previous = np.zeros((k, times.shape[1], len(at)))  # temperatures at the last check
-    models: list = [None] * k
-    live, m, checks = k, 1, 0
+    def done(Q, H):
+        previous.append(project(Q, H)(times))
+        return len(previous) > 1 and np.max(np.abs(previous[-1] - previous[-2])) <= tol
 
-    def project(rows, size: int) -> tuple[np.ndarray, np.ndarray]:
-        """Ritz values (r, size) and the weights (r, size, b) of :class:`HeatModel` for work rows ``rows``."""
-        theta, U = np.linalg.eigh(H[rows, :size, :size])
-        return theta, beta[row[rows], None, None] * U[:, 0, :, None] * (U.transpose(0, 2, 1) @ Q[rows, :size][..., at])
-
-    def finish(done: np.ndarray, theta: np.ndarray, weights: np.ndarray, size: int, *extras: np.ndarray) -> None:
-        """Store the models of the (sorted) live rows ``done`` and swap each with the last live row."""
-        nonlocal live
-        for i in range(len(done) - 1, -1, -1):
-            r, last, j = done[i], live - 1, row[done[i]]
-            models[j] = HeatModel(theta[i], weights[i], steady[j], scale[j])
-            if r != last:
-                Q[r, :size], H[r, :size, :size] = Q[last, :size], H[last, :size, :size]
-                row[r], previous[r] = row[last], previous[last]
-                for array in extras:
-                    array[r] = array[last]
-            live -= 1
-
-    while live:
-        if m == n - 1:  # each basis spans the whole complement of the null vector
-            finish(np.arange(live), *project(slice(0, live), m), m)
-            break
-        if m > steps:
-            raise SpectrumError(f"{op.name}: heat did not converge to {tol:g} in {max_steps} Krylov steps (sources "
-                                f"{sources[row[:live]].tolist()[:8]}, times {times.min():.3g}..{times.max():.3g})")
-        basis = Q[:live, :m]
-        w = np.ascontiguousarray(op.apply_inverse(Q[:live, m - 1].T).T)  # (live, n)
-        before = np.linalg.norm(w, axis=1)
-        for _ in range(2):
-            w -= ((basis @ w[:, :, None]).transpose(0, 2, 1) @ basis)[:, 0]
-        norm = np.linalg.norm(w, axis=1)
-        invariant = np.flatnonzero(norm <= 1e-10 * before)
-        if len(invariant):  # these spaces are invariant: their projections are exact
-            finish(invariant, *project(invariant, m), m, w, norm)
-            if not live:
-                break
-        Q[:live, m] = w[:live] / norm[:live, None]
-        sq = op.apply_S(Q[:live, m].T).T
-        H[:live, m, :m + 1] = (Q[:live, :m + 1] @ sq[:, :, None])[:, :, 0]
-        H[:live, :m + 1, m] = H[:live, m, :m + 1]
-        m += 1
-        if m >= 4 and m % check_every == 0:
-            theta, weights = project(slice(0, live), m)
-            ids = row[:live]
-            temps = (steady[ids, None, :] + np.exp(-times[ids, :, None] * theta[:, None, :]) @ weights) * \
-                scale[ids, None, :]
-            change = np.abs(temps - previous[:live]).max(axis=(1, 2))
-            previous[:live] = temps
-            checks += 1
-            done = np.flatnonzero(change <= tol) if checks > 1 else np.zeros(0, dtype=np.int64)
-            finish(done, theta[done], weights[done], m)
-    return models
+    Q, H, status = _lanczos(op, r, max_steps, done, check_every)
+    if status == "max_steps":
+        raise SpectrumError(f"{op.name}: heat did not converge to {tol:g} in {max_steps} Krylov steps "
+                            f"(times {times.min():.3g}..{times.max():.3g})")
+    return project(Q, H)
 
 
 def krylov_heat(

@@ -1,5 +1,7 @@
 """Candidate heat sources by mesh simplification (thesis 6.2)."""
 
+import sys
+
 import numpy as np
 import pytest
 from scipy.spatial import cKDTree
@@ -69,10 +71,18 @@ def test_candidate_descriptors_on_a_view_of_two_parts(square):
     np.testing.assert_allclose(a.values, b.values, atol=1e-9)  # the same square, the same heat
 
 
-def test_candidate_pvsts_share_the_view_work_and_match_one_at_a_time(square):
+def test_candidate_pvsts_share_the_view_work_and_match_one_at_a_time(square, monkeypatch):
     spec = hd.DescriptorSpec(kind="pvst", sampling="polar")
-    many = hd.candidate_descriptors(square, [220, 200, 242], spec)
-    assert [d.source for d in many] == [220, 200, 242]
+    pvst_module = sys.modules["heatdata.descriptors.pvst"]
+    shifts, models = [], []
+    shifted, heat_model = hd.HeatOperator.shifted, pvst_module.heat_model
+    monkeypatch.setattr(hd.HeatOperator, "shifted", lambda op, sigma: shifts.append(sigma) or shifted(op, sigma))
+    monkeypatch.setattr(pvst_module, "heat_model", lambda op, *a, **k: models.append(op) or heat_model(op, *a, **k))
+    many = hd.candidate_descriptors(square, [220, 200, 242, 221, 219], spec)
+    assert [d.source for d in many] == [220, 200, 242, 221, 219]
+    early = [op for op in models if op.sigma != models[0].sigma]  # models on a shifted factorization
+    assert len(early) >= 5 and 1 <= len(shifts) < len(early)  # neighbouring sources share their factorizations
+    assert len(set(shifts)) == len(shifts) and np.array_equal(np.log2(shifts), np.round(np.log2(shifts)))
     one = hd.pvst(square, source=200, sampling="polar")
     np.testing.assert_allclose(many[1].values, one.values, rtol=1e-9)
     with pytest.raises(hd.ViewError, match="outer boundary"):

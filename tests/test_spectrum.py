@@ -139,39 +139,3 @@ def test_tiny_mesh_krylov_space_becomes_invariant_and_is_exact():
     pulse = np.zeros(view.n_vertices)
     pulse[0] = 1.0
     assert np.allclose(got, sla.expm_multiply(-t * L, pulse) * view.n_vertices, atol=1e-9)
-
-
-def test_heat_models_in_lockstep_match_one_model_per_source_and_the_exact_heat(square):
-    """Sources converging at different checks (their own times) leave the batch in turn; batches of 2 and all."""
-    n = square.n_vertices
-    rates = np.random.default_rng(3).uniform(0.5, 2.0, n)
-    op = hd.HeatOperator(hd.laplacian(square.vertices, square.edges), rates)
-    t2 = 1.0 / hd.lambda2(op)
-    sources = np.array([37, 0, 12, 50, 37])
-    times = np.outer([1e-3, 0.1, 1.0, 0.01, 0.3], [1.0, 3.0, 10.0]) * t2
-    at = np.array([0, 5, 20, 63])
-    single = [hd.heat_model(op, s, t, at, tol=1e-9, check_every=2)(t) for s, t in zip(sources, times)]
-    A = -(sp.diags(1.0 / rates) @ op.L)
-    for memory in (8.0 * n * 121 * 2, 64e6):
-        models = hd.heat_models(op, sources, times, at, tol=1e-9, check_every=2, memory=memory)
-        for model, s, t, want in zip(models, sources, times, single, strict=True):
-            np.testing.assert_allclose(model(t), want, rtol=0, atol=1e-12)
-            pulse = np.zeros(n)
-            pulse[s] = 1.0
-            exact = np.stack([sla.expm_multiply(ti * A, pulse)[at] for ti in t]) / (rates[s] / rates.sum())
-            np.testing.assert_allclose(model(t), exact, rtol=0, atol=1e-6)
-    assert hd.heat_models(op, [], [t2]) == []
-    with pytest.raises(hd.SpectrumError, match="one row per source"):
-        hd.heat_models(op, sources, times[:2])
-
-
-def test_heat_models_on_a_tiny_mesh_stop_when_their_spaces_are_invariant():
-    view = square_view(n=6)
-    op = hd.HeatOperator(hd.laplacian(view.vertices, view.edges))
-    t = 1.0 / hd.lambda2(op)
-    sources = [0, 14, 35]  # a corner, an edge and the far corner: invariant after different numbers of steps
-    models = hd.heat_models(op, sources, [t], tol=0.0, max_steps=200)
-    for model, s in zip(models, sources, strict=True):
-        pulse = np.zeros(view.n_vertices)
-        pulse[s] = 1.0
-        assert np.allclose(model(np.array([t]))[0], sla.expm_multiply(-t * op.L, pulse) * view.n_vertices, atol=1e-9)

@@ -112,6 +112,10 @@ class ViewWork:
         return self._get(("op", id(connected), color), lambda: heat_operator(
             connected, None if color_map is None else color_rates(connected, color_map)))
 
+    def shifted(self, op: HeatOperator, sigma: float) -> HeatOperator:
+        """``op`` factorized at shift ``sigma`` (:meth:`HeatOperator.shifted`), once per view."""
+        return self._get(("shifted", id(op), sigma), lambda: op.shifted(sigma))
+
     def spectrum(self, op: HeatOperator, modes: int) -> Spectrum:
         return self._get(("spectrum", id(op), modes), lambda: eigen_spectrum(op, modes))
 
