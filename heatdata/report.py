@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import html
+import re
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +12,7 @@ import yaml
 
 from .catalog import read_catalog
 from .descriptors import DescriptorSpec, file_name
+from .errors import HeatdataError
 from .evaluate import precision_table
 from .figures import (RENDERED_NOTE, draw_example_views, plot_confusion, plot_descriptor_curves, plot_isomap,
                       plot_misclassified, plot_precision, plot_view_confusion)
@@ -248,3 +250,45 @@ def people_page(poses: list[pd.DataFrame], predictions: pd.DataFrame, settings: 
         *sections,
         ("Twins (Fig. 3.12)", "table", twins),
         ("Settings", "yaml", yaml.safe_dump(shown, sort_keys=False))])
+
+
+ABLATION_COLUMNS = ("factor", "measured", "effect", "command")
+
+
+def read_ablation(path: str | Path) -> pd.DataFrame:
+    """A measured ablation table (one row per factor: ``factor, measured, effect, command``) from a CSV.
+
+    Raises
+    ------
+    HeatdataError
+        The file is missing or unreadable, lacks a column, or has no rows.
+    """
+    try:
+        table = pd.read_csv(path, dtype=str, keep_default_na=False)
+    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+        raise HeatdataError(f"{path}: not a readable ablation table ({exc})") from exc
+    missing = [column for column in ABLATION_COLUMNS if column not in table.columns]
+    if missing:
+        raise HeatdataError(f"{path}: an ablation table needs the columns {list(ABLATION_COLUMNS)}; missing {missing}")
+    if table.empty:
+        raise HeatdataError(f"{path}: the ablation table has no rows")
+    return table[list(ABLATION_COLUMNS)]
+
+
+def _inline_markdown(text: str) -> str:
+    """HTML of one table cell: escaped, with Markdown's ``code`` and **bold** kept."""
+    escaped = html.escape(text)
+    escaped = re.sub(r"`([^`]+)`", r"<code>\1</code>", escaped)
+    return re.sub(r"\*\*([^*]+)\*\*", r"<b>\1</b>", escaped)
+
+
+def ablation_page(table: pd.DataFrame, source: str) -> str:
+    """The ablation table (:func:`read_ablation`) as an HTML page for the report."""
+    rows = "".join("<tr>" + "".join(f"<td style='text-align:left'>{_inline_markdown(str(cell))}</td>"
+                                    for cell in row) + "</tr>" for row in table.itertuples(index=False))
+    head = "".join(f"<th style='text-align:left'>{html.escape(column)}</th>" for column in table.columns)
+    intro = (f"Each factor measured on its own, with the command or config that produced it ({html.escape(source)}; "
+             f"the README's closing paragraph draws the conclusion). {html.escape(RENDERED_NOTE)}")
+    return (f"<!doctype html><html><head><meta charset='utf-8'><title>Ablation</title><style>{STYLE}</style>"
+            f"</head><body><h1>Ablation: what each factor changes</h1><p>{intro}</p>"
+            f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table></body></html>\n")

@@ -49,7 +49,8 @@ COMPARISON = {"enabled": True, "isomap_objects": ["plastic-cup", "beer-mug"], "b
               "azimuths": 3}
 MULTIVIEW = {"enabled": True, "library_views": [8, 4], "particles": [5, 20], "repetitions": 2, "starts": 1,
              "step": 45, "max_degrees": 360}
-EXPERIMENTS = {"compact": COMPACT, "comparison": COMPARISON, "multiview": MULTIVIEW}
+EXPERIMENTS = {"compact": COMPACT, "comparison": COMPARISON, "multiview": MULTIVIEW,
+               "ablation": str(ROOT / "docs" / "results" / "chairs_ablation.csv")}
 
 
 @pytest.fixture(scope="module")
@@ -193,6 +194,9 @@ def test_report_is_self_contained_html(tiny_run):
     # confusion matrices grouped by descriptor, labelled by matrix and library size, with their own captions
     assert '"matrix": "classes", "library views": "8"' in html and "Confusion matrix of classes for" in html
     assert "Misclassified test views of the primary descriptor" in html and "{{ snakemake" not in html
+    assert "The measured ablation named by config key" in html  # the Ablation category, from config key ablation
+    page = (tiny_run / "results" / "figures" / "ablation.html").read_text()
+    assert "<td style='text-align:left'>protocol: the thesis&#x27;s library views" in page
 
 
 @pytest.mark.parametrize("overrides, message", [
@@ -217,6 +221,7 @@ def test_report_is_self_contained_html(tiny_run):
      "stitch.pairs[0]: /no/top.ply, /no/bottom.ply do(es) not exist"),
     ({"stitch": {"pairs": [{"object": "x", "first": "a.ply"}]}}, "'second' is a required property"),
     ({"captures": {"dir": "/no/captures"}}, "captures.dir: /no/captures: no such folder of captures"),
+    ({"ablation": "/no/ablation.csv"}, "ablation: /no/ablation.csv: not a readable ablation table"),
     ({"stitch": {"pairs": [{"object": "x", "first": str(ROOT / "README.md"), "second": str(ROOT / "README.md"),
                             "motion": [[1, 0, 0, 0], [0, -1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}]}},
      "stitch.pairs[0].motion is not a rigid motion"),

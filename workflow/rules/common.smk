@@ -12,7 +12,7 @@ from heatdata.depth import find_captures
 from heatdata.descriptors import DESCRIPTORS, DescriptorSpec, file_name
 from heatdata.descriptors.base import article
 from heatdata.errors import HeatdataError
-from heatdata.report import CONFUSION_PATTERN
+from heatdata.report import CONFUSION_PATTERN, read_ablation
 from heatdata.stitch import rigid_motion
 from snakemake.exceptions import WorkflowError
 
@@ -131,6 +131,11 @@ if config["comparison"]["enabled"]:
     missing = sorted(set(config["comparison"]["isomap_objects"]) - set(OBJECTS))
     if missing:
         _config_error(f"comparison.isomap_objects: {missing} are not among the run's objects")
+if config["ablation"]:
+    try:
+        read_ablation(config["ablation"])
+    except HeatdataError as exc:
+        _config_error(f"ablation: {exc}")
 CAPTURES = {}  # object -> its captures (heatdata.depth.find_captures)
 if config["captures"]["dir"]:
     try:

@@ -87,3 +87,22 @@ rule report_figures:
         runtime=20,
     script:
         "../scripts/report_figures.py"
+
+
+rule ablation:
+    input:
+        config["ablation"] or [],
+    output:
+        report(f"{RESULTS}/figures/ablation.html", caption="../report/ablation.rst", category="Ablation"),
+    params:
+        version=VERSION,
+    log:
+        f"{RESULTS}/logs/ablation.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/ablation.tsv"
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=5,
+    script:
+        "../scripts/ablation.py"
