@@ -1,6 +1,7 @@
 """Complex objects (thesis ch. 5): time scales, part weights, FT-PVHK, weighted MHD and PVST."""
 
 import logging
+import sys
 
 import numpy as np
 import pytest
@@ -132,6 +133,30 @@ def test_pvst_of_a_disc_with_central_source_is_constant(disc):
     assert spread < 0.05  # measured 3.5%: the outer ring of 120 vertices is a polygon, and times are sensitive
     off = hd.pvst(disc, samples=64, source=int(np.argmin(np.abs(disc.vertices[:, 0] - 0.02))))
     assert np.std(off.values) / np.mean(off.values) > 5 * spread
+
+
+def test_pvst_on_a_log_time_axis_is_a_tenth_of_the_decades_and_keeps_their_ratios(disc):
+    linear = hd.pvst(disc, samples=64, source="center", sampling="polar")
+    log = hd.pvst(disc, samples=64, source="center", sampling="polar", time_axis="log")
+    np.testing.assert_allclose(log.values, 0.1 * np.log10(linear.values), rtol=0, atol=1e-12)
+    assert log.time == linear.time and np.array_equal(log.positions, linear.positions)
+    # a view scaled by s has times s^2 as long: on the log axis the curve moves up by 0.2 log10(s), its shape stays
+    big = hd.View(vertices=2.0 * disc.vertices, faces=disc.faces, colors=disc.colors, view_id="disc x2")
+    shifted = hd.pvst(big, samples=64, source="center", sampling="polar", time_axis="log").values - log.values
+    np.testing.assert_allclose(shifted, 0.2 * np.log10(2.0), atol=1e-6)
+    assert hd.DescriptorSpec("pvst", 64, "interior", "polar", time_axis="log").name == \
+        "pvst/polar/interior/64/T0.75/log-time"
+    with pytest.raises(hd.ViewError, match="time_axis"):
+        hd.DescriptorSpec("pvst", time_axis="ln")
+
+
+def test_both_time_axes_of_a_source_share_one_search(disc, monkeypatch):
+    pvst_module = sys.modules["heatdata.descriptors.pvst"]
+    searches, search = [], pvst_module._pvst_times
+    monkeypatch.setattr(pvst_module, "_pvst_times", lambda *a: searches.append(a[3]) or search(*a))
+    specs = [hd.DescriptorSpec("pvst", 64, "center", "polar", time_axis=axis) for axis in ("linear", "log")]
+    linear, log = hd.describe(disc, specs)
+    assert len(searches) == 1 and np.allclose(log.values, 0.1 * np.log10(linear.values))
 
 
 def test_pvst_grows_with_distance_along_a_strip():

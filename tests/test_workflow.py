@@ -180,6 +180,27 @@ def test_the_protocol_and_time_scale_scripts_read_a_run_s_table(tiny_run, tmp_pa
     assert np.allclose(nearest.loc[[8, 4], "precision"], workflow.loc[[8, 4], "precision"], atol=1e-4)
 
 
+def test_the_value_scale_script_reads_a_run_s_table(tiny_run, tmp_path):
+    """scripts/value_scales.py (issue 17): x1 is the workflow's MHD; a log scale for the PVST's times."""
+    table, out = tiny_run / "results/descriptors.parquet", tmp_path / "scales.csv"
+    result = subprocess.run([sys.executable, ROOT / "scripts/value_scales.py", table, "--descriptor",
+                             "pvhk/polar/center/32", "pvst/polar/center/32/T0.75", "--transform", "x1", "x0.1",
+                             "log10x0.3", "--sizes", "8", "4", "--out", out], capture_output=True, text=True,
+                            timeout=300)
+    assert result.returncode == 0, result.stderr[-2000:]
+    scales = pd.read_csv(out)
+    assert len(scales) == 12 and scales["precision"].between(0, 1).all()
+    precision = pd.read_csv(tiny_run / "results/evaluation/precision.csv")
+    workflow = precision[(precision["level"] == "object") & (precision["group"] == "all")
+                         & (precision["descriptor"] == "pvhk/polar/center/32")].set_index("library_size")
+    thesis = scales[(scales["descriptor"] == "pvhk/polar/center/32") & (scales["transform"] == "x1")]
+    assert np.allclose(thesis.set_index("library_size").loc[[8, 4], "precision"], workflow.loc[[8, 4], "precision"],
+                       atol=1e-4)
+    result = subprocess.run([sys.executable, ROOT / "scripts/value_scales.py", table, "--descriptor",
+                             "pvhk/polar/center/32", "--transform", "sqrt"], capture_output=True, text=True, timeout=300)
+    assert result.returncode != 0 and "unknown transform 'sqrt'" in result.stderr
+
+
 def test_rerun_with_nothing_changed_runs_no_job(tiny_run):
     result = snakemake(tiny_run, tiny_config(**EXPERIMENTS), "--dry-run")
     assert result.returncode == 0

@@ -76,7 +76,8 @@ class ViewWork:
         self.view, self.method, self.modes = view, method, modes
         self.cache: dict = {}
 
-    def _get(self, key, compute):
+    def cached(self, key, compute):
+        """The value under ``key``, computed once per view by ``compute()``."""
         if key not in self.cache:
             self.cache[key] = compute()
         return self.cache[key]
@@ -85,13 +86,13 @@ class ViewWork:
         """(connected component, source index in it, source index in the view)."""
         s = source_vertex(self.view, source_rule)
         label = int(self.view.component_labels[s])
-        connected = self._get(("component", label), lambda: self.view.component_of(s)[0])
+        connected = self.cached(("component", label), lambda: self.view.component_of(s)[0])
         s_local = s if connected is self.view else int(np.sum(self.view.component_labels[:s] == label))
         return connected, s_local, s
 
     def largest(self) -> View:
         """The view's largest connected component (the view itself when it has one), for kinds without a source."""
-        return self._get(("largest",), lambda: self.view if self.view.n_components == 1 else
+        return self.cached(("largest",), lambda: self.view if self.view.n_components == 1 else
                          self.view.largest_component())
 
     def normals(self) -> np.ndarray:
@@ -105,19 +106,19 @@ class ViewWork:
             facing_away = np.einsum("ij,ij->i", normals, self.view.vertices) > 0  # camera at the origin
             normals[facing_away] *= -1.0
             return normals
-        return self._get(("normals",), compute)
+        return self.cached(("normals",), compute)
 
     def operator(self, connected: View, color_map) -> HeatOperator:
         color = color_map if isinstance(color_map, (str, type(None))) else id(color_map)
-        return self._get(("op", id(connected), color), lambda: heat_operator(
+        return self.cached(("op", id(connected), color), lambda: heat_operator(
             connected, None if color_map is None else color_rates(connected, color_map)))
 
     def shifted(self, op: HeatOperator, sigma: float) -> HeatOperator:
         """``op`` factorized at shift ``sigma`` (:meth:`HeatOperator.shifted`), once per view."""
-        return self._get(("shifted", id(op), sigma), lambda: op.shifted(sigma))
+        return self.cached(("shifted", id(op), sigma), lambda: op.shifted(sigma))
 
     def spectrum(self, op: HeatOperator, modes: int) -> Spectrum:
-        return self._get(("spectrum", id(op), modes), lambda: eigen_spectrum(op, modes))
+        return self.cached(("spectrum", id(op), modes), lambda: eigen_spectrum(op, modes))
 
     def lambda2(self, op: HeatOperator) -> float:
         def compute():
@@ -125,7 +126,7 @@ class ViewWork:
                 if key[0] == "spectrum" and key[1] == id(op):
                     return value.lambda2
             return self.spectrum(op, self.modes).lambda2 if self.method == "eigen" else lambda2(op)
-        return self._get(("lambda2", id(op)), compute)
+        return self.cached(("lambda2", id(op)), compute)
 
     def heat(self, op: HeatOperator, source: int, times: tuple, boundary: np.ndarray) -> np.ndarray:
         """(len(times), b) normalized boundary temperatures."""
@@ -134,7 +135,7 @@ class ViewWork:
                 spectrum = self.spectrum(op, self.modes)
                 return np.stack([spectrum.heat([source], t, at=boundary)[0] for t in times])
             return krylov_heat(op, source, np.asarray(times), at=boundary)
-        return self._get(("heat", id(op), source, times), compute)
+        return self.cached(("heat", id(op), source, times), compute)
 
     def global_derivative(self, op: HeatOperator, at: np.ndarray, time: float | None = None) -> np.ndarray:
         """Eq. 5.12 at vertices ``at``, at ``time`` (default t_global = 1/lambda_2), with enough modes."""
@@ -150,4 +151,4 @@ class ViewWork:
                     log.info("%s: the global derivative needs more than %d modes; trying %d",
                              op.name, modes, 2 * modes)
                     modes = min(2 * modes, op.n - 2)
-        return self._get(("derivative", id(op), id(at), time), compute)
+        return self.cached(("derivative", id(op), id(at), time), compute)
