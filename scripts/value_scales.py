@@ -14,7 +14,9 @@ one row per descriptor, transform and library size:
         --transform x1 x0.3 x0.1 x0.01 log10 log10x0.3 --out docs/results/chairs_value_scales.csv
 
 Transforms: ``x<k>`` multiplies the values by k (``x1``: the workflow's MHD); ``log10x<k>`` takes k
-log10(values), for kinds whose values are positive.
+log10(values), for kinds whose values are positive. ``--leave-one-out`` adds, for kinds that are not
+time-scaled, the precision of each library view against all the other library views (``library_size`` 0):
+a way to choose a transform without looking at the test views.
 """
 
 import argparse
@@ -25,6 +27,8 @@ import numpy as np
 import pandas as pd
 
 from heatdata.errors import HeatdataError
+from heatdata.descriptors import kind_of
+from heatdata.distance import mhd_matrix
 from heatdata.evaluate import CLASSIFY_COLUMNS, TIME_SCALED_COLUMNS, evaluate_library_sizes
 from heatdata.log import setup_logging
 from heatdata.tables import read_table
@@ -43,12 +47,23 @@ def transformed(values: pd.Series, transform: str, name: str) -> pd.Series:
     return values.map(lambda v: k * np.asarray(v))
 
 
+def leave_one_out(table: pd.DataFrame) -> float:
+    """Object precision of each described library view against all the other library views (eq. 3.1)."""
+    library = table[(table["split"] == "train") & table["values"].map(lambda v: bool(np.all(np.isfinite(v))))]
+    distances = mhd_matrix(np.stack(library["values"].to_numpy()), np.stack(library["values"].to_numpy()))
+    np.fill_diagonal(distances, np.inf)
+    objects = library["object"].to_numpy()
+    return float(np.mean(objects[distances.argmin(axis=1)] == objects))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("descriptors", help="descriptors.parquet of a workflow run")
     parser.add_argument("--descriptor", nargs="+", required=True, help="descriptor names")
     parser.add_argument("--transform", nargs="+", default=["x1", "x0.1", "log10"])
     parser.add_argument("--sizes", type=int, nargs="+", default=[40, 12, 8, 5])
+    parser.add_argument("--leave-one-out", action="store_true", help="add each transform's leave-one-out precision "
+                        "among the library views (library_size 0)")
     parser.add_argument("--out", help="CSV to write")
     args = parser.parse_args()
     setup_logging()
@@ -69,6 +84,9 @@ def main() -> None:
             for size, group in predictions.groupby("library_size"):
                 rows.append({"descriptor": name, "transform": transform, "library_size": size,
                              "precision": round(float(group["correct"].mean()), 4)})
+            if args.leave_one_out and not kind_of(table["kind"].iloc[0]).time_scaled:
+                rows.append({"descriptor": name, "transform": transform, "library_size": 0,
+                             "precision": round(leave_one_out(table.assign(values=values)), 4)})
             print(f"{name} {transform}: {time.perf_counter() - start:.0f} s", flush=True)
     table = pd.DataFrame(rows)
     print(table.pivot_table(index=["descriptor", "transform"], columns="library_size", values="precision",

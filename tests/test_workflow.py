@@ -185,11 +185,12 @@ def test_the_value_scale_script_reads_a_run_s_table(tiny_run, tmp_path):
     table, out = tiny_run / "results/descriptors.parquet", tmp_path / "scales.csv"
     result = subprocess.run([sys.executable, ROOT / "scripts/value_scales.py", table, "--descriptor",
                              "pvhk/polar/center/32", "pvst/polar/center/32/T0.75", "--transform", "x1", "x0.1",
-                             "log10x0.3", "--sizes", "8", "4", "--out", out], capture_output=True, text=True,
-                            timeout=300)
+                             "log10x0.3", "--sizes", "8", "4", "--leave-one-out", "--out", out], capture_output=True,
+                            text=True, timeout=300)
     assert result.returncode == 0, result.stderr[-2000:]
     scales = pd.read_csv(out)
-    assert len(scales) == 12 and scales["precision"].between(0, 1).all()
+    assert len(scales) == 18 and scales["precision"].between(0, 1).all()
+    assert (scales["library_size"] == 0).sum() == 6  # leave-one-out among the library views, per transform
     precision = pd.read_csv(tiny_run / "results/evaluation/precision.csv")
     workflow = precision[(precision["level"] == "object") & (precision["group"] == "all")
                          & (precision["descriptor"] == "pvhk/polar/center/32")].set_index("library_size")
