@@ -93,7 +93,7 @@ class ViewWork:
     def largest(self) -> View:
         """The view's largest connected component (the view itself when it has one), for kinds without a source."""
         return self.cached(("largest",), lambda: self.view if self.view.n_components == 1 else
-                         self.view.largest_component())
+                           self.view.largest_component())
 
     def normals(self) -> np.ndarray:
         """(n, 3) unit vertex normals of the view's mesh (area-weighted face normals), facing the camera."""
