@@ -155,10 +155,8 @@ class HeatKind(BoundaryKind):
             color_map = spec.get("color_map")
             op = heat_operator(connected, None if color_map is None else color_rates(connected, color_map))
             spectrum = eigen_spectrum(op, modes)
-            while True:
-                spec_times = self.spectrum_times(spectrum, connected, spec, times)
-                if spectrum.truncation(min(spec_times)) <= TRUNCATION or len(spectrum.values) >= op.n - 2:
-                    break
+            spec_times = self.spectrum_times(spectrum, connected, spec, times)  # lambda_2 stays as modes double
+            while spectrum.truncation(min(spec_times)) > TRUNCATION and len(spectrum.values) < op.n - 2:
                 spectrum = eigen_spectrum(op, 2 * len(spectrum.values))
             repairs = tuple(connected.repairs[len(view.repairs):])
             per_time = []
