@@ -143,7 +143,10 @@ STYLE = ("body{font-family:sans-serif;font-size:14px;margin:1em;color:#222}table
 
 
 def html_page(title: str, sections: list) -> str:
-    """Sections of :func:`summary_sections` as a small self-contained HTML page, shown inline in the report."""
+    """Sections of :func:`summary_sections` as a small self-contained HTML page, shown inline in the report.
+
+    Forms as :func:`markdown`'s, and ``html``: a body already rendered and escaped, inserted as it is.
+    """
     parts = [f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
              f"<style>{STYLE}</style></head><body><h1>{html.escape(title)}</h1>"]
     for heading, form, body in sections:
@@ -155,6 +158,8 @@ def html_page(title: str, sections: list) -> str:
             parts.append(f"<pre>{html.escape(body)}</pre>")
         elif form == "list":
             parts.append("<ul>" + "".join(f"<li>{html.escape(line)}</li>" for line in body) + "</ul>")
+        elif form == "html":  # already rendered and escaped
+            parts.append(body)
         else:
             parts += [f"<p>{html.escape(line)}</p>" for line in body]
     return "".join(parts) + "</body></html>\n"
@@ -287,8 +292,8 @@ def ablation_page(table: pd.DataFrame, source: str) -> str:
     rows = "".join("<tr>" + "".join(f"<td style='text-align:left'>{_inline_markdown(str(cell))}</td>"
                                     for cell in row) + "</tr>" for row in table.itertuples(index=False))
     head = "".join(f"<th style='text-align:left'>{html.escape(column)}</th>" for column in table.columns)
-    intro = (f"Each factor measured on its own, with the command or config that produced it ({html.escape(source)}; "
-             f"the README's closing paragraph draws the conclusion). {html.escape(RENDERED_NOTE)}")
-    return (f"<!doctype html><html><head><meta charset='utf-8'><title>Ablation</title><style>{STYLE}</style>"
-            f"</head><body><h1>Ablation: what each factor changes</h1><p>{intro}</p>"
-            f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table></body></html>\n")
+    intro = (f"Each factor measured on its own, with the command or config that produced it ({source}; the README's "
+             f"closing paragraph draws the conclusion). {RENDERED_NOTE}")
+    return html_page("Ablation: what each factor changes", [
+        ("", "text", [intro]),
+        ("", "html", f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>")])
