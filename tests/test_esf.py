@@ -1,10 +1,11 @@
-"""ESF (PCL's algorithm in numpy): invariances, the in/out/mixed split of Fig. 3.15, bad input."""
+"""ESF (PCL's algorithm, numpy and numba): invariances, the in/out/mixed split of Fig. 3.15, the compiled kernels, bad input."""
 
 import numpy as np
 import pytest
 
 import heatdata as hd
 from conftest import square_view
+from heatdata.descriptors import esf
 from heatdata.descriptors.esf import esf_histogram
 
 
@@ -51,3 +52,33 @@ def test_too_small_or_flat_views_are_errors():
         esf_histogram(line, name="line")
     with pytest.raises(hd.ViewError, match="triplets"):
         hd.DescriptorSpec("esf", triplets=10)
+
+
+def numpy_trace(grid, start, end):
+    """The vectorized line trace the kernel replaced (issue 28): every line's voxels at once."""
+    delta = end - start
+    steps = np.maximum(np.abs(delta).max(axis=1), 1)
+    k = np.arange(int(steps.max()))
+    along = np.rint(start[:, None, :] + delta[:, None, :] * (k[None, :, None] / steps[:, None, None])).astype(int)
+    along = np.clip(along, 0, grid.shape[0] - 1)
+    inside = grid[along[..., 0], along[..., 1], along[..., 2]] & (k[None, :] < steps[:, None])
+    return steps, inside.sum(axis=1)
+
+
+def test_compiled_trace_and_occupancy_match_the_vectorized_numpy():
+    rng = np.random.default_rng(5)
+    points = rng.normal(0.0, 9.0, (400, 3)).clip(-31.9, 31.9)
+    grid = esf._occupancy(points)
+    voxels = esf._voxels(points)
+    expected = np.zeros_like(grid)
+    for offset in np.stack(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1], indexing="ij"), -1).reshape(-1, 3):
+        v = voxels + offset
+        ok = np.all((v >= 0) & (v < esf.GRID), axis=1)
+        expected[v[ok, 0], v[ok, 1], v[ok, 2]] = True
+    assert np.array_equal(grid, expected) and 0 < grid.sum() < grid.size
+    start, end = rng.integers(0, 64, (3000, 3)), rng.integers(0, 64, (3000, 3))
+    end[:5] = start[:5]  # zero-length lines visit their one voxel
+    count, occupied = esf._trace(grid, start, end)
+    want_count, want_occupied = numpy_trace(grid, start, end)
+    assert np.array_equal(count, want_count) and np.array_equal(occupied, want_occupied)
+    assert occupied.max() > 0 and (occupied < count).any()

@@ -1,8 +1,9 @@
 """Ensemble of Shape Functions (ESF; Wohlkinger & Vincze 2011, thesis 3.6.1).
 
-A re-implementation of PCL 1.13's ``pcl::ESFEstimation`` (``features/impl/esf.hpp``) in
-numpy, because no maintained Python binding of it exists and Debian's ``pcl-tools`` has
-no ESF tool. As in PCL:
+A re-implementation of PCL 1.13's ``pcl::ESFEstimation`` (``features/impl/esf.hpp``),
+because no maintained Python binding of it exists and Debian's ``pcl-tools`` has no ESF
+tool: the triplets and their geometry in numpy, the voxel grid and the line tracing in
+numba (:mod:`heatdata._esf_kernel`). As in PCL:
 
 1. the view's points are centred on their centroid and scaled so that the farthest
    lies at 32 voxels; a 64^3 voxel grid marks each point's voxel and its 26 neighbours;
@@ -44,24 +45,21 @@ def _voxels(points: np.ndarray) -> np.ndarray:
 
 def _occupancy(points: np.ndarray) -> np.ndarray:
     """(64, 64, 64) bool: each point's voxel and its 26 neighbours (PCL's voxelize9)."""
+    from .._esf_kernel import occupancy
+
     grid = np.zeros((GRID, GRID, GRID), dtype=bool)
-    base = _voxels(points)
-    for offset in np.stack(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1], indexing="ij"), -1).reshape(-1, 3):
-        v = base + offset
-        ok = np.all((v >= 0) & (v < GRID), axis=1)
-        grid[v[ok, 0], v[ok, 1], v[ok, 2]] = True
+    occupancy(np.ascontiguousarray(_voxels(points)), grid)
     return grid
 
 
 def _trace(grid: np.ndarray, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(lines,) voxels visited and occupied voxels among them, for lines between voxel ``start`` and ``end``."""
-    delta = end - start
-    steps = np.maximum(np.abs(delta).max(axis=1), 1)  # voxels visited: the end voxel is not
-    k = np.arange(int(steps.max()))
-    along = np.rint(start[:, None, :] + delta[:, None, :] * (k[None, :, None] / steps[:, None, None])).astype(np.int64)
-    along = np.clip(along, 0, GRID - 1)
-    inside = grid[along[..., 0], along[..., 1], along[..., 2]] & (k[None, :] < steps[:, None])
-    return steps, inside.sum(axis=1)
+    """(lines,) voxels visited and occupied voxels among them, for lines between voxel ``start`` and ``end``
+    (:func:`heatdata._esf_kernel.trace`)."""
+    from .._esf_kernel import trace
+
+    count, occupied = np.empty(len(start), np.int64), np.empty(len(start), np.int64)
+    trace(grid, np.ascontiguousarray(start), np.ascontiguousarray(end), count, occupied)
+    return count, occupied
 
 
 def _bin(values: np.ndarray, top: float) -> np.ndarray:
@@ -131,8 +129,8 @@ def esf_histogram(points: np.ndarray, *, triplets: int = 20000, seed: int = 0, n
     hist = np.zeros((10, BINS))
     d2_bins = _bin(d2, float(d2.max()))
     for row, mask in ((6, line_in), (7, line_out), (8, line_mix)):
-        np.add.at(hist[row], d2_bins[mask], 1.0)
-    np.add.at(hist[9], np.rint(occupied[line_mix] / count[line_mix] * (BINS - 1)).astype(np.int64), 1.0)
+        hist[row] += np.bincount(d2_bins[mask], minlength=BINS)
+    hist[9] += np.bincount(np.rint(occupied[line_mix] / count[line_mix] * (BINS - 1)).astype(np.int64), minlength=BINS)
     n = len(idx)
     count3, occupied3 = count.reshape(3, n), occupied.reshape(3, n)
     in_sum, visited_sum = occupied3.sum(axis=0), count3.sum(axis=0)
@@ -143,15 +141,15 @@ def esf_histogram(points: np.ndarray, *, triplets: int = 20000, seed: int = 0, n
     opposite = (count3[2], count3[0], count3[1])  # angle at p1 weighs line 2-3, at p3 line 1-2, at p2 line 1-3
     for a3_row, d3_row, mask in ((0, 3, tri_in), (1, 4, tri_out), (2, 5, tri_mix)):
         for bins, weight in zip(angle, opposite, strict=True):
-            np.add.at(hist[a3_row], bins[mask], weight[mask] / 32.0)
-        np.add.at(hist[d3_row], d3_bins[mask], 1.0)
+            hist[a3_row] += np.bincount(bins[mask], weight[mask] / 32.0, minlength=BINS)
+        hist[d3_row] += np.bincount(d3_bins[mask], minlength=BINS)
     hist *= WEIGHTS[:, None]
     return (hist / hist.sum()).ravel()
 
 
 class ESF(HistogramKind):
     name = "esf"
-    summary = "Ensemble of Shape Functions (PCL's algorithm, re-implemented in numpy; thesis 3.6.1)"
+    summary = "Ensemble of Shape Functions (PCL's algorithm, re-implemented; thesis 3.6.1)"
     bins = 10 * BINS
     options = (Option("triplets", 20000, "random point triplets (PCL: 20,000)", integer(100)),
                Option("seed", 0, "seed of the random triplets", integer(0)))
