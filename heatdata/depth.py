@@ -76,8 +76,8 @@ def grid_faces(index: np.ndarray, depth: np.ndarray, max_jump: float) -> np.ndar
 
 
 def grid_view(points: np.ndarray, colors: np.ndarray | None = None, *, max_depth_jump: float = MAX_DEPTH_JUMP,
-              **view_fields) -> View:
-    """The view of an organized grid of camera-frame points: its triangle mesh, largest piece only.
+              components: str = "largest", **view_fields) -> View:
+    """The view of an organized grid of camera-frame points: its triangle mesh, largest piece only by default.
 
     Parameters
     ----------
@@ -87,6 +87,9 @@ def grid_view(points: np.ndarray, colors: np.ndarray | None = None, *, max_depth
     colors : (h, w, 3) float in [0, 1], optional
     max_depth_jump : float
         See :func:`grid_faces`.
+    components : {"largest", "all"}
+        Keep the largest connected piece (a repair, recorded in ``repairs``), or every piece (to measure what
+        the largest leaves out, issue 28).
     **view_fields
         ``intrinsics``, ``view_id``, ``object_id``, ``label``, angles, ``pose``, ``repairs``.
 
@@ -96,6 +99,8 @@ def grid_view(points: np.ndarray, colors: np.ndarray | None = None, *, max_depth
         No valid pixel, or no triangle between them.
     """
     name = view_fields.get("view_id") or "view"
+    if components not in ("largest", "all"):
+        raise ViewError(f"{name}: components must be 'largest' or 'all', got {components!r}")
     valid = np.isfinite(points).all(axis=2) & (points[..., 2] > 0)
     if not valid.any():
         raise ViewError(f"{name}: no valid pixel")
@@ -107,7 +112,8 @@ def grid_view(points: np.ndarray, colors: np.ndarray | None = None, *, max_depth
         raise ViewError(f"{name}: the {int(valid.sum())} valid pixels form no triangle (isolated pixels, or depth "
                         f"steps above {max_depth_jump:g} of the depth everywhere)")
     rgb = None if colors is None else np.asarray(colors, np.float64)[valid]
-    return View.from_arrays(vertices, faces, rgb, **view_fields).largest_component()
+    view = View.from_arrays(vertices, faces, rgb, **view_fields)
+    return view.largest_component() if components == "largest" else view
 
 
 def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, name: str = "intrinsics") -> dict:

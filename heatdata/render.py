@@ -90,6 +90,7 @@ def render_view(
     tau: float = KINECT_TAU,
     intrinsics: dict | None = None,
     max_depth_jump: float = MAX_DEPTH_JUMP,
+    components: str = "largest",
     view_id: str | None = None,
 ) -> View:
     """Render the partial view of ``model`` seen from a view angle.
@@ -111,11 +112,13 @@ def render_view(
         ``fx, fy, cx, cy, width, height``; default the Kinect's (f = 580 px, 640x480).
     max_depth_jump : float
         Relative depth difference above which neighbouring pixels are not joined.
+    components : {"largest", "all"}
+        Keep the largest connected component (the default) or every one (:func:`heatdata.depth.grid_view`).
 
     Returns
     -------
     View
-        Vertices in camera coordinates, the largest connected component only (any other
+        Vertices in camera coordinates; by default the largest connected component only (any other
         component is dropped, logged and recorded in ``view.repairs``).
 
     Raises
@@ -161,6 +164,6 @@ def render_view(
     colors = np.zeros((*cols.shape, 3))
     colors[valid] = _hit_colors(model, face_ids, bary)
     # the same triangulation as a captured depth image's
-    return grid_view(directions * depth[..., None], colors, max_depth_jump=max_depth_jump, intrinsics=k,
-                     view_id=name, object_id=model.name, label=model.label, azimuth=float(azimuth),
+    return grid_view(directions * depth[..., None], colors, max_depth_jump=max_depth_jump, components=components,
+                     intrinsics=k, view_id=name, object_id=model.name, label=model.label, azimuth=float(azimuth),
                      elevation=float(elevation), distance=float(distance), pose=pose, repairs=list(model.repairs))

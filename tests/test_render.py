@@ -86,6 +86,11 @@ def test_depth_jumps_split_the_mesh_and_the_largest_part_is_kept(tmp_path, caplo
     assert any("kept the largest of 2 components" in r for r in view.repairs)
     assert "kept the largest" in caplog.text
     assert np.allclose(view.vertices[:, 2], view.vertices[:, 2].max(), atol=1e-5)  # the far board
+    whole = hd.render_view(hd.load_model(path), 0.0, 0.0, 1.0, noise=False, components="all")
+    assert whole.n_components == 2 and whole.n_vertices > view.n_vertices and not whole.repairs
+    assert whole.largest_component().n_vertices == view.n_vertices
+    with pytest.raises(hd.ViewError, match="components must be"):
+        hd.render_view(hd.load_model(path), 0.0, 0.0, 1.0, components="some")
 
 
 def test_bad_cameras(cube):
