@@ -48,16 +48,18 @@ def view_plan(objects: list[str], n_train: int = 40, n_test: int = 120, *, eleva
 
 
 def render_views(model: Model, plan: pd.DataFrame, *, noise: bool = True, intrinsics: dict | None = None,
-                 progress_every: int = 40) -> list[View]:
+                 components: str = "largest", progress_every: int = 40) -> list[View]:
     """Render every planned view of ``model`` (rows of :func:`view_plan` for this object).
 
-    ``intrinsics``: the camera's (default the Kinect's, :func:`heatdata.view.kinect_intrinsics`).
+    ``intrinsics``: the camera's (default the Kinect's, :func:`heatdata.view.kinect_intrinsics`);
+    ``components``: ``"largest"`` or ``"all"`` (:func:`heatdata.render_view`).
     """
     views = []
     start = time.perf_counter()
     for count, row in enumerate(plan.itertuples(), 1):
         views.append(render_view(model, row.azimuth, row.elevation, row.distance, noise=noise, seed=row.seed,
-                                 intrinsics=intrinsics, view_id=f"{model.name}/{row.split}/{row.index:03d}"))
+                                 intrinsics=intrinsics, components=components,
+                                 view_id=f"{model.name}/{row.split}/{row.index:03d}"))
         if count % progress_every == 0 or count == len(plan):
             log.info("%s: %d/%d views rendered (%.1f s)", model.name, count, len(plan), time.perf_counter() - start)
     repaired = [v for v in views if v.repairs]
@@ -242,7 +244,7 @@ def render_object_views(row: dict, views: dict) -> pd.DataFrame:
     """Workflow step: the planned views of one catalogue object as a :data:`VIEW_SCHEMA` frame.
 
     ``views`` holds ``train, test, elevation, distance, noise, seed`` and optionally
-    ``image_scale`` (config ``views``).
+    ``image_scale`` and ``components`` (config ``views``).
     """
     from .catalog import load_catalog_model
     from .tables import views_to_frame
@@ -251,7 +253,8 @@ def render_object_views(row: dict, views: dict) -> pd.DataFrame:
     plan = view_plan([model.name], views["train"], views["test"], elevation=views["elevation"],
                      distance=views["distance"], seed=views["seed"])
     intrinsics = kinect_intrinsics(views.get("image_scale", 1.0))
-    return views_to_frame(render_views(model, plan, noise=views["noise"], intrinsics=intrinsics), plan)
+    return views_to_frame(render_views(model, plan, noise=views["noise"], intrinsics=intrinsics,
+                                       components=views.get("components", "largest")), plan)
 
 
 def capture_view_table(captures: list[dict], label: str = "", *, depth_range=None,

@@ -202,6 +202,52 @@ def test_the_value_scale_script_reads_a_run_s_table(tiny_run, tmp_path):
     assert result.returncode != 0 and "unknown transform 'sqrt'" in result.stderr
 
 
+def test_the_complex_ablation_script_reads_a_run_s_views(tiny_run, tmp_path):
+    """scripts/complex_ablation.py (issue 28): its PVHK and ESF rows are the workflow's precision on the same views."""
+    out = tmp_path / "steps.csv"
+    result = subprocess.run([sys.executable, ROOT / "scripts/complex_ablation.py", tiny_run / "results",
+                             "--test-every", "1", "--sizes", "8", "4", "--samples", "32", "--triplets", "2000",
+                             "--jobs", "1", "--out", out], capture_output=True, text=True, timeout=600)
+    assert result.returncode == 0, result.stderr[-2000:]
+    steps = pd.read_csv(out)
+    assert set(steps["step"]) == {"view", "boundary", "signature", "distance"} and steps["views"].eq(28).all()
+    measured = steps.dropna(subset=["precision"])
+    assert len(measured) == 2 * 15 and measured["precision"].between(0, 100).all()
+    precision = pd.read_csv(tiny_run / "results/evaluation/precision.csv")
+    workflow = precision[(precision["level"] == "object") & (precision["group"] == "all")]
+    for variant, descriptor in (("PVHK at t_s = 1/lambda_2 (the workflow's)", "pvhk/polar/center/32"),
+                                ("largest component, as rendered (ESF)", "esf/triplets=2000")):
+        mine = measured[measured["variant"] == variant].set_index("library_size")["precision"]
+        theirs = 100 * workflow[workflow["descriptor"] == descriptor].set_index("library_size")["precision"]
+        assert np.allclose(mine.loc[[8, 4]], theirs.loc[[8, 4]], atol=0.051), (variant, mine, theirs)
+    empty = subprocess.run([sys.executable, ROOT / "scripts/complex_ablation.py", tmp_path, "--out", out],
+                           capture_output=True, text=True, timeout=300)
+    assert empty.returncode != 0 and "no views in" in empty.stderr
+
+
+def test_the_combination_script_scores_kinds_alone_as_the_workflow_does(tiny_run, tmp_path):
+    """scripts/combine_kinds.py (issue 28): each kind alone is the workflow's precision; weights from the library."""
+    table, out = tiny_run / "results/descriptors.parquet", tmp_path / "combined.csv"
+    names = ["pvhk/polar/center/32", "esf/triplets=2000"]
+    result = subprocess.run([sys.executable, ROOT / "scripts/combine_kinds.py", table, "--descriptor", *names,
+                             "--sizes", "8", "4", "--out", out], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr[-2000:]
+    combined = pd.read_csv(out)
+    assert set(combined["method"]) == {*names, "sum", "learned", "rank"} and combined["test_views"].eq(12).all()
+    learned = combined[combined["method"] == "learned"]
+    assert learned["weights"].map(lambda w: sum(map(float, w.split()))).sub(1).abs().lt(1e-9).all()
+    assert learned["leave_one_out"].between(0, 1).all()
+    precision = pd.read_csv(tiny_run / "results/evaluation/precision.csv")
+    workflow = precision[(precision["level"] == "object") & (precision["group"] == "all")]
+    for name in names:
+        mine = combined[combined["method"] == name].set_index("library_size")["precision"]
+        theirs = workflow[workflow["descriptor"] == name].set_index("library_size")["precision"]
+        assert np.allclose(mine.loc[[8, 4]], theirs.loc[[8, 4]])
+    refused = subprocess.run([sys.executable, ROOT / "scripts/combine_kinds.py", table, "--descriptor", names[0],
+                              "ft-pvhk/polar/center/32", "--out", out], capture_output=True, text=True, timeout=300)
+    assert refused.returncode != 0 and "time-scaled" in refused.stderr
+
+
 def test_rerun_with_nothing_changed_runs_no_job(tiny_run):
     result = snakemake(tiny_run, tiny_config(**EXPERIMENTS), "--dry-run")
     assert result.returncode == 0
