@@ -212,7 +212,7 @@ def test_the_complex_ablation_script_reads_a_run_s_views(tiny_run, tmp_path):
     steps = pd.read_csv(out)
     assert set(steps["step"]) == {"view", "boundary", "signature", "distance"} and steps["views"].eq(28).all()
     measured = steps.dropna(subset=["precision"])
-    assert len(measured) == 2 * 15 and measured["precision"].between(0, 100).all()
+    assert len(measured) == 2 * 16 and measured["precision"].between(0, 100).all()
     precision = pd.read_csv(tiny_run / "results/evaluation/precision.csv")
     workflow = precision[(precision["level"] == "object") & (precision["group"] == "all")]
     for variant, descriptor in (("PVHK at t_s = 1/lambda_2 (the workflow's)", "pvhk/polar/center/32"),
