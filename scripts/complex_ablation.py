@@ -11,12 +11,15 @@ scored by the workflow's protocol: the nearest library view among ``n`` per obje
   view's ``repairs``; the whole views are measured by the workflow itself (``views.components: all``);
 - **the boundary**: one loop or all of them, the temperatures at their vertices as a histogram, and the
   ESF fed the boundary's points alone;
-- **the signature**: the curve at other times and at three at once; the heat field over the whole surface
+- **the signature**: the curve at other times and at three at once; the same samples holding the loop's
+  own geometry instead of a temperature (its 3D distance to its centroid, over the largest); the heat field over the whole surface
   (area-weighted histograms of log10 T at 0.3, 1 and 3 / lambda_2) from one source and from 16 spread by
   farthest-point sampling; the same joined with each vertex's distance to the source; and that distance alone;
 - **the distance**: the PVHK curve under eq. 3.1, the pointwise L1 and an alignment-free L1 (sorted values).
 
     .venv/bin/python scripts/complex_ablation.py results/chairs_12 --out docs/results/chairs_12_steps.csv
+    .venv/bin/python scripts/complex_ablation.py --plot docs/results/chairs_12_steps.csv \
+        docs/results/household_steps.csv --figure docs/images/complex_steps.png   # the figure, from the tables
 
 Heat is exact (the shift-invert Krylov model of :func:`heatdata.spectrum.heat_model`). One row per
 variant and library size; the run's views stay as rendered (not real sensor data).
@@ -62,6 +65,7 @@ VARIANTS = [
     ("boundary", "PVHK values on the outer loop, as a histogram", "values_outer", "chi2"),
     ("boundary", "PVHK values on every loop, as a histogram", "values_loops", "chi2"),
     ("signature", "PVHK at t_s = 1/lambda_2 (the workflow's)", "curve_1", "mhd"),
+    ("signature", "no heat: the loop's 3D distance to its centroid, at the same samples", "radius", "mhd"),
     ("signature", "PVHK at 0.5 / lambda_2", "curve_0.5", "mhd"),
     ("signature", "PVHK at 2 / lambda_2", "curve_2", "mhd"),
     ("signature", "PVHK at all three times (MHDs summed)", "curve_all", "mhd"),
@@ -110,6 +114,8 @@ def features(view, samples: int = SAMPLES, triplets: int = 20000) -> dict:
     temps = heat_model(op, centre, curve_times, check_every=8)(curve_times)  # (3, n)
     for c, row in zip(CURVE_TIMES, temps, strict=True):
         out[f"curve_{c:g}"] = sample_boundary(view, outer, row[outer], samples, "polar")[0]
+    radius = np.linalg.norm(x[outer] - x[outer].mean(axis=0), axis=1)
+    out["radius"] = sample_boundary(view, outer, radius / radius.max(), samples, "polar")[0]
     out["curve_all"] = np.concatenate([out[f"curve_{c:g}"] for c in CURVE_TIMES])
     out["sorted_1"] = np.sort(out["curve_1"])
     out["values_outer"] = histogram(temps[1, outer], VALUES)
@@ -165,16 +171,52 @@ def precision(table: pd.DataFrame, feature: str, how: str, size: int, samples: i
     return float(np.mean(library["object"].to_numpy()[d.argmin(axis=1)] == tests["object"].to_numpy()))
 
 
+def plot(tables: list[str], figure: str, size: int = 8) -> None:
+    """Horizontal bars: each variant's precision at ``size`` library views, one colour per table."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    frames = [(lambda f: f[f["library_size"] == size])(pd.read_csv(t)) for t in tables]
+    keys = list(zip(frames[0]["step"], frames[0]["variant"], strict=True))
+    labels = [f"{step}: {variant}" for step, variant in keys]
+    fig, ax = plt.subplots(figsize=(11, 0.38 * len(labels) + 1.4))
+    height = 0.8 / len(frames)
+    for k, (table, frame) in enumerate(zip(tables, frames, strict=True)):
+        values = frame.set_index(["step", "variant"])["precision"].reindex(keys)  # a variant it lacks: no bar
+        ax.barh(np.arange(len(labels)) + k * height, values, height, label=Path(table).stem)
+    ax.set_yticks(np.arange(len(labels)) + 0.4 - height / 2, labels, fontsize=8)
+    ax.invert_yaxis()
+    ax.set_xlim(0, 125)  # room for the legend right of the bars
+    ax.set_xticks(range(0, 101, 20))
+    ax.set_xlabel(f"object precision (%), {size} library views per object")
+    ax.set_title("Where a complex object's information goes (rendered views, not real sensor data)", fontsize=10)
+    ax.grid(axis="x", alpha=0.3)
+    ax.legend(loc="lower right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(figure, dpi=110)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("run", help="a workflow run's results folder (its views/*.parquet are read)")
+    parser.add_argument("run", nargs="?", help="a workflow run's results folder (its views/*.parquet are read)")
+    parser.add_argument("--plot", nargs="+", metavar="CSV", help="draw --figure from these tables instead")
+    parser.add_argument("--figure", help="PNG to draw with --plot")
     parser.add_argument("--test-every", type=int, default=3, help="every n-th test view of each object (3: 40 of 120)")
     parser.add_argument("--sizes", type=int, nargs="+", default=[5, 8, 12, 40])
     parser.add_argument("--samples", type=int, default=SAMPLES, help="samples per PVHK curve")
     parser.add_argument("--triplets", type=int, default=20000, help="random point triplets per ESF")
     parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--out", required=True, help="CSV to write")
+    parser.add_argument("--out", help="CSV to write")
     args = parser.parse_args()
+    if args.plot:
+        if not args.figure:
+            parser.error("--plot needs --figure")
+        plot(args.plot, args.figure)
+        return
+    if not args.run or not args.out:
+        parser.error("give a run's results folder and --out (or --plot with --figure)")
     setup_logging()
     paths = sorted(Path(args.run, "views").glob("*.parquet"))
     if not paths:

@@ -220,6 +220,10 @@ def test_the_complex_ablation_script_reads_a_run_s_views(tiny_run, tmp_path):
         mine = measured[measured["variant"] == variant].set_index("library_size")["precision"]
         theirs = 100 * workflow[workflow["descriptor"] == descriptor].set_index("library_size")["precision"]
         assert np.allclose(mine.loc[[8, 4]], theirs.loc[[8, 4]], atol=0.051), (variant, mine, theirs)
+    figure = tmp_path / "steps.png"
+    drawn = subprocess.run([sys.executable, ROOT / "scripts/complex_ablation.py", "--plot", out, out, "--figure", figure],
+                           capture_output=True, text=True, timeout=300)
+    assert drawn.returncode == 0 and figure.stat().st_size > 10_000, drawn.stderr[-2000:]
     empty = subprocess.run([sys.executable, ROOT / "scripts/complex_ablation.py", tmp_path, "--out", out],
                            capture_output=True, text=True, timeout=300)
     assert empty.returncode != 0 and "no views in" in empty.stderr
