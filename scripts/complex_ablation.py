@@ -12,9 +12,10 @@ scored by the workflow's protocol: the nearest library view among ``n`` per obje
 - **the boundary**: one loop or all of them, the temperatures at their vertices as a histogram, and the
   ESF fed the boundary's points alone;
 - **the signature**: the curve at other times and at three at once; the same samples holding the loop's
-  own geometry instead of a temperature (its 3D distance to its centroid, over the largest); the heat field over the whole surface
-  (area-weighted histograms of log10 T at 0.3, 1 and 3 / lambda_2) from one source and from 16 spread by
-  farthest-point sampling; the same joined with each vertex's distance to the source; and that distance alone;
+  own geometry instead of a temperature (its 3D distance to its centroid, over the largest); the heat field
+  over the whole surface (area-weighted histograms of log10 T at 0.3, 1 and 3 / lambda_2) from one source
+  and from 16 spread by farthest-point sampling; the same joined with each vertex's distance to the source;
+  and that distance alone;
 - **the distance**: the PVHK curve under eq. 3.1, the pointwise L1 and an alignment-free L1 (sorted values).
 
     .venv/bin/python scripts/complex_ablation.py results/chairs_12 --out docs/results/chairs_12_steps.csv
