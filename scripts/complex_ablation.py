@@ -148,7 +148,7 @@ def object_features(args: tuple[Path, int, int, int]) -> list[dict]:
     rows = []
     with threadpool_limits(1):
         for view, split, repairs in zip(frame_to_views(frame), frame["split"], frame["repairs"], strict=True):
-            kept = next((KEPT.search(r) for r in repairs if KEPT.search(r)), None)
+            kept = next(filter(None, map(KEPT.search, repairs)), None)
             components, share = (int(kept[1]), int(kept[2]) / int(kept[3])) if kept else (1, 1.0)
             rows.append(dict(object=view.object_id, view_id=view.view_id, split=split, azimuth=view.azimuth,
                              components=components, vertex_share=share, **features(view, samples, triplets)))
@@ -179,7 +179,8 @@ def plot(tables: list[str], figure: str, size: int = 8) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    frames = [(lambda f: f[f["library_size"] == size])(pd.read_csv(t)) for t in tables]
+    frames = [pd.read_csv(t) for t in tables]
+    frames = [f[f["library_size"] == size] for f in frames]
     keys = list(zip(frames[0]["step"], frames[0]["variant"], strict=True))
     labels = [f"{step}: {variant}" for step, variant in keys]
     fig, ax = plt.subplots(figsize=(11, 0.38 * len(labels) + 1.4))
@@ -223,10 +224,9 @@ def main() -> None:
     if not paths:
         raise SystemExit(f"complex_ablation: no views in {args.run}/views (run its render jobs first)")
     start = time.perf_counter()
+    jobs = [(path, args.test_every, args.samples, args.triplets) for path in paths]
     with Pool(args.jobs) as pool:
-        table = pd.DataFrame([row for rows in pool.imap(object_features, [(p, args.test_every, args.samples, args.triplets)
-                                                              for p in paths])
-                              for row in rows])
+        table = pd.DataFrame([row for rows in pool.imap(object_features, jobs) for row in rows])
     seconds = time.perf_counter() - start
     print(f"{len(table)} views of {len(paths)} objects described in {seconds:.0f} s")
     summary = (f"largest component: median {table['vertex_share'].median():.1%} of the vertices kept "
