@@ -25,7 +25,8 @@ import heatdata as hd
 
 ROOT = Path(__file__).resolve().parents[1]
 SPECS = [hd.DescriptorSpec("pvhk", 64, "center", "polar"), hd.DescriptorSpec("pvst", 64, "interior", "polar"),
-         hd.DescriptorSpec("si-hks"), hd.DescriptorSpec("fpfh"), hd.DescriptorSpec("vfh"), hd.DescriptorSpec("esf")]
+         hd.DescriptorSpec("si-hks"), hd.DescriptorSpec("fpfh"), hd.DescriptorSpec("vfh"), hd.DescriptorSpec("esf"),
+         hd.DescriptorSpec("hgd"), hd.DescriptorSpec("hgd", color="hue-saturation")]
 
 
 def fresh(view: hd.View) -> hd.View:
