@@ -15,7 +15,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_every_kind_is_registered_and_reported():
-    assert set(hd.DESCRIPTORS) == set(KINDS) == {"pvhk", "c-pvhk", "ft-pvhk", "pvst", "si-hks", "fpfh", "vfh", "esf"}
+    assert set(hd.DESCRIPTORS) == set(KINDS) == {"pvhk", "c-pvhk", "ft-pvhk", "pvst", "si-hks", "fpfh", "vfh", "esf",
+                                                 "hgd", "combined"}
     for name, kind in KINDS.items():
         assert kind.name == name and kind.summary and kind.distance_name
         assert hd.DESCRIPTORS[name] is None or isinstance(hd.DESCRIPTORS[name], str)
@@ -27,8 +28,8 @@ def test_each_kind_describes_a_view_through_describe(kind, mug):
         pytest.skip(hd.DESCRIPTORS[kind])
     view = hd.render_view(mug, 30.0, 30.0, 1.0, seed=0)
     options = {"c-pvhk": {"color_map": "c3"}, "si-hks": {"words": 8, "modes": 30},
-               "pvst": {"source": "interior"}}.get(kind, {})
-    spec = hd.fit_spec(hd.DescriptorSpec(kind, **options), [view])
+               "pvst": {"source": "interior"}, "combined": {"parts": [{"kind": "hgd"}, {"kind": "esf"}]}}.get(kind, {})
+    spec = hd.fit_spec(hd.DescriptorSpec(kind, **options), [view, hd.render_view(mug, 120.0, 30.0, 1.0, seed=1)])
     (d,) = hd.describe(view, [spec], times=[0.01])
     assert d.kind == kind and d.values.shape == (spec.impl.size(spec, view),) and np.all(np.isfinite(d.values))
     assert hd.distance(d, d) == pytest.approx(0.0, abs=1e-6)
@@ -74,7 +75,7 @@ def test_histogram_kinds_have_no_heat_source():
     with pytest.raises(hd.ViewError, match="no heat source"):
         hd.candidate_descriptors(square_view(21), [200], hd.DescriptorSpec("esf"))
     assert {k for k, v in KINDS.items() if v.multi_source} == {"pvhk", "c-pvhk", "ft-pvhk", "pvst"}
-    assert {k for k, v in KINDS.items() if v.fitted} == {"si-hks"} and kind_of("ft-pvhk").time_scaled
+    assert {k for k, v in KINDS.items() if v.fitted} == {"si-hks", "combined"} and kind_of("ft-pvhk").time_scaled
 
 
 def test_config_schema_leaves_kinds_to_the_registry():

@@ -319,7 +319,7 @@ class DescriptorSpec:
         return DescriptorSpec(self.kind, fitted=fitted, **self.options)
 
     def _key(self):
-        return self.kind, tuple((k, v if isinstance(v, (str, int, float, type(None))) else id(v))
+        return self.kind, tuple((k, v if isinstance(v, (str, int, float, tuple, type(None))) else id(v))
                                 for k, v in self.options.items())
 
     def __eq__(self, other) -> bool:
