@@ -12,7 +12,7 @@ import pytest
 import trimesh
 import yaml
 
-from heatdata.descriptors import DescriptorSpec
+from heatdata.descriptors import DescriptorSpec, file_name
 from heatdata.tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, TRIAL_SCHEMA, VIEW_SCHEMA, read_table
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -30,7 +30,10 @@ def tiny_config(**overrides):
                         {"kind": "pvhk", "samples": 32, "source": "closest", "sampling": "arclength"},
                         {"kind": "ft-pvhk", "samples": 32, "source": "center", "sampling": "polar"},
                         {"kind": "pvst", "samples": 32, "source": "center", "sampling": "polar"},
-                        {"kind": "esf", "triplets": 2000}, {"kind": "si-hks", "words": 8, "modes": 30}],
+                        {"kind": "esf", "triplets": 2000}, {"kind": "si-hks", "words": 8, "modes": 30},
+                        {"kind": "esf"}, {"kind": "hgd"}, {"kind": "hgd", "color": "hue-saturation"},
+                        {"kind": "combined", "parts": [{"kind": "hgd"}, {"kind": "pvhk", "samples": 32,
+                                                                         "source": "center", "sampling": "polar"}]}],
         "primary_descriptor": "pvhk/polar/center/32",
     }
     config.update(overrides)
@@ -250,6 +253,29 @@ def test_the_combination_script_scores_kinds_alone_as_the_workflow_does(tiny_run
     refused = subprocess.run([sys.executable, ROOT / "scripts/combine_kinds.py", table, "--descriptor", names[0],
                               "ft-pvhk/polar/center/32", "--out", out], capture_output=True, text=True, timeout=300)
     assert refused.returncode != 0 and "time-scaled" in refused.stderr
+
+
+def test_kinds_combined_are_fitted_on_the_library_views_and_classified_like_any_kind(tiny_run):
+    name = "combined/hgd+pvhk/polar/center/32"
+    fitted = np.load(tiny_run / "results/fitted" / f"{file_name(name)}.npz")
+    assert fitted["weights"].sum() == pytest.approx(1.0) and np.all(fitted["scales"] > 0)
+    precision = pd.read_csv(tiny_run / "results/evaluation/precision.csv")
+    assert set(precision.loc[precision["descriptor"] == name, "library_size"]) == {8, 4}
+
+
+def test_colour_share_splits_the_hgd_colour_option_into_its_parts(tiny_run, tmp_path):
+    """scripts/colour_share.py (issue 28): the HGD and ESF alone are the workflow's precision."""
+    out = tmp_path / "share.csv"
+    result = subprocess.run([sys.executable, ROOT / "scripts/colour_share.py", tiny_run / "results/descriptors.parquet",
+                             "--sizes", "8", "4", "--out", out], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr[-2000:]
+    share = pd.read_csv(out).set_index(["variant", "library_size"])["precision"]
+    assert set(share.index.get_level_values(0)) == {"colour alone", "ESF", "HGD", "ESF + colour", "HGD + colour"}
+    precision = pd.read_csv(tiny_run / "results/evaluation/precision.csv")
+    workflow = precision[(precision["level"] == "object") & (precision["group"] == "all")]
+    for variant, name in (("ESF", "esf"), ("HGD", "hgd"), ("HGD + colour", "hgd/color=hue-saturation")):
+        theirs = workflow[workflow["descriptor"] == name].set_index("library_size")["precision"]
+        assert np.allclose([share[variant, 8], share[variant, 4]], 100 * theirs.loc[[8, 4]], atol=0.05)
 
 
 def test_rerun_with_nothing_changed_runs_no_job(tiny_run):

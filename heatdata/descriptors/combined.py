@@ -177,7 +177,7 @@ class Combined(Kind):
             raise HeatdataError("combined descriptors of different parts, lengths or fits: compare one spec, "
                                 "fitted once")
         return sum(c * kind.distance_matrix(queries[:, s], library[:, s])
-                   for kind, s, c in zip(kinds, slices, coefficients, strict=True))
+                   for kind, s, c in zip(kinds, slices, coefficients, strict=True) if c > 0)  # a weight 0: unread
 
 
 register(Combined())
