@@ -71,12 +71,13 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     assert meta["views"]["train"] == 8 and meta["heatdata_version"]
     descriptors, _ = read_table(results / "descriptors.parquet")
     assert list(descriptors.columns) == DESCRIPTOR_SCHEMA.names
-    # per object: 14 views x 5 single descriptors, and an FT-PVHK per library view (its own object's
+    # per object: 14 views x 9 single descriptors, and an FT-PVHK per library view (its own object's
     # time scale) and per test view x object (every object's)
-    assert len(descriptors) == 2 * (14 * 5 + 8 + 6 * 2)
+    assert len(descriptors) == 2 * (14 * 9 + 8 + 6 * 2)
     lengths = descriptors.groupby("kind")["values"].agg(lambda v: sorted(set(map(len, v))))
-    assert lengths.to_dict() == {"esf": [640], "ft-pvhk": [32], "pvhk": [32], "pvst": [32], "si-hks": [8]}
-    histograms = descriptors[descriptors["kind"].isin(["esf", "si-hks"])]
+    assert lengths.to_dict() == {"esf": [640], "ft-pvhk": [32], "pvhk": [32], "pvst": [32], "si-hks": [8],
+                                 "hgd": [128, 153], "combined": [1 + 3 * 2 + 128 + 32]}
+    histograms = descriptors[descriptors["kind"].isin(["esf", "si-hks", "hgd"])]
     assert histograms[["sampling", "source_rule", "color_map"]].isna().all().all()
     assert np.allclose(histograms["values"].map(sum), 1.0)
     assert (results / "fitted" / "si-hks_words=8_modes=30.npz").is_file()
@@ -97,10 +98,10 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     predictions, _ = read_table(results / "evaluation" / "predictions.parquet")
     assert list(predictions.columns) == PREDICTION_SCHEMA.names
     assert sorted(predictions["library_size"].unique()) == [4, 8]
-    assert len(predictions) == 6 * 2 * 12  # descriptors x library sizes x test views
+    assert len(predictions) == 10 * 2 * 12  # descriptors x library sizes x test views
     precision = pd.read_csv(results / "evaluation" / "precision.csv")
     overall = precision[(precision["group"] == "all") & (precision["level"] == "object")]
-    assert len(overall) == 12 and overall["precision"].between(0, 1).all()
+    assert len(overall) == 20 and overall["precision"].between(0, 1).all()
     assert overall["precision"].max() > 0.8
     for figure in ("precision.png", "isomap.png", "views.png", "global_derivative.png", "view_angles.png",
                    "curves.png", "misclassified.png", "confusion/pvhk_polar_center_32/objects_4_views.png",
@@ -118,7 +119,7 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     assert (results / "benchmarks" / "describe" / "beer-mug.tsv").is_file()
     assert (results / "logs" / "render" / "plastic-cup.log").read_text().count("views rendered") >= 1
     holes = pd.read_csv(results / "comparison" / "holes.csv")
-    assert len(holes) == 6 * 3 and set(holes["box"]) == {"10x15x8 cm"} and (holes["d_hole"] > 0).all()
+    assert len(holes) == 10 * 3 and set(holes["box"]) == {"10x15x8 cm"} and (holes["d_hole"] > 0).all()
 
 
 def test_compact_libraries_and_their_precision(tiny_run):
@@ -463,7 +464,7 @@ def test_the_twins_config_plans_22_objects(tmp_path):
                              "--configfile", "config/twins.yaml", "--config", f"results={tmp_path}/twins", "--dry-run"],
                             capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
-    assert re.search(r"render +22\b", result.stdout) and re.search(r"classify +36\b", result.stdout)
+    assert re.search(r"render +22\b", result.stdout) and re.search(r"classify +48\b", result.stdout)
     assert f"{tmp_path}/twins/views/bread-hue120.parquet" in result.stdout
 
 
