@@ -170,3 +170,16 @@ def surface_distances(first: tuple[np.ndarray, np.ndarray], second: tuple[np.nda
 
     return (to_surface(surface_samples(*first, samples, seed), second),
             to_surface(surface_samples(*second, samples, seed + 1), first))
+
+
+def farthest_points(points: np.ndarray, chosen: list[int], count: int) -> list[int]:
+    """Extend ``chosen`` (indices into ``points``; empty: start at the point nearest the centroid) to ``count``
+    indices by farthest-point sampling, or to every point if there are fewer."""
+    if not chosen:
+        chosen = [int(np.argmin(np.linalg.norm(points - points.mean(axis=0), axis=1)))]
+    nearest = np.min(np.linalg.norm(points[:, None, :] - points[chosen][None, :, :], axis=2), axis=1)
+    while len(chosen) < min(count, len(points)):
+        far = int(np.argmax(nearest))
+        chosen.append(far)
+        nearest = np.minimum(nearest, np.linalg.norm(points - points[far], axis=1))
+    return chosen

@@ -15,6 +15,7 @@ from scipy.spatial import cKDTree
 
 from .descriptors import Descriptor, DescriptorSpec
 from .errors import ViewError
+from .mesh import farthest_points
 from .view import View
 
 log = logging.getLogger(__name__)
@@ -41,18 +42,6 @@ def _decimated_vertices(view: View, count: int) -> np.ndarray:
             break
         target = max(4, int(target * count / remaining) - 1)
     return np.array(meshes.current_mesh().vertex_matrix(), dtype=np.float64)  # a copy: the MeshSet owns it
-
-
-def _farthest_points(points: np.ndarray, chosen: list[int], count: int) -> list[int]:
-    """Extend ``chosen`` (indices into ``points``) to ``count`` by farthest-point sampling."""
-    if not chosen:
-        chosen = [int(np.argmin(np.linalg.norm(points - points.mean(axis=0), axis=1)))]
-    nearest = np.min(np.linalg.norm(points[:, None, :] - points[chosen][None, :, :], axis=2), axis=1)
-    while len(chosen) < count:
-        far = int(np.argmax(nearest))
-        chosen.append(far)
-        nearest = np.minimum(nearest, np.linalg.norm(points - points[far], axis=1))
-    return chosen
 
 
 def candidate_sources(view: View, count: int | None = 250) -> np.ndarray:
@@ -95,7 +84,7 @@ def candidate_sources(view: View, count: int | None = 250) -> np.ndarray:
     if len(chosen) < count:
         log.info("%s: %d of %d simplified vertices are distinct view vertices; %d more by farthest-point sampling",
                  view.name, len(chosen), count, count - len(chosen))
-        chosen = _farthest_points(points, chosen, count)
+        chosen = farthest_points(points, chosen, count)
     if len(chosen) > count:  # the decimation stopped above its target after MAX_PASSES
         log.info("%s: simplification kept %d vertices; the first %d are used", view.name, len(chosen), count)
     return np.sort(interior[chosen[:count]]).astype(np.int64)

@@ -5,7 +5,8 @@ import pytest
 
 import heatdata as hd
 from conftest import grid_mesh, square_view
-from heatdata.descriptors.hgd import RATIO_EDGES, farthest_points, hgd_histogram
+from heatdata.descriptors.hgd import RATIO_EDGES, hgd_histogram
+from heatdata.mesh import farthest_points
 
 
 def ratio_shares(view: hd.View, **options) -> np.ndarray:
@@ -60,8 +61,8 @@ def test_distance_is_in_metres_so_size_matters():
 
 def test_farthest_points_spread_and_stop_at_the_point_count():
     points = np.array([[0.0, 0, 0], [1, 0, 0], [0.5, 0, 0], [0.9, 0, 0]])
-    assert list(farthest_points(points, 3, 0)) == [0, 1, 2]
-    assert len(farthest_points(points, 10, 0)) == 4
+    assert farthest_points(points, [0], 3) == [0, 1, 2]
+    assert len(farthest_points(points, [0], 10)) == 4
 
 
 def test_bad_options_and_small_views_are_errors():

@@ -33,6 +33,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ViewError
+from ..mesh import farthest_points
 from .base import DescriptorSpec, Option, integer, number, one_of, register
 from .boundary import source_vertex
 from .histograms import HistogramKind
@@ -49,15 +50,6 @@ def vertex_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     area = 0.5 * np.linalg.norm(np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]],
                                          vertices[faces[:, 2]] - vertices[faces[:, 0]]), axis=1)
     return np.bincount(faces.ravel(), np.repeat(area / 3.0, 3), len(vertices))
-
-
-def farthest_points(points: np.ndarray, count: int, start: int) -> np.ndarray:
-    """(count,) indices spread by farthest-point sampling from ``start`` (fewer if the points run out)."""
-    chosen, gap = [start], np.linalg.norm(points - points[start], axis=1)
-    for _ in range(min(count, len(points)) - 1):
-        chosen.append(int(np.argmax(gap)))
-        gap = np.minimum(gap, np.linalg.norm(points - points[chosen[-1]], axis=1))
-    return np.array(chosen)
 
 
 def geodesic_distances(view, sources: np.ndarray) -> np.ndarray:
@@ -96,7 +88,7 @@ def hgd_histogram(view, *, sources: int = 16, bins: int = 32, near: float = 0.00
     if not area.sum() > 0:
         raise ViewError(f"{view.name}: the view has no area; no HGD")
     start = source_vertex(view, "interior")
-    chosen = farthest_points(x, sources, start)
+    chosen = np.array(farthest_points(x, [start], sources))
     geodesic = geodesic_distances(view, chosen)
     euclid = np.linalg.norm(x[None, :, :] - x[chosen][:, None, :], axis=2)
     with np.errstate(divide="ignore", invalid="ignore"):
