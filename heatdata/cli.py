@@ -29,7 +29,7 @@ from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_vie
 from .log import progress, setup_logging
 from .models import SUPPORTED_SUFFIXES, load_model, save_model
 from .render import render_view
-from .stitch import stitch
+from .stitch import ALONG, ALPHA, BETA, GAMMA, stitch
 from .tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, read_table, write_table
 from .version import __version__
 from .view import View
@@ -173,11 +173,18 @@ def cmd_view_from_depth(args: argparse.Namespace) -> None:
 
 
 def cmd_stitch(args: argparse.Namespace) -> None:
-    """JASNOM (thesis ch. 7): align the second mesh onto the first by their boundaries and stitch them."""
+    """JASNOM (thesis ch. 7): align the second mesh onto the first by their boundaries and stitch them.
+
+    The output is in the first mesh's frame. It prints the motion, J and its terms, the runner-up's J and the
+    seam's mean gap, and warns when another pose is nearly as cheap (ambiguous) or the seam is wide (poor).
+    """
     out = Path(args.out)
     if out.suffix.lower() not in SUPPORTED_SUFFIXES or out.is_dir():
         raise HeatdataError(f"{out}: the stitched model is written to a mesh file, one of "
                             f"{', '.join(SUPPORTED_SUFFIXES)}")
+    for given in (args.first, args.second):
+        if out.resolve() == Path(given).resolve():
+            raise HeatdataError(f"{out}: is one of the inputs; write the stitched model to another file")
     motion = None
     if args.motion is not None:
         try:
@@ -187,17 +194,25 @@ def cmd_stitch(args: argparse.Namespace) -> None:
         if motion.shape != (4, 4):
             raise HeatdataError(f"{args.motion}: not a 4x4 matrix of numbers (shape {motion.shape})")
         motion[:3, 3] *= args.scale
-    # a given motion relates the files' own frames, which loading would otherwise recentre
-    first, second = (load_model(path, scale=args.scale, center=motion is None) for path in (args.first, args.second))
-    result = stitch(first, second, alpha=args.alpha, beta=args.beta, samples=args.samples, workers=args.jobs,
-                    name=out.stem, motion=motion)
+    first, second = (load_model(path, scale=args.scale, center=False) for path in (args.first, args.second))
+    result = stitch(first, second, alpha=args.alpha, beta=args.beta, gamma=args.gamma, along=args.along,
+                    samples=args.samples, name=out.stem, motion=motion)
     save_model(result.model, out)
     a = result.alignment
+    if a.ambiguous:
+        log.warning("ambiguous: another pose costs nearly as little (J %.4g against %.4g): check the result, or give "
+                    "--motion", a.runner_up, a.cost)
+    if a.poor:
+        log.warning("poor: the seam's mean gap is %.1f%% of the size: the boundaries are not one curve here",
+                    100 * a.gap / a.size)
     print(json.dumps({"model": str(out), "vertices": len(result.model.vertices), "faces": len(result.model.faces),
                       "rotation": np.round(a.rotation, 6).tolist(), "translation": np.round(a.translation, 6).tolist(),
-                      "shift": round(a.shift, 4), "cost": a.cost, "edge_cost": a.edge_cost,
-                      "crossing_cost": a.crossing_cost, "boundaries": [len(result.first.loop), len(result.second.loop)],
-                      "seconds": round(a.seconds, 2)}))
+                      "cost": a.cost, "edge_cost": a.edge_cost, "crossing_cost": a.crossing_cost,
+                      "crease_cost": a.crease_cost, "runner_up": None if np.isnan(a.runner_up) else a.runner_up,
+                      "ambiguous": a.ambiguous, "mean_gap": a.gap, "mean_gap_of_size": a.gap / a.size,
+                      "poor": a.poor, "boundaries": [len(result.first.loop), len(result.second.loop)],
+                      "loop_pairs": result.loop_pairs, "open_loops": result.open_loops, "welded": result.welded,
+                      "strip_faces": result.strip_faces, "seconds": round(a.seconds, 2)}))
 
 
 def cmd_describe(args: argparse.Namespace) -> None:
@@ -363,21 +378,25 @@ def build_parser() -> argparse.ArgumentParser:
 
     join = sub.add_parser("stitch", help="JASNOM: one model from two non-overlapping meshes (thesis ch. 7)",
                           description=cmd_stitch.__doc__)
-    join.add_argument("first", type=Path, help="the mesh that stays put (PLY, OBJ, OFF, STL, GLB)")
+    join.add_argument("first", type=Path, help="the mesh that stays put: the output is in its frame "
+                                                "(PLY, OBJ, OFF, STL, GLB)")
     join.add_argument("second", type=Path, help="the mesh moved onto it")
     join.add_argument("-o", "--out", type=Path, required=True, help="the stitched mesh (.ply keeps vertex colours)")
-    join.add_argument("--alpha", type=_number(positive=True), default=10.0,
-                      help="steepness of the crossing penalty, eq. 7.3 (default 10)")
-    join.add_argument("--beta", type=_number(0.0), default=1.0,
-                      help="weight of the crossing penalty, eq. 7.4; 0 to patch a hole (default 1)")
-    join.add_argument("--samples", type=_number(3, whole=True), default=128,
-                      help="boundary samples for the alignment, and shifts tried (default 128)")
+    join.add_argument("--alpha", type=_number(positive=True), default=ALPHA,
+                      help=f"steepness of the interpenetration penalty, relative to the sampling (default {ALPHA:g})")
+    join.add_argument("--beta", type=_number(0.0), default=BETA,
+                      help=f"weight of the interpenetration penalty J2, eq. 7.4; 0 to patch a hole (default {BETA:g})")
+    join.add_argument("--gamma", type=_number(0.0), default=GAMMA,
+                      help=f"weight of the crease term J3 (default {GAMMA:g})")
+    join.add_argument("--along", type=_number(0.0), default=ALONG,
+                      help="weight of the gap along the seam's continuation in J1: below 1 tolerates a band of "
+                           f"unseen surface between two scans (default {ALONG:g})")
+    join.add_argument("--samples", type=_number(8, whole=True), default=128,
+                      help="boundary samples for the alignment; the coarse search tries twice as many (default 128)")
     join.add_argument("--scale", type=_number(positive=True), default=1.0, help="file units to metres (default 1)")
     join.add_argument("--motion", type=Path,
                       help="a known motion of the second mesh into the first's frame (registered cameras): a text "
-                           "file with a 4x4 matrix, translation in file units; only the shift is searched")
-    join.add_argument("--jobs", type=_number(1, whole=True), default=os.cpu_count() or 1,
-                      help="processes for the shift search (default: all cores)")
+                           "file with a 4x4 matrix, translation in file units; nothing is searched")
     join.set_defaults(func=cmd_stitch)
 
     desc = sub.add_parser("describe", help="any descriptor of a saved view (PVHK by default)",

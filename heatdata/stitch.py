@@ -2,40 +2,94 @@
 
 Two scans of an object (standing, then flipped; or two opposite cameras) cover it
 together without overlapping, so overlap-based registration cannot align them. JASNOM
-assumes the two boundaries are one curve seen in two frames: for every shift tau of the
-second boundary's origin it builds the order-preserving assignment of eq. 7.7-7.8,
-starts from the closed-form rigid alignment of the assigned points (Kabsch) and
-minimizes J = J1 + beta J2 (eq. 7.2-7.4: squared stitching-edge lengths plus a
-logistic penalty on edges that cross the other mesh, by the boundary normals) over
-R in SO(3) and t; the best shift's assignment then becomes the triangle strip of 7.4.
+aligns them by their longest boundary loops, B1 and B2, and stitches the gap between
+them with a triangle strip (7.4).
 
-Choices the thesis leaves open, decided here:
+**The cost** (eq. 7.2-7.4, made continuous). Both boundaries are resampled uniformly by
+arc length (7.5) to ``samples`` points. Each sample is paired with the *closest point* on
+the other boundary's polyline (after the motion), both ways, so J is continuous in the
+rotation and translation: there is no discrete shift in it. The pair's edge vector ``xi``
+points from B2 to B1 (eq. 7.1). Every term is divided by ``s^2`` (``s``: the RMS radius of
+B1's samples about their centroid) and averaged over the ``2 * samples`` pairs, so the
+weights are unitless whatever the object's size and sampling:
 
-- J1 is divided by N s^2 (N boundary samples, s the RMS distance of the first boundary's
-  samples from their centroid), so beta weighs two unitless terms whatever the object's
-  size and the sampling.
-- The boundary normal at a boundary vertex lies in its face's plane, perpendicular to
-  the boundary, pointing away from the mesh.
-- Both boundaries are resampled uniformly by arc length (7.5) to ``samples`` points for
-  the alignment; the strip is built on the meshes' own boundary vertices.
+- **J1, the edges** (eq. 7.2): ``|xi_perp|^2 + along * |xi_par|^2``. ``xi_par`` is the
+  component along the seam's continuation direction ``m = (n2 - n1) / |n2 - n1|``, where
+  ``n1``, ``n2`` are the boundary normals (Fig. 7.3: in the boundary face's plane,
+  perpendicular to the boundary, pointing away from the mesh). With ``along = 1`` it is the
+  squared edge length of eq. 7.2. Two opposite scans do not meet: each silhouette is the
+  contour generator of its own camera, and the band between them, where the surface turns
+  away from both cameras, is seen by neither. Across that band the surface continues from
+  each boundary along its normal, so the gap lies along ``m`` and only the other two
+  components measure misalignment; ``along < 1`` tolerates a gap of unseen surface
+  without letting it close (the default, :data:`ALONG`, was chosen by measurement).
+- **J2, the interpenetration** (replacing the logistic of eq. 7.3): how far a boundary
+  lies *over* the other mesh. ``d1 = xi . n1 > 0`` when B2's point lies on mesh 1's side of
+  B1, and ``d2 = -xi . n2 > 0`` when B1's point lies on mesh 2's side of B2. Each costs
+  ``(d / s)^2 * logistic(alpha * d / h)`` (``h``: the mean sample spacing): nothing when the
+  boundaries meet exactly (``xi = 0``, where eq. 7.3's logistic of a random direction gave
+  about 0.5), growing with the square of the depth, and switching on over a width of
+  ``h / alpha``, relative to the sampling rather than absolute.
+- **J3, the crease**: ``|n1 + n2|^2 / 4`` is 0 where the surface continues straight across
+  the seam and 1 where the two meshes fold back onto each other. It is what tells a
+  symmetric boundary's alternatives apart (an ellipsoid's cut is an ellipse, matched as
+  well turned by half a turn): the surface next to the boundary tilts differently.
+
+``J = J1 + beta * J2 + gamma * J3`` (eq. 7.4).
+
+**The search** (eq. 7.5-7.6). Every shift tau of B2's resampled origin, in both
+directions (the thesis's reversed order of 7.3, and the mirrored order that a symmetric
+boundary or a mesh wound the other way produces), gives a correspondence; its closed-form
+rigid alignment (Kabsch) is a candidate. J is evaluated at all ``2 * samples``
+candidates, and the cheapest ``refine`` distinct ones are refined over all six degrees of
+freedom (scipy's trust-region least squares on the residuals of J). The best is kept;
+the best *different* pose (more than 2 deg or 1% of the size away) is the runner-up,
+whose J says whether the answer is ambiguous (:attr:`Alignment.ambiguous`).
+
+**The stitch** (7.4). At the motion, each vertex of B2 is assigned its nearest vertex of
+B1, made monotone along the loops (the order constraint of eq. 7.7), and the strip of
+7.4 walks both loops. Strip edges shorter than a hundredth of the seam's median edge
+join vertices that coincide: they are welded and the strip's degenerate triangles
+dropped, so two halves that share a boundary become one watertight, consistently wound
+mesh. The output stays in the first mesh's frame.
 """
 
 from __future__ import annotations
 
 import logging
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.optimize import minimize
+from scipy.optimize import least_squares
+from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
+from scipy.special import expit
 
 from .errors import HeatdataError
 from .mesh import boundary_loops, component_labels, consistent_winding, mesh_edges
 from .models import Model, vertex_colors
 
 log = logging.getLogger(__name__)
+
+ALPHA = 4.0
+"""Steepness of the interpenetration penalty: it switches on over ``h / ALPHA`` (h: the sample spacing)."""
+BETA = 1.0
+"""Weight of the interpenetration term J2 (eq. 7.4)."""
+GAMMA = 0.0
+"""Weight of the crease term J3."""
+ALONG = 1.0
+"""Weight of the edge component along the seam's continuation direction in J1 (1: the squared length)."""
+REFINE = 4
+"""Distinct coarse candidates refined over six degrees of freedom."""
+AMBIGUOUS = 1.25
+"""A runner-up whose J is below this many times the best's makes the answer ambiguous."""
+POOR_GAP = 0.02
+"""A seam whose mean gap exceeds this fraction of the object's size is a poor stitch."""
+DISTINCT_DEGREES, DISTINCT_SIZE = 2.0, 0.01
+"""Poses closer than this (rotation, translation over the size) are the same answer."""
+MIN_BOUNDARY = 4
+"""Vertices a longest boundary needs before it can fix a motion."""
 
 
 class StitchError(HeatdataError):
@@ -70,38 +124,6 @@ class Boundary:
     loops: int
 
 
-@dataclass(frozen=True)
-class Alignment:
-    """The best rigid motion of the second mesh onto the first, and how it was found.
-
-    Attributes
-    ----------
-    rotation : (3, 3) float64
-    translation : (3,) float64
-        ``x = rotation @ y + translation`` maps the second mesh into the first's frame.
-    shift : float
-        The second boundary's origin, as a fraction of its length (tau / N).
-    cost, edge_cost, crossing_cost : float
-        J, J1 (normalized) and J2 at the optimum.
-    facing : float
-        Mean cosine between assigned boundary normals after the motion: near -1 when the
-        meshes face each other across their boundaries, positive when they do not.
-    costs : (N,) float64
-        J at the optimum of every shift tau.
-    seconds : float
-    """
-
-    rotation: np.ndarray
-    translation: np.ndarray
-    shift: float
-    cost: float
-    edge_cost: float
-    crossing_cost: float
-    facing: float
-    costs: np.ndarray
-    seconds: float
-
-
 def _manifold_edges(faces: np.ndarray, name: str) -> None:
     edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
     _, counts = np.unique(edges, axis=0, return_counts=True)
@@ -122,7 +144,7 @@ def boundaries(model: Model) -> list[Boundary]:
     if flipped:
         log.warning("%s: %d face(s) wound against their neighbours were reversed", model.name, flipped)
     _manifold_edges(faces, model.name)
-    loops = [loop for loop in boundary_loops(faces) if len(loop) >= 2]
+    loops = [simple for loop in boundary_loops(faces) for simple in _simple_loops(loop) if len(simple) >= 2]
     if not loops:
         raise StitchError(f"{model.name}: the mesh is closed (no boundary): there is nothing to stitch")
     found = []
@@ -134,6 +156,28 @@ def boundaries(model: Model) -> list[Boundary]:
         found.append(Boundary(loop=loop, points=points, normals=_boundary_normals(model.vertices, faces, loop),
                               arclength=arclength, length=length, loops=len(loops)))
     return sorted(found, key=lambda b: -b.length)
+
+
+def _simple_loops(loop: np.ndarray) -> list[np.ndarray]:
+    """A boundary loop split where it passes a vertex twice (a pinch), into loops that visit each vertex once.
+
+    At a pinch the loops a traversal finds depend on which outgoing edge it takes; the split loops do not, so two
+    meshes that share a boundary get the same loops.
+    """
+    path: list[int] = []
+    where: dict[int, int] = {}
+    found = []
+    for v in (int(u) for u in loop):
+        if v in where:
+            start = where[v]
+            found.append(np.array(path[start:], dtype=np.int64))
+            for u in path[start + 1:]:
+                del where[u]
+            del path[start + 1:]
+        else:
+            where[v] = len(path)
+            path.append(v)
+    return found + [np.array(path, dtype=np.int64)]
 
 
 def boundary(model: Model) -> Boundary:
@@ -156,17 +200,6 @@ def _longest(loops: list[Boundary], name: str) -> Boundary:
 def _moved(b: Boundary, rotation: np.ndarray, translation: np.ndarray) -> Boundary:
     """A boundary carried by a rigid motion with its mesh (its loop and arc lengths do not change)."""
     return replace(b, points=b.points @ rotation.T + translation, normals=b.normals @ rotation.T)
-
-
-def best_shift(first: Boundary, second: Boundary) -> float:
-    """The origin of ``second`` (arc-length fraction) whose assignment (eq. 7.8) has the shortest edges (J1).
-
-    For boundaries already in one frame, e.g. the other loops of two meshes aligned by
-    their longest ones; every vertex of ``second`` is tried as the origin.
-    """
-    costs = [np.sum((first.points[order_preserving_assignment(first.arclength, second.arclength, shift)]
-                     - second.points) ** 2) for shift in second.arclength]
-    return float(second.arclength[int(np.argmin(costs))])
 
 
 def _pair_loops(first: list[Boundary], second: list[Boundary]) -> list[tuple[Boundary, Boundary]]:
@@ -204,11 +237,12 @@ def _boundary_normals(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray)
     return normals / np.where(length > 0, length, 1.0)
 
 
-def resample_loop(points: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
-    """``count`` points uniformly spaced by arc length along a closed polyline, from its first vertex.
+def resample_loop(points: np.ndarray, count: int, normals: np.ndarray | None = None
+                  ) -> tuple[np.ndarray, np.ndarray | None]:
+    """``count`` points uniformly spaced by arc length along a closed polyline, from its first vertex (7.5).
 
-    Returns the (count, 3) points and, for each, the index of the polyline vertex
-    nearest along the curve.
+    Returns the (count, 3) points and, given per-vertex ``normals``, the unit normals
+    interpolated there (else None).
     """
     if count < 3:
         raise StitchError(f"a boundary needs at least 3 samples, got {count}")
@@ -217,176 +251,362 @@ def resample_loop(points: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarra
     targets = np.arange(count) / count * cumulative[-1]
     edge = np.clip(np.searchsorted(cumulative, targets, side="right") - 1, 0, len(points) - 1)
     step = cumulative[edge + 1] - cumulative[edge]
-    frac = np.where(step > 0, (targets - cumulative[edge]) / np.where(step > 0, step, 1.0), 0.0)
-    resampled = closed[edge] + frac[:, None] * (closed[edge + 1] - closed[edge])
-    nearest = np.where(frac < 0.5, edge, (edge + 1) % len(points))
-    return resampled, nearest
+    frac = np.where(step > 0, (targets - cumulative[edge]) / np.where(step > 0, step, 1.0), 0.0)[:, None]
+    resampled = closed[edge] + frac * (closed[edge + 1] - closed[edge])
+    if normals is None:
+        return resampled, None
+    ends = np.vstack([normals, normals[:1]])
+    return resampled, _unit((1.0 - frac) * ends[edge] + frac * ends[edge + 1])
 
 
-def order_preserving_assignment(first: np.ndarray, second: np.ndarray, shift: float) -> np.ndarray:
-    """Eq. 7.8 with the reversal of 7.3: for each vertex of the second boundary, its vertex on the first.
+@dataclass(frozen=True)
+class Alignment:
+    """The best rigid motion of the second mesh onto the first, what it costs and how it was found.
+
+    Attributes
+    ----------
+    rotation : (3, 3) float64
+    translation : (3,) float64
+        ``x = rotation @ y + translation`` maps the second mesh into the first's frame.
+    cost, edge_cost, crossing_cost, crease_cost : float
+        J, J1, J2 and J3 at the motion (module docstring); ``J = J1 + beta J2 + gamma J3``.
+    runner_up : float
+        J of the best pose found more than 2 deg or 1% of the size away (NaN when the
+        search found none, or no search was made).
+    gap : float
+        Mean length of the paired edge vectors at the motion (the seam's mean gap), in
+        the meshes' units.
+    size : float
+        Bounding-box diagonal of the two boundaries at the motion (what ``gap`` and the
+        distinct-pose threshold are relative to).
+    facing : float
+        Mean cosine between paired boundary normals: near -1 when the meshes face each
+        other across their boundaries, positive when they lie on the same side.
+    candidates : int
+        Poses evaluated (coarse candidates and refinement steps).
+    seconds : float
+    """
+
+    rotation: np.ndarray
+    translation: np.ndarray
+    cost: float
+    edge_cost: float
+    crossing_cost: float
+    crease_cost: float
+    runner_up: float
+    gap: float
+    size: float
+    facing: float
+    candidates: int
+    seconds: float
+
+    @property
+    def ambiguous(self) -> bool:
+        """A different pose is nearly as cheap (its J below :data:`AMBIGUOUS` times the best's)."""
+        return bool(np.isfinite(self.runner_up) and self.runner_up < AMBIGUOUS * self.cost + 1e-12)
+
+    @property
+    def poor(self) -> bool:
+        """The seam's mean gap exceeds :data:`POOR_GAP` of the size."""
+        return bool(self.gap > POOR_GAP * self.size)
+
+
+@dataclass(frozen=True)
+class _Curve:
+    """A mesh's boundary loops as the cost sees them: their polylines (for closest points) and uniform samples.
+
+    The longest loop's ``samples`` samples come first (the coarse search's correspondences); each other loop adds
+    samples in proportion to its length, at least 3.
+    """
+
+    points: np.ndarray  # (b, 3) every loop's vertices, loop after loop
+    normals: np.ndarray  # (b, 3)
+    before: np.ndarray  # (b,) the previous vertex in its loop
+    after: np.ndarray  # (b,) the next
+    tree: cKDTree
+    samples: np.ndarray  # (S', 3)
+    sample_normals: np.ndarray  # (S', 3)
+
+    @classmethod
+    def of(cls, loops: list[Boundary], samples: int) -> "_Curve":
+        loops = [b for b in loops if len(b.loop) >= 3]
+        resampled = [resample_loop(b.points, samples if k == 0 else max(3, round(samples * b.length / loops[0].length)),
+                                   b.normals) for k, b in enumerate(loops)]
+        spacing = loops[0].length / (2 * samples)  # polylines split finer, so that the nearest vertex finds the
+        dense = [_densified(b, spacing) for b in loops]  # closest segment
+        counts = [len(points) for points, _ in dense]
+        starts = np.cumsum([0] + counts)
+        index = np.arange(starts[-1])
+        first, size = np.repeat(starts[:-1], counts), np.repeat(counts, counts)
+        points = np.vstack([points for points, _ in dense])
+        return cls(points, np.vstack([normals for _, normals in dense]), first + (index - first - 1) % size,
+                   first + (index - first + 1) % size, cKDTree(points), np.vstack([r[0] for r in resampled]),
+                   np.vstack([r[1] for r in resampled]))
+
+    def closest(self, queries: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(q, 3) closest points on the loops and the boundary normal there (interpolated along the segment).
+
+        The segments tried are the two at each of the 4 nearest vertices.
+        """
+        nearest = self.tree.query(queries, k=min(4, len(self.points)))[1].reshape(len(queries), -1)
+        a = np.concatenate([self.before[nearest], nearest], axis=1)  # (q, 8) segments a -> b
+        b = np.concatenate([nearest, self.after[nearest]], axis=1)
+        start, segment = self.points[a], self.points[b] - self.points[a]
+        squared = np.einsum("qkj,qkj->qk", segment, segment)
+        f = np.clip(np.einsum("qkj,qkj->qk", queries[:, None] - start, segment) / np.where(squared > 0, squared, 1.0),
+                    0.0, 1.0)
+        point = start + f[..., None] * segment
+        best = np.argmin(np.einsum("qkj,qkj->qk", queries[:, None] - point, queries[:, None] - point), axis=1)
+        rows = np.arange(len(queries))
+        f = f[rows, best][:, None]
+        normal = (1.0 - f) * self.normals[a[rows, best]] + f * self.normals[b[rows, best]]
+        return point[rows, best], _unit(normal)
+
+
+def _densified(b: Boundary, spacing: float) -> tuple[np.ndarray, np.ndarray]:
+    """A loop's vertices and normals with points added along its edges longer than ``spacing``."""
+    following = np.roll(np.arange(len(b.loop)), -1)
+    pieces = np.maximum(1, np.ceil(np.linalg.norm(b.points[following] - b.points, axis=1) / spacing)).astype(int)
+    edge = np.repeat(np.arange(len(b.loop)), pieces)
+    f = (np.arange(pieces.sum()) - np.repeat(np.cumsum(pieces) - pieces, pieces)) / np.repeat(pieces, pieces)
+    f = f[:, None]
+    points = (1.0 - f) * b.points[edge] + f * b.points[following[edge]]
+    return points, _unit((1.0 - f) * b.normals[edge] + f * b.normals[following[edge]])
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    length = np.linalg.norm(v, axis=1, keepdims=True)
+    return v / np.where(length > 0, length, 1.0)
+
+
+@dataclass(frozen=True)
+class _Weights:
+    alpha: float
+    beta: float
+    gamma: float
+    along: float
+    scale: float  # s, B1's RMS radius
+    spacing: float  # h, the mean sample spacing
+    root: np.ndarray  # (7,) square roots of the residual columns' weights
+
+
+def _pair_residuals(xi: np.ndarray, n1: np.ndarray, n2: np.ndarray, w: _Weights) -> np.ndarray:
+    """(p, 7) unweighted residuals of paired points: J1's edge (3 across, 1 along), J2's depths (2), J3's crease."""
+    m = n2 - n1
+    length = np.linalg.norm(m, axis=1, keepdims=True)
+    m = np.where(length > 1e-9, m / np.where(length > 1e-9, length, 1.0), n2)
+    along = np.einsum("ij,ij->i", xi, m)
+    across = xi - along[:, None] * m
+    depth = np.column_stack([np.einsum("ij,ij->i", xi, n1), -np.einsum("ij,ij->i", xi, n2)])
+    penetration = depth / w.scale * np.sqrt(expit(w.alpha * depth / w.spacing))
+    crease = np.linalg.norm(n1 + n2, axis=1) / 2.0
+    return np.column_stack([across / w.scale, np.sqrt(w.along) * along / w.scale, penetration, crease])
+
+
+def _residuals(rotation: np.ndarray, translation: np.ndarray, c1: _Curve, c2: _Curve, w: _Weights
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Unweighted residuals at a motion of B2, both ways; with the edge vectors and the normals' cosines."""
+    y = c2.samples @ rotation.T + translation
+    n2 = c2.sample_normals @ rotation.T
+    p, n1 = c1.closest(y)  # B2's samples against B1
+    q, nq = c2.closest((c1.samples - translation) @ rotation)  # B1's samples against B2, in B2's frame
+    q, nq = q @ rotation.T + translation, nq @ rotation.T
+    xi = np.vstack([p - y, c1.samples - q])
+    first, second = np.vstack([n1, c1.sample_normals]), np.vstack([n2, nq])
+    return _pair_residuals(xi, first, second, w), xi, np.einsum("ij,ij->i", first, second)
+
+
+def _terms(residuals: np.ndarray, w: _Weights) -> tuple[float, float, float, float]:
+    """J, J1, J2, J3 from the residuals of :func:`_pair_residuals`."""
+    squares = np.mean(residuals ** 2, axis=0)
+    edge, crossing, crease = float(squares[:4].sum()), float(squares[4:6].sum()), float(squares[6])
+    return edge + w.beta * crossing + w.gamma * crease, edge, crossing, crease
+
+
+def _as_loops(b: Boundary | list[Boundary]) -> list[Boundary]:
+    return [b] if isinstance(b, Boundary) else list(b)
+
+
+def _weights(c1: _Curve, alpha: float, beta: float, gamma: float, along: float, samples: int) -> _Weights:
+    for name, value, low in (("alpha", alpha, 0.0), ("beta", beta, None), ("gamma", gamma, None),
+                             ("along", along, None)):
+        if not np.isfinite(value) or value < 0 or (low is not None and value <= low):
+            raise StitchError(f"{name} must be a finite {'positive' if low is not None else 'non-negative'} number, "
+                              f"got {value}")
+    x = c1.samples
+    scale = float(np.sqrt(np.mean(np.sum((x - x.mean(axis=0)) ** 2, axis=1))))
+    spacing = float(np.mean(np.linalg.norm(np.roll(x[:samples], -1, axis=0) - x[:samples], axis=1)))
+    if not scale > 0:
+        raise StitchError("the first boundary has no extent (all its vertices coincide)")
+    root = np.sqrt([1.0, 1.0, 1.0, 1.0, beta, beta, gamma])
+    return _Weights(alpha, beta, gamma, along, scale, spacing, root)
+
+
+def _kabsch(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rotations and translations best mapping ``y`` (S, 3) onto each ``x`` (C, S, 3) in the least-squares sense."""
+    cx, cy = x.mean(axis=1), y.mean(axis=0)
+    h = np.einsum("si,csj->cij", y - cy, x - cx[:, None])
+    u, _, vt = np.linalg.svd(h)
+    d = np.sign(np.linalg.det(np.einsum("cji,ckj->cik", vt, u)))
+    fix = np.ones((len(x), 3))
+    fix[:, 2] = d
+    rotation = np.einsum("cji,cj,ckj->cik", vt, fix, u)
+    return rotation, cx - np.einsum("cij,j->ci", rotation, cy)
+
+
+def _differs(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray], centre: np.ndarray, size: float,
+             degrees: float, fraction: float) -> bool:
+    """Whether two motions differ by more than ``degrees`` of rotation, or move ``centre`` (B2's centroid) to points
+    more than ``fraction`` of ``size`` apart."""
+    angle = float(np.degrees(Rotation.from_matrix(a[0] @ b[0].T).magnitude()))
+    return angle > degrees or float(np.linalg.norm(a[0] @ centre + a[1] - b[0] @ centre - b[1])) > fraction * size
+
+
+def align(first: Boundary | list[Boundary], second: Boundary | list[Boundary], *, alpha: float = ALPHA, beta: float = BETA, gamma: float = GAMMA,
+          along: float = ALONG, samples: int = 128, refine: int = REFINE, trace: list | None = None) -> Alignment:
+    """Eq. 7.5-7.6: the rigid motion of ``second`` onto ``first`` that minimizes J (module docstring).
 
     Parameters
     ----------
-    first, second : (K,), (N,) float
-        Normalized arc lengths of the two boundaries' vertices, in loop order, in [0, 1).
-    shift : float
-        The second boundary's origin tau, as a fraction of its length.
+    first, second : Boundary or list of Boundary
+        A mesh's longest boundary, or all its loops longest first (:func:`boundaries`): the
+        coarse search pairs the longest loops, and J is measured on every loop.
+    alpha, beta, gamma, along : float
+        The cost's steepness and weights (module docstring; defaults :data:`ALPHA`,
+        :data:`BETA`, :data:`GAMMA`, :data:`ALONG`).
+    samples : int
+        Points per boundary, uniform by arc length; the coarse search tries ``2 * samples``
+        correspondences.
+    refine : int
+        Distinct coarse candidates refined over six degrees of freedom.
+    trace : list, optional
+        Receives ``(rotation, translation, J)`` at every pose evaluated (for tests that the
+        cost prefers the truth).
 
-    Returns
-    -------
-    (N,) int64
-        ``j = round(f(phi(l')))``: ``l' = second - shift`` (mod 1) is mapped to
-        ``l = 1 - l'`` on the first boundary (the boundaries run in opposite directions
-        on a consistently oriented surface) and ``f`` returns the vertex of the first
-        boundary nearest to that arc length.
+    Raises
+    ------
+    StitchError
+        A boundary of fewer than :data:`MIN_BOUNDARY` vertices, or a weight that is not a
+        finite number in range.
     """
-    mapped = (1.0 - (second - shift)) % 1.0
-    position = np.searchsorted(first, mapped)
-    before = np.clip(position - 1, 0, len(first) - 1)
-    after = position % len(first)
-    gap_after = (first[after] - mapped) % 1.0
-    gap_before = (mapped - first[before]) % 1.0
-    return np.where(gap_after < gap_before, after, before).astype(np.int64)
+    first, second = _as_loops(first), _as_loops(second)
+    for b in (first[0], second[0]):
+        if len(b.loop) < MIN_BOUNDARY:
+            raise StitchError(f"a boundary of {len(b.loop)} vertices cannot fix a motion: at least {MIN_BOUNDARY} are "
+                              "needed (give --motion if it is known)")
+    ratio = max(first[0].length, second[0].length) / min(first[0].length, second[0].length)
+    if ratio > 1.5:
+        log.warning("the boundaries' lengths differ by a factor %.2f: JASNOM assumes they trace one curve", ratio)
+    begin = time.perf_counter()
+    c1, c2 = _Curve.of(first, samples), _Curve.of(second, samples)
+    w = _weights(c1, alpha, beta, gamma, along, samples)
+    size = float(np.linalg.norm(np.ptp(np.vstack([c1.samples, c2.samples - c2.samples.mean(axis=0)
+                                                  + c1.samples.mean(axis=0)]), axis=0)))
+    centre = c2.samples.mean(axis=0)
+    visited: list = []
+
+    def evaluate(rotation, translation) -> tuple[np.ndarray, float]:
+        """The weighted residuals and J, +inf where the meshes would lie on one side of the seam (7.3)."""
+        residuals, _, cosines = _residuals(rotation, translation, c1, c2, w)
+        residuals = residuals * w.root
+        value = float(np.mean(np.sum(residuals ** 2, axis=1))) if np.mean(cosines) <= 0 else np.inf
+        visited.append((rotation, translation, value))
+        return residuals, value
+
+    shifts = np.arange(samples)
+    order = np.concatenate([(shifts[:, None] - shifts) % samples,  # eq. 7.8 on equal samples: reversed (7.3)
+                            (shifts[:, None] + shifts) % samples])  # and the mirrored order
+    rotations, translations = _kabsch(c1.samples[:samples][order], c2.samples[:samples])
+    coarse = np.array([evaluate(r, t)[1] for r, t in zip(rotations, translations, strict=True)])
+    if not np.isfinite(coarse).any():
+        raise StitchError("the two meshes do not face each other across their boundaries at any alignment (the "
+                          "boundary normals agree): either both are wound the same way round the cut (reverse one's "
+                          "faces), the second lies on the first (the same surface twice), or their longest "
+                          "boundaries are not one curve")
+    starts: list[tuple[np.ndarray, np.ndarray]] = []
+    for k in np.argsort(coarse, kind="stable")[:np.isfinite(coarse).sum()]:  # the cheapest, 10 deg or 5% apart
+        pose = (rotations[k], translations[k])
+        if all(_differs(pose, start, centre, size, 10.0, 0.05) for start in starts):
+            starts.append(pose)
+        if len(starts) == refine:
+            break
+    refined = sorted((_refine(r, t, r @ centre + t, w, evaluate) for r, t in starts), key=lambda found: found[2])
+    rotation, translation, best = refined[0]
+    others = [j for r, t, j in refined[1:] if np.isfinite(j)
+              and _differs((r, t), (rotation, translation), centre, size, DISTINCT_DEGREES, DISTINCT_SIZE)]
+    if trace is not None:
+        trace.extend(visited)
+    return _alignment(rotation, translation, c1, c2, w, min(others, default=np.nan), len(visited), begin)
 
 
-def _rodrigues(w: np.ndarray) -> np.ndarray:
-    """The rotation matrix of rotation vector ``w`` (a faster ``Rotation.from_rotvec(w).as_matrix()``)."""
-    theta = float(np.sqrt(w @ w))
-    if theta < 1e-12:
-        return np.eye(3)
-    k = w / theta
-    cross = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + np.sin(theta) * cross + (1.0 - np.cos(theta)) * (cross @ cross)
+def _refine(rotation0: np.ndarray, translation0: np.ndarray, centre: np.ndarray, w: _Weights, evaluate
+            ) -> tuple[np.ndarray, np.ndarray, float]:
+    """Trust-region least squares from a pose, over a rotation vector about ``centre`` (B2's moved centroid) and a
+    translation in units of s."""
+
+    def motion(p):
+        turn = Rotation.from_rotvec(p[:3]).as_matrix()
+        return turn @ rotation0, turn @ (translation0 - centre) + centre + w.scale * p[3:]
+
+    def residuals(p):
+        r = evaluate(*motion(p))[0]
+        return r.ravel() / np.sqrt(len(r))
+
+    result = least_squares(residuals, np.zeros(6), method="trf", x_scale=1.0, ftol=1e-12, xtol=1e-12, gtol=1e-12,
+                           max_nfev=300)
+    rotation, translation = motion(result.x)
+    return rotation, translation, evaluate(rotation, translation)[1]
 
 
-def _cost(params, x, y, n1, n2, scale, alpha, beta, rotation0):
-    """J of eq. 7.4 (and J1, J2) for ``y`` centred on its centroid and ``x`` on ``y``'s target centroid.
+def alignment_at(first: Boundary | list[Boundary], second: Boundary | list[Boundary], rotation: np.ndarray, translation: np.ndarray, *,
+                 alpha: float = ALPHA, beta: float = BETA, gamma: float = GAMMA, along: float = ALONG,
+                 samples: int = 128) -> Alignment:
+    """J at a known rigid motion of ``second`` onto ``first`` (registered cameras, a turntable, the truth).
 
-    ``params``: a rotation vector applied after ``rotation0`` and a translation in units
-    of ``scale`` (rotation about the centroid and translation then decouple).
+    Nothing is searched, so :func:`stitch` can join scans whose motion is known and an
+    experiment can compare J at the true motion with J at :func:`align`'s optimum.
     """
-    rotation = _rodrigues(params[:3]) @ rotation0
-    return _motion_cost(x, y @ rotation.T + scale * params[3:], n1, n2 @ rotation.T, scale, alpha, beta)
+    begin = time.perf_counter()
+    c1, c2 = _Curve.of(_as_loops(first), samples), _Curve.of(_as_loops(second), samples)
+    w = _weights(c1, alpha, beta, gamma, along, samples)
+    return _alignment(np.asarray(rotation, np.float64), np.asarray(translation, np.float64), c1, c2, w, np.nan, 1,
+                      begin)
 
 
-def _motion_cost(x, moved, n1, moved_n2, scale, alpha, beta) -> tuple[float, float, float]:
-    """J, J1 and J2 (eq. 7.2-7.4) of assigned points ``x`` and ``moved`` (the second boundary after the motion)."""
-    xi = x - moved  # from the second boundary to the first (eq. 7.1)
-    edge = float(np.einsum("ij,ij->", xi, xi)) / (len(x) * scale ** 2)  # J1, eq. 7.2 (normalized)
-    if beta == 0.0:
-        return edge, edge, 0.0
-    length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
-    unit = xi / np.where(length > 0, length, 1.0)[:, None]
-    # eq. 7.3: xi should leave the second mesh along its outward normal and enter the first against its own
-    with np.errstate(over="ignore"):
-        crossing = float(np.mean(1.0 / (1.0 + np.exp(alpha * np.einsum("ij,ij->i", unit, moved_n2))))
-                         + np.mean(1.0 / (1.0 + np.exp(-alpha * np.einsum("ij,ij->i", unit, n1)))))
-    return edge + beta * crossing, edge, crossing
+def _alignment(rotation, translation, c1: _Curve, c2: _Curve, w: _Weights, runner_up: float, candidates: int,
+               begin: float) -> Alignment:
+    residuals, xi, cosines = _residuals(rotation, translation, c1, c2, w)
+    cost, edge, crossing, crease = _terms(residuals, w)
+    moved = c2.samples @ rotation.T + translation
+    size = float(np.linalg.norm(np.ptp(np.vstack([c1.samples, moved]), axis=0)))
+    return Alignment(rotation=rotation, translation=translation, cost=cost, edge_cost=edge, crossing_cost=crossing,
+                     crease_cost=crease, runner_up=float(runner_up), gap=float(np.mean(np.linalg.norm(xi, axis=1))),
+                     size=size, facing=float(np.mean(cosines)), candidates=candidates,
+                     seconds=time.perf_counter() - begin)
 
 
-def _align_shift(args) -> tuple[float, np.ndarray, np.ndarray, float, float]:
-    """The optimum of eq. 7.6 for one shift: Kabsch start, then BFGS over (rotation vector, t)."""
-    tau, x_all, n1_all, y, n2, scale, alpha, beta = args
-    count = len(y)
-    target = (tau - np.arange(count)) % count  # eq. 7.8 on equally resampled loops
-    x, n1 = x_all[target], n1_all[target]
-    cx, cy = x.mean(axis=0), y.mean(axis=0)
-    x, y = x - cx, y - cy
-    rotation0 = Rotation.align_vectors(x, y)[0].as_matrix()  # closed form of the relaxed problem (beta = 0)
-    result = minimize(lambda p: _cost(p, x, y, n1, n2, scale, alpha, beta, rotation0)[0], np.zeros(6),
-                      method="BFGS", options={"gtol": 1e-6, "maxiter": 200})
-    cost, edge, crossing = _cost(result.x, x, y, n1, n2, scale, alpha, beta, rotation0)
-    rotation = _rodrigues(result.x[:3]) @ rotation0
-    return cost, rotation, cx + scale * result.x[3:] - rotation @ cy, edge, crossing
+def nearest_targets(first: Boundary, second: Boundary) -> np.ndarray:
+    """(N,) int64: for each vertex of ``second`` (already in ``first``'s frame), the nearest vertex of ``first``."""
+    return cKDTree(first.points).query(second.points)[1].astype(np.int64)
 
 
-def align(first: Boundary, second: Boundary, *, alpha: float = 10.0, beta: float = 1.0, samples: int = 128,
-          workers: int = 2) -> Alignment:
-    """Eq. 7.5-7.6: the rigid motion of ``second`` onto ``first`` that minimizes J over every shift tau.
+def strip_faces(first: Boundary, second: Boundary, targets: np.ndarray, offset: int) -> np.ndarray:
+    """7.4: the triangle strip between two boundaries in one frame, from each second vertex's target on the first.
+
+    The second boundary is walked backwards (the boundaries run in opposite directions on
+    a consistently oriented surface, 7.3) from the vertex nearest its target; the targets
+    are made monotone along the walk (the order constraint of eq. 7.7: steps of more than
+    half the first loop are read as steps back, and steps back are held). Each step
+    advances on one boundary and adds one triangle, so the strip has ``K + N`` triangles,
+    no two of its edges cross, and each boundary edge is used once against its own face:
+    the union is a consistently oriented 2-manifold. Vertices of the first boundary
+    without an assignment share the previous target (7.4).
 
     Parameters
     ----------
     first, second : Boundary
-    alpha : float
-        Steepness of the logistic crossing penalty (eq. 7.3).
-    beta : float
-        Weight of the crossing penalty J2 (eq. 7.4); 0 for hole patching (7.5).
-    samples : int
-        Points per boundary, uniform by arc length (the shifts tau are these N).
-    workers : int
-        Processes the shifts are spread over (1: in this process).
-    """
-    if alpha <= 0 or beta < 0:
-        raise StitchError(f"alpha must be positive and beta non-negative, got {alpha}, {beta}")
-    ratio = max(first.length, second.length) / min(first.length, second.length)
-    if ratio > 1.5:
-        log.warning("the boundaries' lengths differ by a factor %.2f: the arc-length assignment of eq. 7.8 "
-                    "assumes they trace one curve", ratio)
-    begin = time.perf_counter()
-    x, n1, y, n2, scale = _resampled(first, second, samples)
-    jobs = [(tau, x, n1, y, n2, scale, alpha, beta) for tau in range(samples)]
-    if workers > 1:
-        with ProcessPoolExecutor(workers) as pool:
-            results = list(pool.map(_align_shift, jobs, chunksize=max(1, samples // (4 * workers))))
-    else:
-        results = [_align_shift(job) for job in jobs]
-    costs = np.array([r[0] for r in results])
-    best = int(np.argmin(costs))
-    cost, rotation, translation, edge, crossing = results[best]
-    return _alignment(best, costs, rotation, translation, edge, crossing, n1, n2, begin)
-
-
-def alignment_at(first: Boundary, second: Boundary, rotation: np.ndarray, translation: np.ndarray, *,
-                 alpha: float = 10.0, beta: float = 1.0, samples: int = 128) -> Alignment:
-    """A known rigid motion of ``second`` onto ``first`` (registered cameras, a turntable) and its best shift.
-
-    Nothing is optimized: J (eq. 7.4) is evaluated at the motion for every shift tau and the
-    cheapest is kept, so that :func:`stitch` can join scans whose motion is known, and an
-    experiment can compare J at the true motion with J at :func:`align`'s optimum.
-    """
-    if alpha <= 0 or beta < 0:
-        raise StitchError(f"alpha must be positive and beta non-negative, got {alpha}, {beta}")
-    begin = time.perf_counter()
-    rotation, translation = np.asarray(rotation, np.float64), np.asarray(translation, np.float64)
-    x, n1, y, n2, scale = _resampled(first, second, samples)
-    moved, moved_n2 = y @ rotation.T + translation, n2 @ rotation.T
-    results = [_motion_cost(x[(tau - np.arange(samples)) % samples], moved,
-                            n1[(tau - np.arange(samples)) % samples], moved_n2, scale, alpha, beta)
-               for tau in range(samples)]
-    costs = np.array([r[0] for r in results])
-    best = int(np.argmin(costs))
-    return _alignment(best, costs, rotation, translation, results[best][1], results[best][2], n1, n2, begin)
-
-
-def _resampled(first: Boundary, second: Boundary, samples: int):
-    """Both boundaries resampled by arc length, their normals there, and the first's RMS radius (J1's scale)."""
-    x, nearest1 = resample_loop(first.points, samples)
-    y, nearest2 = resample_loop(second.points, samples)
-    scale = float(np.sqrt(np.mean(np.sum((x - x.mean(axis=0)) ** 2, axis=1))))
-    return x, first.normals[nearest1], y, second.normals[nearest2], scale
-
-
-def _alignment(best, costs, rotation, translation, edge, crossing, n1, n2, begin) -> Alignment:
-    samples = len(costs)
-    target = (best - np.arange(samples)) % samples
-    facing = float(np.mean(np.sum(n1[target] * (n2 @ rotation.T), axis=1)))
-    return Alignment(rotation=rotation, translation=translation, shift=best / samples, cost=float(costs[best]),
-                     edge_cost=edge, crossing_cost=crossing, facing=facing, costs=costs,
-                     seconds=time.perf_counter() - begin)
-
-
-def strip_faces(first: Boundary, second: Boundary, shift: float, offset: int) -> np.ndarray:
-    """7.4: the triangle strip between two boundaries from the order-preserving assignment of ``shift``.
-
-    Walking the first boundary forwards and the second backwards (their directions are
-    opposite), each step advances on one of them and adds one triangle, so the strip has
-    ``K + N`` triangles, no two edges cross, and each boundary edge is used once in the
-    opposite direction to its own face: the union is a consistently oriented 2-manifold.
-    Vertices of the first boundary without an assignment take the previous target (7.4).
-
-    Parameters
-    ----------
+    targets : (N,) int
+        A vertex index into ``first.loop`` for each vertex of ``second.loop``.
     offset : int
         Added to the second mesh's vertex indices (its vertices follow the first's).
 
@@ -395,12 +615,12 @@ def strip_faces(first: Boundary, second: Boundary, shift: float, offset: int) ->
     (K + N, 3) int64
     """
     k, n = len(first.loop), len(second.loop)
-    target = order_preserving_assignment(first.arclength, second.arclength, shift)
-    origin = int(np.argmin((second.arclength - shift) % 1.0))  # l' = 0
-    walk = (origin - np.arange(n)) % n  # the second boundary, backwards from its origin
-    # targets on the first boundary, unwrapped so that they never decrease along the walk
-    unwrapped = (target[walk] - target[walk[0]]) % k
-    unwrapped = np.maximum.accumulate(unwrapped) + target[walk[0]]
+    gaps = np.linalg.norm(first.points[targets] - second.points, axis=1)
+    origin = int(np.argmin(gaps))
+    walk = (origin - np.arange(n)) % n  # the second boundary, backwards from its best-matched vertex
+    steps = (np.diff(targets[walk]) + k // 2) % k - k // 2
+    unwrapped = targets[walk[0]] + np.concatenate([[0], np.cumsum(steps)])
+    unwrapped = np.minimum(np.maximum.accumulate(unwrapped), targets[walk[0]] + k)
     x = lambda j: int(first.loop[j % k])  # noqa: E731
     y = lambda i: int(second.loop[i]) + offset  # noqa: E731
     faces = []
@@ -416,6 +636,46 @@ def strip_faces(first: Boundary, second: Boundary, shift: float, offset: int) ->
     return np.array(faces, dtype=np.int64)
 
 
+def _weld(vertices: np.ndarray, faces: np.ndarray, strip: np.ndarray, offset: int, tolerance: float
+          ) -> tuple[np.ndarray, np.ndarray, int]:
+    """The strip's coincident pairs welded: a strip edge between the meshes no longer than ``tolerance`` joins its
+    ends, each vertex to at most one, shortest first; the triangles this degenerates are dropped.
+
+    Returns the faces with welded indices (the second mesh's vertex becomes the first's), the mask of faces kept
+    and how many pairs were welded. If welding would leave an edge of more than two faces, nothing is welded.
+    """
+    edges = np.concatenate([strip[:, [0, 1]], strip[:, [1, 2]], strip[:, [2, 0]]])
+    cross = np.unique(np.sort(edges[(edges[:, 0] < offset) != (edges[:, 1] < offset)], axis=1), axis=0)
+    lengths = np.linalg.norm(vertices[cross[:, 0]] - vertices[cross[:, 1]], axis=1)
+    index = np.arange(len(vertices))
+    taken: set[int] = set()
+    for k in np.argsort(lengths, kind="stable"):
+        if lengths[k] > tolerance:
+            break
+        a, b = (int(v) for v in cross[k])
+        if a not in taken and b not in taken:
+            taken.update((a, b))
+            index[b] = a
+    joined = index[faces]
+    keep = (joined[:, 0] != joined[:, 1]) & (joined[:, 1] != joined[:, 2]) & (joined[:, 2] != joined[:, 0])
+    edge_keys = np.sort(np.concatenate([joined[keep][:, [0, 1]], joined[keep][:, [1, 2]], joined[keep][:, [2, 0]]]),
+                        axis=1)
+    if taken and (np.unique(edge_keys, axis=0, return_counts=True)[1] > 2).any():
+        log.warning("welding the seam's coincident vertices would make an edge of more than two faces: the strip is "
+                    "kept whole")
+        return faces, np.ones(len(faces), dtype=bool), 0
+    return joined, keep, len(taken) // 2
+
+
+def _same_direction(first: Boundary, second: Boundary) -> bool:
+    """Whether two boundaries in one frame run the same way (their nearest vertices' tangents agree on average):
+    on one consistently oriented surface they run opposite ways (7.3)."""
+    def tangents(b: Boundary) -> np.ndarray:
+        return _unit(np.roll(b.points, -1, axis=0) - np.roll(b.points, 1, axis=0))
+    targets = nearest_targets(first, second)
+    return float(np.mean(np.einsum("ij,ij->i", tangents(first)[targets], tangents(second)))) > 0
+
+
 def transformed(model: Model, rotation: np.ndarray, translation: np.ndarray) -> Model:
     """``model`` moved rigidly: ``x -> rotation @ x + translation``."""
     return replace(model, vertices=model.vertices @ np.asarray(rotation).T + np.asarray(translation))
@@ -423,8 +683,9 @@ def transformed(model: Model, rotation: np.ndarray, translation: np.ndarray) -> 
 
 @dataclass(frozen=True)
 class Stitched:
-    """What :func:`stitch` returns: the stitched model, the alignment, the two longest boundaries, how many loop
-    pairs were stitched and how many loops stay open."""
+    """What :func:`stitch` returns: the stitched model, the alignment, the two longest boundaries (the second moved),
+    how many loop pairs were stitched, how many loops stay open, how many vertex pairs were welded and how many
+    strip triangles the model keeps (its last faces)."""
 
     model: Model
     alignment: Alignment
@@ -432,6 +693,8 @@ class Stitched:
     second: Boundary
     loop_pairs: int
     open_loops: int
+    welded: int
+    strip_faces: int
 
 
 def rigid_motion(motion) -> np.ndarray:
@@ -445,13 +708,14 @@ def rigid_motion(motion) -> np.ndarray:
     return m
 
 
-def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.0, samples: int = 128,
-           workers: int = 2, name: str | None = None, motion: np.ndarray | None = None) -> Stitched:
+def stitch(first: Model, second: Model, *, alpha: float = ALPHA, beta: float = BETA, gamma: float = GAMMA,
+           along: float = ALONG, samples: int = 128, name: str | None = None, motion: np.ndarray | None = None
+           ) -> Stitched:
     """JASNOM: align ``second`` onto ``first`` by their longest boundaries and stitch them into one model.
 
-    The longest loops align the meshes (7.2-7.3, 7.5). Beyond the thesis, the other loops
-    (a cut through a concave object leaves several) are paired by nearest centroid and
-    similar length and stitched at that alignment, each at its shortest-edge shift.
+    The longest loops align the meshes (7.2-7.3, 7.5; module docstring). Beyond the
+    thesis, the other loops (a cut through a concave object leaves several) are paired by
+    nearest centroid and similar length and stitched at that alignment.
 
     Parameters
     ----------
@@ -459,35 +723,42 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
         Two meshes that together cover an object without overlapping, each a 2-manifold
         with a boundary, both wound the same way about the object (both outwards, or both
         inwards as two of heatdata's views are, whose faces point away from their cameras).
-    alpha, beta, samples, workers
+    alpha, beta, gamma, along, samples
         As for :func:`align`.
     name : str, optional
         The stitched model's name (default: ``first.name + "+" + second.name``).
     motion : (4, 4) float, optional
         A known rigid motion of ``second`` into ``first``'s frame (registered cameras, a
-        turntable): no alignment is searched, only the shift (:func:`alignment_at`), and
-        boundaries that do not face each other there (a gap of grazing surface between two
-        opposite scans) are stitched anyway, with a warning.
+        turntable): nothing is searched (:func:`alignment_at`), and boundaries that do not
+        face each other there (a gap of grazing surface between two opposite scans) are
+        stitched anyway, with a warning.
 
     Returns
     -------
     Stitched
-        ``model`` holds the first mesh's vertices, then the second's moved into the first's
-        frame, and the strip's triangles last (coloured by their corners' vertex colours);
-        both meshes' textures are kept.
+        ``model`` is in ``first``'s frame: the first mesh's vertices, then the second's
+        moved there (less those welded to the first's), and the strip's triangles last
+        (coloured by their corners' vertex colours); both meshes' textures are kept.
 
     Raises
     ------
     StitchError
-        As :func:`boundary`, or bad ``alpha`` / ``beta``.
+        As :func:`boundary` and :func:`align`; the same mesh twice; meshes that do not face
+        each other across their boundaries after the search (wound the same way round the
+        cut, or the second lying on the first).
     """
+    if (first.vertices.shape == second.vertices.shape and first.faces.shape == second.faces.shape
+            and np.array_equal(first.faces, second.faces) and np.allclose(first.vertices, second.vertices)):
+        raise StitchError(f"{first.name} and {second.name} are the same mesh: JASNOM joins two different parts of an "
+                          "object")
     loops1, loops2 = boundaries(first), boundaries(second)
     b1, b2 = _longest(loops1, first.name), _longest(loops2, second.name)
     if motion is None:
-        alignment = align(b1, b2, alpha=alpha, beta=beta, samples=samples, workers=workers)
+        alignment = align(loops1, loops2, alpha=alpha, beta=beta, gamma=gamma, along=along, samples=samples)
     else:
         motion = rigid_motion(motion)
-        alignment = alignment_at(b1, b2, motion[:3, :3], motion[:3, 3], alpha=alpha, beta=beta, samples=samples)
+        alignment = alignment_at(loops1, loops2, motion[:3, :3], motion[:3, 3], alpha=alpha, beta=beta, gamma=gamma,
+                                 along=along, samples=samples)
     if alignment.facing > 0 and motion is not None:
         log.warning("%s and %s do not face each other across their boundaries at the given motion (mean cosine of "
                     "the boundary normals %+.2f): the strip spans a gap the scans did not see", first.name,
@@ -495,42 +766,55 @@ def stitch(first: Model, second: Model, *, alpha: float = 10.0, beta: float = 1.
     elif alignment.facing > 0:
         raise StitchError(f"{first.name} and {second.name} do not face each other across their boundaries after "
                           f"the best alignment (mean cosine of the boundary normals {alignment.facing:+.2f}): either "
-                          "both are wound the same way round the cut (reverse one's faces) or their longest "
-                          "boundaries are not one curve (large gaps or missing parts)")
+                          "both are wound the same way round the cut (reverse one's faces), the second lies on the "
+                          "first (the same surface twice), or their longest boundaries are not one curve")
+    if _same_direction(b1, _moved(b2, alignment.rotation, alignment.translation)):
+        log.warning("%s is wound the other way round the object from %s (their boundaries run the same way at the "
+                    "seam): its faces are reversed", second.name, first.name)
+        second = replace(second, faces=second.faces[:, ::-1].copy(), corner_colors=second.corner_colors[:, ::-1].copy(),
+                         corner_uv=second.corner_uv[:, ::-1].copy())
+        loops2 = boundaries(second)
     moved = transformed(second, alignment.rotation, alignment.translation)
     moved_loops = [_moved(b, alignment.rotation, alignment.translation) for b in loops2]
     moved_b2 = moved_loops[0]
     offset = len(first.vertices)
-    strips = [strip_faces(b1, moved_b2, alignment.shift, offset)]
-    # the other loops (a cut through a concave object leaves several) are stitched at the same alignment
-    pairs = _pair_loops(loops1[1:], moved_loops[1:])
-    strips += [strip_faces(l1, l2, best_shift(l1, l2), offset) for l1, l2 in pairs]
-    open_loops = b1.loops + moved_b2.loops - 2 * (1 + len(pairs))
+    pairs = [(b1, moved_b2)] + _pair_loops(loops1[1:], moved_loops[1:])
+    strip = np.vstack([strip_faces(l1, l2, nearest_targets(l1, l2), offset) for l1, l2 in pairs])
+    open_loops = b1.loops + moved_b2.loops - 2 * len(pairs)
     if open_loops:
         log.warning("%d boundary loop(s) of %s and %s have no partner and stay open", open_loops, first.name,
                     second.name)
-    strip = np.vstack(strips)
+    vertices = np.vstack([first.vertices, moved.vertices])
     colors = np.vstack([vertex_colors(first), vertex_colors(moved)])
     faces = np.vstack([first.faces, moved.faces + offset, strip])
+    seam = np.concatenate([np.linalg.norm(np.roll(b.points, -1, axis=0) - b.points, axis=1)
+                           for pair in pairs for b in pair])
+    faces, keep, welded = _weld(vertices, faces, strip, offset, 0.01 * float(np.median(seam)))
+    faces = faces[keep]
+    used = np.unique(faces)
+    index = np.full(len(vertices), -1, np.int64)
+    index[used] = np.arange(len(used))
     model = Model(
         name=name or f"{first.name}+{second.name}",
-        vertices=np.vstack([first.vertices, moved.vertices]),
-        faces=faces,
+        vertices=vertices[used],
+        faces=index[faces],
         corner_colors=np.concatenate([first.corner_colors, moved.corner_colors,
-                                      colors[strip].astype(np.float32)]),
-        corner_uv=np.concatenate([first.corner_uv, moved.corner_uv, np.zeros((len(strip), 3, 2), np.float32)]),
+                                      colors[strip].astype(np.float32)])[keep],
+        corner_uv=np.concatenate([first.corner_uv, moved.corner_uv, np.zeros((len(strip), 3, 2), np.float32)])[keep],
         face_texture=np.concatenate([first.face_texture,
                                      np.where(moved.face_texture >= 0, moved.face_texture + len(first.textures), -1),
-                                     np.full(len(strip), -1)]).astype(np.int32),
+                                     np.full(len(strip), -1)]).astype(np.int32)[keep],
         textures=list(first.textures) + list(moved.textures),
         label=first.label or second.label, source=f"JASNOM of {first.source or first.name} and "
                                                    f"{second.source or second.name}",
         repairs=list(first.repairs) + list(second.repairs))
-    log.info("stitched %s: shift %.3f, J %.4g (J1 %.3g, J2 %.3g), %d loop pair(s), %d strip triangles, %.1f s",
-             model.name, alignment.shift, alignment.cost, alignment.edge_cost, alignment.crossing_cost,
-             1 + len(pairs), len(strip), alignment.seconds)
-    return Stitched(model=model, alignment=alignment, first=b1, second=moved_b2, loop_pairs=1 + len(pairs),
-                    open_loops=open_loops)
+    strip_kept = int(keep[len(first.faces) + len(second.faces):].sum())
+    log.info("stitched %s: J %.4g (J1 %.3g, J2 %.3g, J3 %.3g; runner-up %.4g), mean gap %.3g, %d loop pair(s), "
+             "%d vertex pair(s) welded, %d strip triangles, %.1f s", model.name, alignment.cost, alignment.edge_cost,
+             alignment.crossing_cost, alignment.crease_cost, alignment.runner_up, alignment.gap, len(pairs), welded,
+             strip_kept, alignment.seconds)
+    return Stitched(model=model, alignment=alignment, first=b1, second=moved_b2, loop_pairs=len(pairs),
+                    open_loops=open_loops, welded=welded, strip_faces=strip_kept)
 
 
 def _submodel(model: Model, keep: np.ndarray, name: str) -> Model:

@@ -147,7 +147,7 @@ def main() -> None:
 
 def rms_radius(b, samples: int) -> float:
     """J1's scale (heatdata.stitch): the RMS distance of the resampled boundary from its centroid."""
-    x, _ = resample_loop(b.points, samples)
+    x = resample_loop(b.points, samples)[0]
     return float(np.sqrt(np.mean(np.sum((x - x.mean(axis=0)) ** 2, axis=1))))
 
 

@@ -8,8 +8,8 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 from heatdata.models import Model
-from heatdata.stitch import (StitchError, boundary, closed_part, order_preserving_assignment, resample_loop,
-                             split_model, stitch, strip_faces, transformed)
+from heatdata.stitch import (StitchError, align, alignment_at, boundaries, boundary, closed_part, nearest_targets,
+                             resample_loop, split_model, stitch, strip_faces, transformed)
 
 MOTION = Rotation.from_rotvec([0.5, -1.0, 0.3]), np.array([0.3, 0.1, -0.2])
 
@@ -31,59 +31,119 @@ def as_trimesh(model: Model) -> trimesh.Trimesh:
     return trimesh.Trimesh(model.vertices, model.faces, process=False)
 
 
+def truth(rotation: Rotation, translation: np.ndarray) -> np.ndarray:
+    """The 4x4 inverse of the motion that moved the second half: what JASNOM must find."""
+    inverse = np.eye(4)
+    inverse[:3, :3] = rotation.inv().as_matrix()
+    inverse[:3, 3] = -rotation.inv().apply(translation)
+    return inverse
+
+
+def moved_half(model: Model, normal, amplitude: float = 0.0, offset: float = 0.0) -> tuple[Model, Model]:
+    a, b = split_model(model, normal, amplitude=amplitude, offset=offset)
+    return a, transformed(b, MOTION[0].as_matrix(), MOTION[1])
+
+
 @pytest.mark.parametrize("amplitude", [0.0, 0.05])
-def test_two_halves_moved_apart_are_aligned_and_stitched_closed(ellipsoid, amplitude):
-    a, b = split_model(ellipsoid, [0.3, 1.0, 0.2], amplitude=amplitude)
-    rotation, translation = MOTION
-    result = stitch(a, transformed(b, rotation.as_matrix(), translation), workers=1, samples=64)
-    # ground truth: the inverse motion
-    error = Rotation.from_matrix(result.alignment.rotation) * rotation
-    assert np.degrees(error.magnitude()) < 0.1
-    expected_t = -(rotation.inv().apply(translation))
-    assert np.linalg.norm(result.alignment.translation - expected_t) < 1e-3 * np.linalg.norm(ellipsoid.extents)
-    mesh = as_trimesh(result.model)
-    assert mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0
-    assert mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=1e-3)
-    assert len(result.model.faces) == len(ellipsoid.faces) + len(result.first.loop) + len(result.second.loop)
-    assert result.alignment.facing < -0.5 and len(result.alignment.costs) == 64
-    # both halves' colours are kept, the strip's come from its corners
-    assert result.model.corner_colors.shape == (len(result.model.faces), 3, 3)
+def test_two_halves_moved_apart_are_aligned_and_welded_closed(ellipsoid, amplitude, tmp_path):
+    from heatdata.models import save_model
+
+    a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2], amplitude)
+    result = stitch(a, b, samples=64)
+    expected = truth(*MOTION)
+    assert np.degrees(Rotation.from_matrix(result.alignment.rotation @ expected[:3, :3].T).magnitude()) < 1e-6
+    np.testing.assert_allclose(result.alignment.translation, expected[:3, 3], atol=1e-9)
+    assert result.alignment.cost < 1e-20 and result.alignment.gap < 1e-9
+    # the halves share their boundary: its vertices are welded and no strip is left, in the first half's frame
+    assert result.welded == len(result.first.loop) and result.strip_faces == 0
+    assert len(result.model.faces) == len(ellipsoid.faces) and len(result.model.vertices) == len(ellipsoid.vertices)
+    np.testing.assert_array_equal(result.model.vertices[:len(a.vertices)], a.vertices)
+    save_model(result.model, tmp_path / "whole.ply")
+    for mesh in (as_trimesh(result.model), trimesh.load(tmp_path / "whole.ply")):  # as a user reads it: merged
+        assert mesh.is_watertight and mesh.is_winding_consistent
+        assert mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=1e-6)  # PLY stores float32
+    assert result.alignment.facing < -0.9
+    # both halves' colours are kept
     assert np.isclose(result.model.corner_colors[..., 2], 0.9).any() and np.isclose(
         result.model.corner_colors[..., 0], 0.8).any()
 
 
-def test_the_shift_search_in_processes_gives_the_same_answer(ellipsoid):
+@pytest.mark.parametrize("amplitude, offset", [(0.0, 0.0), (0.05, 0.1), (0.0, -0.15)])
+def test_the_cost_at_the_truth_is_at_or_below_every_pose_the_search_visits(ellipsoid, amplitude, offset):
+    a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2], amplitude, offset)
+    loops1, loops2 = boundaries(a), boundaries(b)
+    visited: list = []
+    found = align(loops1, loops2, samples=64, trace=visited)
+    expected = truth(*MOTION)
+    at_truth = alignment_at(loops1, loops2, expected[:3, :3], expected[:3, 3], samples=64)
+    assert len(visited) == found.candidates > 2 * 64
+    assert at_truth.cost <= min(cost for _, _, cost in visited)
+    assert at_truth.edge_cost == pytest.approx(0.0, abs=1e-20) and at_truth.crossing_cost == pytest.approx(0.0, abs=1e-20)
+
+
+def test_the_cost_is_continuous_and_grows_with_misalignment(ellipsoid):
     a, b = split_model(ellipsoid, [0.0, 1.0, 0.0])
-    b = transformed(b, *(m.as_matrix() if i == 0 else m for i, m in enumerate(MOTION)))
-    one = stitch(a, b, workers=1, samples=32).alignment
-    two = stitch(a, b, workers=2, samples=32).alignment
-    np.testing.assert_allclose(one.costs, two.costs)
-    np.testing.assert_allclose(one.rotation, two.rotation)
+    b1, b2 = boundary(a), boundary(b)
+    steps = np.linspace(0.0, 0.01, 21)  # up to a tenth of the ellipsoid's radius, in steps far below the sampling
+    costs = np.array([alignment_at(b1, b2, np.eye(3), [d, 0.0, 0.0], samples=32).cost for d in steps])
+    assert costs[0] == pytest.approx(0.0, abs=1e-20) and np.all(np.diff(costs) > 0)
+    assert np.max(np.abs(np.diff(costs, 2))) < 0.2 * costs[-1] / len(steps)  # smooth: no jumps between samples
+    turns = [alignment_at(b1, b2, Rotation.from_rotvec([0.0, angle, 0.0]).as_matrix(), np.zeros(3), samples=32).cost
+             for angle in np.radians([0.0, 0.5, 1.0, 2.0])]
+    assert turns[0] < turns[1] < turns[2] < turns[3]
 
 
-def test_a_known_motion_is_used_as_given_and_only_the_shift_is_searched(ellipsoid, caplog):
-    a, b = split_model(ellipsoid, [0.3, 1.0, 0.2], amplitude=0.05)
-    rotation, translation = MOTION
-    moved = transformed(b, rotation.as_matrix(), translation)
-    inverse = np.eye(4)
-    inverse[:3, :3] = rotation.inv().as_matrix()
-    inverse[:3, 3] = -rotation.inv().apply(translation)
+def test_interpenetration_costs_nothing_at_the_seam_and_grows_with_depth(ellipsoid):
+    a, b = split_model(ellipsoid, [0.0, 1.0, 0.0])  # a: the upper half, its boundary normals point down
+    b1, b2 = boundary(a), boundary(b)
+    crossing = [alignment_at(b1, b2, np.eye(3), [0.0, d, 0.0], samples=32).crossing_cost
+                for d in (-0.01, 0.0, 0.002, 0.005, 0.01)]
+    # lowering the lower half opens a gap (nothing crosses); raising it pushes it into the upper one
+    assert crossing[0] < 0.2 * crossing[-1] and crossing[1] < 1e-20
+    assert crossing[1] < crossing[2] < crossing[3] < crossing[4]
+
+
+def test_the_cost_does_not_depend_on_the_object_size(ellipsoid):
+    a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2], 0.05)
+    offset = truth(*MOTION)
+    offset[:3, 3] += [0.004, 0.0, 0.002]  # a few percent of the size off
+    small = alignment_at(boundaries(a), boundaries(b), offset[:3, :3], offset[:3, 3])
+    big = alignment_at(boundaries(transformed(a, 10 * np.eye(3), np.zeros(3))),
+                       boundaries(transformed(b, 10 * np.eye(3), np.zeros(3))), offset[:3, :3], 10 * offset[:3, 3])
+    assert big.cost == pytest.approx(small.cost, rel=1e-9) and small.cost > 0
+
+
+def test_a_symmetric_boundary_is_reported_ambiguous_and_an_asymmetric_one_is_not():
+    cylinder = model_of(trimesh.creation.cylinder(radius=0.05, height=0.12, sections=48), "cylinder")
+    a, b = moved_half(closed_part(cylinder), [0.0, 0.0, 1.0], offset=0.05)
+    assert align(boundaries(a), boundaries(b), samples=48).ambiguous  # a circle fits at every turn
+    egg = trimesh.creation.icosphere(subdivisions=3)
+    egg = model_of(trimesh.Trimesh(egg.vertices * [0.12, 0.09, 0.07] * (1 + 0.1 * egg.vertices[:, [0]]), egg.faces))
+    a, b = moved_half(egg, [0.3, 1.0, 0.2])
+    found = align(boundaries(a), boundaries(b), samples=48)
+    assert not found.ambiguous and found.runner_up > 100 * found.cost
+
+
+def test_a_known_motion_is_used_as_given(ellipsoid, caplog):
+    a, moved = moved_half(ellipsoid, [0.3, 1.0, 0.2], 0.05)
+    inverse = truth(*MOTION)
     result = stitch(a, moved, motion=inverse, samples=64)
     np.testing.assert_allclose(result.alignment.rotation, inverse[:3, :3])
     np.testing.assert_allclose(result.alignment.translation, inverse[:3, 3])
-    assert result.alignment.edge_cost < 0.02 and result.alignment.facing < -0.5  # half a sample apart at most
+    assert result.alignment.candidates == 1 and np.isnan(result.alignment.runner_up)
     mesh = as_trimesh(result.model)
     assert mesh.is_watertight and mesh.is_winding_consistent
-    assert mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=1e-3)
-    # a motion a tenth of the size off costs more, even at its own best shift
+    assert mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=1e-9)
+    # a motion off by a tenth of the size: a gap the strip bridges, still closed
     off = inverse.copy()
-    off[:3, 3] += [0.02, 0.0, 0.0]
-    assert stitch(a, moved, motion=off, samples=64).alignment.edge_cost > 3 * result.alignment.edge_cost
+    off[:3, 3] += [0.01, 0.0, 0.0]
+    bridged = stitch(a, moved, motion=off, samples=64)
+    assert bridged.strip_faces > 0 and bridged.welded == 0 and bridged.alignment.edge_cost > 1e-4
+    assert as_trimesh(bridged.model).is_watertight and as_trimesh(bridged.model).is_winding_consistent
     # at a given motion, boundaries that do not face each other are a gap to span: a warning, not an error
     caplog.set_level(logging.WARNING, logger="heatdata.stitch")
-    lifted = np.eye(4)
-    lifted[1, 3] = 0.05  # the same half again, above itself: both boundaries' normals point down
-    assert stitch(a, a, motion=lifted, samples=32).alignment.facing > 0.5
+    above = transformed(a, np.eye(3), [0.0, 0.05, 0.0])  # a copy of the half, above it: both normals point down
+    assert stitch(a, above, motion=np.eye(4), samples=32).alignment.facing > 0.5
     assert "do not face each other across their boundaries at the given motion" in caplog.text
     with pytest.raises(StitchError, match="4x4 rigid transform"):
         stitch(a, moved, motion=np.diag([1.0, -1.0, 1.0, 1.0]))
@@ -91,32 +151,39 @@ def test_a_known_motion_is_used_as_given_and_only_the_shift_is_searched(ellipsoi
         stitch(a, moved, motion=np.eye(3))
 
 
-def test_the_assignment_preserves_order_and_reverses_direction():
-    first = np.arange(8) / 8
-    np.testing.assert_array_equal(order_preserving_assignment(first, first, 0.0), [0, 7, 6, 5, 4, 3, 2, 1])
-    np.testing.assert_array_equal(order_preserving_assignment(first, first, 0.25), [2, 1, 0, 7, 6, 5, 4, 3])
-    coarse = np.arange(4) / 4  # fewer vertices on the second boundary: every one still finds its nearest
-    np.testing.assert_array_equal(order_preserving_assignment(first, coarse, 0.0), [0, 6, 4, 2])
-
-
-def test_resampling_is_uniform_by_arc_length():
+def test_resampling_is_uniform_by_arc_length_and_interpolates_normals():
     square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float)
-    points, nearest = resample_loop(square, 8)
+    normals = np.array([[0, -1, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0]], dtype=float)
+    points, between = resample_loop(square, 8, normals)
     np.testing.assert_allclose(np.linalg.norm(np.roll(points, -1, axis=0) - points, axis=1), 0.5)
-    assert nearest.tolist() == [0, 1, 1, 2, 2, 3, 3, 0]
+    np.testing.assert_allclose(between[1], [np.sqrt(0.5), -np.sqrt(0.5), 0.0])  # half-way from the first to the next
+    assert resample_loop(square, 4)[1] is None
     with pytest.raises(StitchError, match="at least 3 samples"):
         resample_loop(square, 2)
 
 
 def test_the_strip_uses_every_boundary_edge_once_against_its_face(ellipsoid):
     a, b = split_model(ellipsoid, [1.0, 0.2, 0.0])
-    b1, b2 = boundary(a), boundary(b)
-    faces = strip_faces(b1, b2, 0.0, offset=len(a.vertices))
+    b1, b2 = boundary(a), boundary(transformed(b, np.eye(3), [0.01, 0.0, 0.0]))  # a gap to bridge
+    targets = nearest_targets(b1, b2)
+    faces = strip_faces(b1, b2, targets, offset=len(a.vertices))
     assert len(faces) == len(b1.loop) + len(b2.loop)
     halves = {tuple(e) for f in faces for e in ((f[0], f[1]), (f[1], f[2]), (f[2], f[0]))}
     for loop, offset in ((b1.loop, 0), (b2.loop, len(a.vertices))):
         for u, v in zip(loop, np.roll(loop, -1), strict=True):
             assert (v + offset, u + offset) in halves  # the reverse of the mesh's own boundary half-edge
+    # targets that step back are held, so the strip still walks each loop once
+    noisy = targets.copy()
+    noisy[::7] = (noisy[::7] + 2) % len(b1.loop)
+    assert len(strip_faces(b1, b2, noisy, offset=len(a.vertices))) == len(b1.loop) + len(b2.loop)
+
+
+def test_a_boundary_that_pinches_is_split_into_loops_that_visit_each_vertex_once():
+    bowtie = Model.untextured("bowtie", [[0, 0, 0], [1, 0, 0], [1, 1, 0], [-1, 0, 0], [-1, -1, 0]],
+                              [[0, 1, 2], [0, 3, 4]], (0.5, 0.5, 0.5))  # two triangles that share a corner
+    loops = boundaries(bowtie)
+    assert sorted(sorted(b.loop.tolist()) for b in loops) == [[0, 1, 2], [0, 3, 4]]
+    assert all(b.loops == 2 for b in loops)
 
 
 def test_boundary_normals_point_out_of_the_mesh(ellipsoid):
@@ -133,6 +200,8 @@ def test_bad_meshes_are_clear_errors(ellipsoid, caplog):
     a, b = split_model(ellipsoid, [0.0, 1.0, 0.0])
     triangle = Model.untextured("triangle", np.eye(3), [[0, 1, 2]], (0.0, 0.0, 0.0))
     assert len(boundary(triangle).loop) == 3
+    with pytest.raises(StitchError, match="a boundary of 3 vertices cannot fix a motion"):
+        stitch(a, triangle)
     fin = Model(name="fin", vertices=np.vstack([a.vertices, [[0.0, 0.5, 0.0]]]),
                 faces=np.vstack([a.faces, [[a.faces[0, 0], a.faces[0, 1], len(a.vertices)]]]),
                 corner_colors=np.concatenate([a.corner_colors, a.corner_colors[:1]]),
@@ -140,49 +209,78 @@ def test_bad_meshes_are_clear_errors(ellipsoid, caplog):
                 face_texture=np.concatenate([a.face_texture, a.face_texture[:1]]))
     with pytest.raises(StitchError, match="more than two faces"):
         boundary(fin)
-    mirrored = transformed(a, np.diag([1.0, -1.0, 1.0]), [0.0, 0.0, 0.0])  # the lower half, wound inwards
-    with pytest.raises(StitchError, match="do not face each other"):
-        stitch(a, mirrored, workers=1, samples=32)
+    with pytest.raises(StitchError, match="the same mesh"):
+        stitch(a, a)
     caplog.set_level(logging.WARNING, logger="heatdata.stitch")
-    stitch(a, transformed(b, np.eye(3) * 0.5, [0.0, 0.0, 0.0]), workers=1, samples=32)  # a boundary half as long
+    mirrored = transformed(a, np.diag([1.0, -1.0, 1.0]), [0.0, 0.0, 0.0])  # the lower half, wound inwards
+    mesh = as_trimesh(stitch(a, mirrored, samples=32).model)  # found by the mirrored candidates, then reversed
+    assert "wound the other way round the object" in caplog.text and mesh.is_watertight and mesh.is_winding_consistent
+    assert mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=0.05)  # the mirror of a's triangulation
+    stitch(a, transformed(b, np.eye(3) * 0.5, [0.0, 0.0, 0.0]), samples=32)  # a boundary half as long
     assert "lengths differ by a factor 2.00" in caplog.text
-    with pytest.raises(StitchError, match="alpha must be positive"):
-        stitch(a, b, alpha=0.0, workers=1)
+    for name in ("alpha", "beta", "gamma", "along"):
+        with pytest.raises(StitchError, match=f"{name} must be a finite"):
+            stitch(a, b, **{name: np.nan})
+    with pytest.raises(StitchError, match="alpha must be a finite positive"):
+        stitch(a, b, alpha=0.0)
     with pytest.raises(StitchError, match="one side"):
         split_model(ellipsoid, [0.0, 1.0, 0.0], offset=1.0)
 
 
-def test_the_command_writes_a_closed_coloured_mesh(ellipsoid, tmp_path, capsys, caplog):
+def test_the_command_writes_a_closed_coloured_mesh_in_the_first_frame(ellipsoid, tmp_path, capsys, caplog):
     import json
 
     from heatdata.cli import main
     from heatdata.models import save_model
 
-    a, b = split_model(ellipsoid, [0.3, 1.0, 0.2], amplitude=0.05)
+    a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2], 0.05)
+    a = transformed(a, np.eye(3), [1.0, 2.0, 3.0])  # far from the origin: the output must stay there
+    b = transformed(b, np.eye(3), [0.0, 0.0, 0.0])
     save_model(a, tmp_path / "a.ply")
-    save_model(transformed(b, MOTION[0].as_matrix(), MOTION[1]), tmp_path / "b.ply")
+    save_model(b, tmp_path / "b.ply")
     assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
-                        "--samples", "32", "--jobs", "1"]) == 0
+                 "--samples", "32"]) == 0
     printed = json.loads(capsys.readouterr().out)
-    assert printed["faces"] == len(ellipsoid.faces) + sum(printed["boundaries"])
-    mesh = trimesh.load(tmp_path / "ab.ply", process=False)
+    assert printed["faces"] == len(ellipsoid.faces) and printed["mean_gap_of_size"] < 1e-6
+    assert printed["cost"] < 1e-12 and printed["runner_up"] > 1e-4 and not printed["ambiguous"]
+    assert {"edge_cost", "crossing_cost", "crease_cost", "rotation", "translation"} <= printed.keys()
+    mesh = trimesh.load(tmp_path / "ab.ply")
     assert mesh.is_watertight and mesh.is_winding_consistent and mesh.visual.vertex_colors[:, 2].max() > 200
+    np.testing.assert_allclose(mesh.bounds.mean(axis=0), ellipsoid.center + [1.0, 2.0, 3.0], atol=1e-6)
     assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "x.txt")]) == 1
+    before = (tmp_path / "a.ply").read_bytes()
+    assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "a.ply")]) == 1
+    assert "is one of the inputs" in caplog.text and (tmp_path / "a.ply").read_bytes() == before
     # registered scans: the known motion is used as given
-    inverse = np.eye(4)
-    inverse[:3, :3] = MOTION[0].inv().as_matrix()
-    inverse[:3, 3] = -MOTION[0].inv().apply(MOTION[1])
+    inverse = truth(*MOTION)
+    inverse[:3, 3] += [1.0, 2.0, 3.0]
     np.savetxt(tmp_path / "motion.txt", inverse)
     assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
-                 "--samples", "32", "--motion", str(tmp_path / "motion.txt")]) == 0
-    np.testing.assert_allclose(json.loads(capsys.readouterr().out)["rotation"], inverse[:3, :3], atol=1e-6)
-    mesh = trimesh.load(tmp_path / "ab.ply", process=False)  # the files' own frames, not recentred ones
-    assert mesh.is_watertight and mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=1e-3)
+                 "--motion", str(tmp_path / "motion.txt")]) == 0
+    np.testing.assert_allclose(json.loads(capsys.readouterr().out)["translation"], inverse[:3, 3], atol=1e-6)
+    assert trimesh.load(tmp_path / "ab.ply").is_watertight
     for bad, text in (("letters.txt", "1 2\n3 x\n"), ("small.txt", "1 0 0\n0 1 0\n0 0 1\n")):
         (tmp_path / bad).write_text(text)
         assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
                      "--motion", str(tmp_path / bad)]) == 1
         assert f"{bad}: not a 4x4 matrix" in caplog.text
+
+
+def test_the_command_warns_when_the_answer_is_ambiguous(tmp_path, capsys, caplog):
+    import json
+
+    from heatdata.cli import main
+    from heatdata.models import save_model
+
+    cylinder = closed_part(model_of(trimesh.creation.cylinder(radius=0.05, height=0.12, sections=48), "cylinder"))
+    a, b = moved_half(cylinder, [0.0, 0.0, 1.0], offset=0.05)
+    save_model(a, tmp_path / "a.ply")
+    save_model(b, tmp_path / "b.ply")
+    caplog.set_level(logging.WARNING)
+    assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
+                 "--samples", "48"]) == 0
+    assert json.loads(capsys.readouterr().out)["ambiguous"] and "ambiguous: another pose" in caplog.text
+    assert trimesh.load(tmp_path / "ab.ply").is_watertight  # a turned cylinder is still the cylinder
 
 
 def test_a_cut_leaving_two_loops_is_aligned_by_the_longest_and_closed_at_both():
@@ -191,7 +289,7 @@ def test_a_cut_leaving_two_loops_is_aligned_by_the_longest_and_closed_at_both():
     a, b = split_model(torus, [1.0, 0.0, 0.0], offset=0.05)  # through both sides of the tube: two loops
     assert boundary(a).loops == 2
     rotation, translation = MOTION
-    result = stitch(a, transformed(b, rotation.as_matrix(), translation), workers=1, samples=64)
+    result = stitch(a, transformed(b, rotation.as_matrix(), translation), samples=64)
     assert result.loop_pairs == 2 and result.open_loops == 0
     mesh = as_trimesh(result.model)
     assert mesh.is_watertight and mesh.is_winding_consistent
