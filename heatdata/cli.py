@@ -29,7 +29,7 @@ from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_vie
 from .log import progress, setup_logging
 from .models import SUPPORTED_SUFFIXES, load_model, save_model
 from .render import render_view
-from .stitch import ALONG, ALPHA, BETA, GAMMA, stitch
+from .stitch import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN_ROBUST, stitch
 from .tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, read_table, write_table
 from .version import __version__
 from .view import View
@@ -196,7 +196,7 @@ def cmd_stitch(args: argparse.Namespace) -> None:
         motion[:3, 3] *= args.scale
     first, second = (load_model(path, scale=args.scale, center=False) for path in (args.first, args.second))
     result = stitch(first, second, alpha=args.alpha, beta=args.beta, gamma=args.gamma, along=args.along,
-                    samples=args.samples, name=out.stem, motion=motion)
+                    robust=args.robust, samples=args.samples, scans=args.scans, name=out.stem, motion=motion)
     save_model(result.model, out)
     a = result.alignment
     if a.ambiguous:
@@ -388,9 +388,16 @@ def build_parser() -> argparse.ArgumentParser:
                       help=f"weight of the interpenetration penalty J2, eq. 7.4; 0 to patch a hole (default {BETA:g})")
     join.add_argument("--gamma", type=_number(0.0), default=GAMMA,
                       help=f"weight of the crease term J3 (default {GAMMA:g})")
-    join.add_argument("--along", type=_number(0.0), default=ALONG,
+    join.add_argument("--scans", action="store_true",
+                      help="the meshes are depth scans, each in its camera's frame (camera at the origin), taken from "
+                           "opposite sides (the object flipped): the alignment keeps each on the far side from the "
+                           "other's camera and tolerates the band of surface neither saw")
+    join.add_argument("--along", type=_number(0.0),
                       help="weight of the gap along the seam's continuation in J1: below 1 tolerates a band of "
-                           f"unseen surface between two scans (default {ALONG:g})")
+                           f"unseen surface (default {ALONG:g}; with --scans {SCAN_ALONG:g})")
+    join.add_argument("--robust", type=_number(0.0),
+                      help="soft-L1 width of the residuals, in boundary radii (default 0: squares; with --scans "
+                           f"{SCAN_ROBUST:g})")
     join.add_argument("--samples", type=_number(8, whole=True), default=128,
                       help="boundary samples for the alignment; the coarse search tries twice as many (default 128)")
     join.add_argument("--scale", type=_number(positive=True), default=1.0, help="file units to metres (default 1)")

@@ -2,27 +2,27 @@
 
 Two scans of an object (standing, then flipped; or two opposite cameras) cover it
 together without overlapping, so overlap-based registration cannot align them. JASNOM
-aligns them by their longest boundary loops, B1 and B2, and stitches the gap between
-them with a triangle strip (7.4).
+aligns them by their boundary loops, B1 and B2, and stitches the gap between them with a
+triangle strip (7.4). Loops that pass a vertex twice (a pinch) are split there, so two
+meshes that share a boundary see the same loops.
 
-**The cost** (eq. 7.2-7.4, made continuous). Both boundaries are resampled uniformly by
-arc length (7.5) to ``samples`` points. Each sample is paired with the *closest point* on
-the other boundary's polyline (after the motion), both ways, so J is continuous in the
-rotation and translation: there is no discrete shift in it. The pair's edge vector ``xi``
-points from B2 to B1 (eq. 7.1). Every term is divided by ``s^2`` (``s``: the RMS radius of
-B1's samples about their centroid) and averaged over the ``2 * samples`` pairs, so the
-weights are unitless whatever the object's size and sampling:
+**The cost** (eq. 7.2-7.4, made continuous). Each mesh's loops are resampled uniformly by
+arc length (7.5): ``samples`` points on the longest, proportionally many on the others.
+Each sample is paired with the *closest point* on the other mesh's loops (after the
+motion), both ways, so J is continuous in the rotation and translation: there is no
+discrete shift in it, and at the true motion of two halves that share their boundary
+every pair is at distance 0. The pair's edge vector ``xi`` points from B2 to B1 (eq.
+7.1). Every term is divided by ``s^2`` (``s``: the RMS radius of B1's samples about their
+centroid) and averaged over the pairs, so the weights are unitless whatever the object's
+size and sampling:
 
-- **J1, the edges** (eq. 7.2): ``|xi_perp|^2 + along * |xi_par|^2``. ``xi_par`` is the
-  component along the seam's continuation direction ``m = (n2 - n1) / |n2 - n1|``, where
-  ``n1``, ``n2`` are the boundary normals (Fig. 7.3: in the boundary face's plane,
-  perpendicular to the boundary, pointing away from the mesh). With ``along = 1`` it is the
-  squared edge length of eq. 7.2. Two opposite scans do not meet: each silhouette is the
-  contour generator of its own camera, and the band between them, where the surface turns
-  away from both cameras, is seen by neither. Across that band the surface continues from
-  each boundary along its normal, so the gap lies along ``m`` and only the other two
-  components measure misalignment; ``along < 1`` tolerates a gap of unseen surface
-  without letting it close (the default, :data:`ALONG`, was chosen by measurement).
+- **J1, the edges** (eq. 7.2): ``|xi_across|^2 + along * |xi_along|^2``. ``xi_along`` is
+  the component along the seam's continuation ``m = (n2 - n1) / |n2 - n1|``, where ``n1``,
+  ``n2`` are the boundary normals (Fig. 7.3: in the boundary face's plane, perpendicular
+  to the boundary, pointing away from the mesh). With ``along = 1`` it is the squared
+  edge length of eq. 7.2. A surface that leaves B2 along ``n2`` and arrives at B1 along
+  ``-n1`` on a circular arc has its chord along ``m``; ``along < 1`` tolerates such a band
+  of unseen surface between two scans without letting the boundaries slide.
 - **J2, the interpenetration** (replacing the logistic of eq. 7.3): how far a boundary
   lies *over* the other mesh. ``d1 = xi . n1 > 0`` when B2's point lies on mesh 1's side of
   B1, and ``d2 = -xi . n2 > 0`` when B1's point lies on mesh 2's side of B2. Each costs
@@ -31,27 +31,39 @@ weights are unitless whatever the object's size and sampling:
   about 0.5), growing with the square of the depth, and switching on over a width of
   ``h / alpha``, relative to the sampling rather than absolute.
 - **J3, the crease**: ``|n1 + n2|^2 / 4`` is 0 where the surface continues straight across
-  the seam and 1 where the two meshes fold back onto each other. It is what tells a
-  symmetric boundary's alternatives apart (an ellipsoid's cut is an ellipse, matched as
-  well turned by half a turn): the surface next to the boundary tilts differently.
+  the seam and 1 where the meshes fold onto each other. Its default weight is 0: on
+  coarse models cut along sharp edges the crease at the truth is large, and a nonzero
+  weight pulled the optimum off it (measured by ``scripts/jasnom_cuts.py``).
 
-``J = J1 + beta * J2 + gamma * J3`` (eq. 7.4).
+``J = J1 + beta * J2 + gamma * J3`` (eq. 7.4), optionally through a soft-L1 loss
+(``robust``), for boundaries with parts that have no partner.
 
-**The search** (eq. 7.5-7.6). Every shift tau of B2's resampled origin, in both
-directions (the thesis's reversed order of 7.3, and the mirrored order that a symmetric
-boundary or a mesh wound the other way produces), gives a correspondence; its closed-form
-rigid alignment (Kabsch) is a candidate. J is evaluated at all ``2 * samples``
-candidates, and the cheapest ``refine`` distinct ones are refined over all six degrees of
-freedom (scipy's trust-region least squares on the residuals of J). The best is kept;
-the best *different* pose (more than 2 deg or 1% of the size away) is the runner-up,
-whose J says whether the answer is ambiguous (:attr:`Alignment.ambiguous`).
+**The orientation constraint** (7.3). Poses where the meshes lie on the same side of the
+seam (the mean cosine of paired boundary normals above 0: the second mesh on top of the
+first) have J = +inf. Two depth scans are different: a silhouette cut where the depth
+jumps keeps faces that are not grazing, and their boundary normals point outwards from
+the object in both scans (their mean cosine at the truth is +0.2 to +0.5 on the embedded
+objects). With ``scans``, the constraint is instead that each scan lies on the far side of
+the object from the other's camera (:class:`ScanSurface`).
+
+**The search** (eq. 7.5-7.6). Every shift tau of B2's resampled origin, in both orders
+(the thesis's reversed order of 7.3, and the mirrored order of a mesh wound the other
+way round the object, whose faces are then reversed with a warning), gives a
+correspondence of the longest loops; its closed-form rigid alignment (Kabsch) is a
+candidate. J is evaluated at all ``2 * samples`` candidates, and the cheapest ``refine``
+that are at least 10 deg or 5% of the size apart are refined over all six degrees of
+freedom (scipy's trust-region least squares on J's residuals). The best is kept; the
+best *different* refined pose (more than 2 deg or 1% of the size away) is the runner-up,
+whose J says whether the answer is ambiguous (:attr:`Alignment.ambiguous`): a symmetric
+boundary, such as a circle, fits as well at other turns.
 
 **The stitch** (7.4). At the motion, each vertex of B2 is assigned its nearest vertex of
 B1, made monotone along the loops (the order constraint of eq. 7.7), and the strip of
-7.4 walks both loops. Strip edges shorter than a hundredth of the seam's median edge
-join vertices that coincide: they are welded and the strip's degenerate triangles
-dropped, so two halves that share a boundary become one watertight, consistently wound
-mesh. The output stays in the first mesh's frame.
+7.4 walks both loops; the other loops are paired by nearest centroid and similar length.
+Strip edges shorter than a hundredth of the seam's median edge join vertices that
+coincide: they are welded and the strip's degenerate triangles dropped, so two halves
+that share a boundary become one watertight, consistently wound mesh, also when a reader
+merges coincident vertices. The output stays in the first mesh's frame.
 """
 
 from __future__ import annotations
@@ -80,6 +92,9 @@ GAMMA = 0.0
 """Weight of the crease term J3."""
 ALONG = 1.0
 """Weight of the edge component along the seam's continuation direction in J1 (1: the squared length)."""
+SCAN_ALONG, SCAN_ROBUST = 0.1, 0.05
+"""``along`` and ``robust`` for two depth scans (``stitch(..., scans=True)``): a band of unseen surface lies between
+them, along the seam's continuation, and parts of either boundary (self-occlusions) have no partner."""
 REFINE = 4
 """Distinct coarse candidates refined over six degrees of freedom."""
 AMBIGUOUS = 1.25
@@ -380,6 +395,44 @@ def _unit(v: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
+class ScanSurface:
+    """A depth scan's surface as the scan constraint sees it: where its faces are, which way they face, and which
+    way it faced its own camera, at the origin of its frame (a depth sensor writes its scans so).
+
+    Attributes
+    ----------
+    centroids : (f, 3) float64
+        At most 2,000 face centroids (every face's when there are fewer; else a seeded sample by area).
+    normals : (f, 3) float64
+        The faces' normals as wound, scaled by area.
+    toward_camera : float
+        +1 if the faces' wound normals point towards the camera on average, -1 if away.
+    """
+
+    centroids: np.ndarray
+    normals: np.ndarray
+    toward_camera: float
+
+    @classmethod
+    def of(cls, model: Model, count: int = 2000) -> "ScanSurface":
+        corners = model.vertices[model.faces]
+        normals = 0.5 * np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        centroids = corners.mean(axis=1)
+        area = np.linalg.norm(normals, axis=1)
+        if len(area) > count:
+            keep = np.random.default_rng(0).choice(len(area), count, replace=False, p=area / area.sum())
+            centroids, normals = centroids[keep], normals[keep]
+        return cls(centroids, normals, float(np.sign(np.sum(np.einsum("ij,ij->i", -centroids, normals))) or 1.0))
+
+    def faces_camera(self, rotation: np.ndarray, translation: np.ndarray, camera: np.ndarray) -> float:
+        """The share of the surface's area, moved by the motion, that faces ``camera`` the way it faced its own."""
+        centroids, normals = self.centroids @ rotation.T + translation, self.normals @ rotation.T
+        facing = self.toward_camera * np.einsum("ij,ij->i", camera - centroids, normals)
+        area = np.linalg.norm(normals, axis=1)
+        return float(area[facing > 0].sum() / area.sum())
+
+
+@dataclass(frozen=True)
 class _Weights:
     alpha: float
     beta: float
@@ -388,6 +441,7 @@ class _Weights:
     scale: float  # s, B1's RMS radius
     spacing: float  # h, the mean sample spacing
     root: np.ndarray  # (7,) square roots of the residual columns' weights
+    robust: float  # the soft-L1 width of every residual (0: plain squares)
 
 
 def _pair_residuals(xi: np.ndarray, n1: np.ndarray, n2: np.ndarray, w: _Weights) -> np.ndarray:
@@ -417,19 +471,25 @@ def _residuals(rotation: np.ndarray, translation: np.ndarray, c1: _Curve, c2: _C
 
 
 def _terms(residuals: np.ndarray, w: _Weights) -> tuple[float, float, float, float]:
-    """J, J1, J2, J3 from the residuals of :func:`_pair_residuals`."""
-    squares = np.mean(residuals ** 2, axis=0)
+    """J, J1, J2, J3 from the unweighted residuals of :func:`_pair_residuals`."""
+    squares = np.mean(_robust((residuals * w.root) ** 2, w.robust), axis=0)
     edge, crossing, crease = float(squares[:4].sum()), float(squares[4:6].sum()), float(squares[6])
-    return edge + w.beta * crossing + w.gamma * crease, edge, crossing, crease
+    return edge + crossing + crease, edge, crossing / w.beta if w.beta else 0.0, crease / w.gamma if w.gamma else 0.0
+
+
+def _robust(squares: np.ndarray, scale: float) -> np.ndarray:
+    """Squared residuals through the soft-L1 loss of width ``scale`` (0: as they are)."""
+    return squares if scale <= 0 else 2 * scale ** 2 * (np.sqrt(1.0 + squares / scale ** 2) - 1.0)
 
 
 def _as_loops(b: Boundary | list[Boundary]) -> list[Boundary]:
     return [b] if isinstance(b, Boundary) else list(b)
 
 
-def _weights(c1: _Curve, alpha: float, beta: float, gamma: float, along: float, samples: int) -> _Weights:
+def _weights(c1: _Curve, alpha: float, beta: float, gamma: float, along: float, robust: float, samples: int
+             ) -> _Weights:
     for name, value, low in (("alpha", alpha, 0.0), ("beta", beta, None), ("gamma", gamma, None),
-                             ("along", along, None)):
+                             ("along", along, None), ("robust", robust, None)):
         if not np.isfinite(value) or value < 0 or (low is not None and value <= low):
             raise StitchError(f"{name} must be a finite {'positive' if low is not None else 'non-negative'} number, "
                               f"got {value}")
@@ -439,7 +499,7 @@ def _weights(c1: _Curve, alpha: float, beta: float, gamma: float, along: float, 
     if not scale > 0:
         raise StitchError("the first boundary has no extent (all its vertices coincide)")
     root = np.sqrt([1.0, 1.0, 1.0, 1.0, beta, beta, gamma])
-    return _Weights(alpha, beta, gamma, along, scale, spacing, root)
+    return _Weights(alpha, beta, gamma, along, scale, spacing, root, robust)
 
 
 def _kabsch(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -463,7 +523,9 @@ def _differs(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray],
 
 
 def align(first: Boundary | list[Boundary], second: Boundary | list[Boundary], *, alpha: float = ALPHA, beta: float = BETA, gamma: float = GAMMA,
-          along: float = ALONG, samples: int = 128, refine: int = REFINE, trace: list | None = None) -> Alignment:
+          along: float = ALONG, samples: int = 128, refine: int = REFINE, robust: float = 0.0,
+          scans: tuple[ScanSurface, ScanSurface] | None = None, constrained: bool = True, trace: list | None = None
+          ) -> Alignment:
     """Eq. 7.5-7.6: the rigid motion of ``second`` onto ``first`` that minimizes J (module docstring).
 
     Parameters
@@ -479,6 +541,15 @@ def align(first: Boundary | list[Boundary], second: Boundary | list[Boundary], *
         correspondences.
     refine : int
         Distinct coarse candidates refined over six degrees of freedom.
+    robust : float
+        Width of a soft-L1 loss on every residual, in units of s (0: plain squares): pairs
+        farther apart than this count less, as parts of a boundary without a partner.
+    scans : (ScanSurface, ScanSurface), optional
+        The two meshes as depth scans (:func:`stitch` with ``scans=True``): poses are
+        allowed where each lies on the far side from the other's camera, instead of where
+        the boundary normals face each other (7.3).
+    constrained : bool
+        False allows every pose (no orientation constraint; for ablations).
     trace : list, optional
         Receives ``(rotation, translation, J)`` at every pose evaluated (for tests that the
         cost prefers the truth).
@@ -499,7 +570,7 @@ def align(first: Boundary | list[Boundary], second: Boundary | list[Boundary], *
         log.warning("the boundaries' lengths differ by a factor %.2f: JASNOM assumes they trace one curve", ratio)
     begin = time.perf_counter()
     c1, c2 = _Curve.of(first, samples), _Curve.of(second, samples)
-    w = _weights(c1, alpha, beta, gamma, along, samples)
+    w = _weights(c1, alpha, beta, gamma, along, robust, samples)
     size = float(np.linalg.norm(np.ptp(np.vstack([c1.samples, c2.samples - c2.samples.mean(axis=0)
                                                   + c1.samples.mean(axis=0)]), axis=0)))
     centre = c2.samples.mean(axis=0)
@@ -509,7 +580,14 @@ def align(first: Boundary | list[Boundary], second: Boundary | list[Boundary], *
         """The weighted residuals and J, +inf where the meshes would lie on one side of the seam (7.3)."""
         residuals, _, cosines = _residuals(rotation, translation, c1, c2, w)
         residuals = residuals * w.root
-        value = float(np.mean(np.sum(residuals ** 2, axis=1))) if np.mean(cosines) <= 0 else np.inf
+        if not constrained:
+            allowed = True
+        elif scans is None:
+            allowed = np.mean(cosines) <= 0.0  # the meshes lie on the two sides of the seam (7.3)
+        else:  # each scan is the far side of the object from the other's camera
+            allowed = max(scans[1].faces_camera(rotation, translation, np.zeros(3)),
+                          scans[0].faces_camera(rotation.T, -rotation.T @ translation, np.zeros(3))) < 0.5
+        value = float(np.mean(np.sum(_robust(residuals ** 2, w.robust), axis=1))) if allowed else np.inf
         visited.append((rotation, translation, value))
         return residuals, value
 
@@ -548,19 +626,21 @@ def _refine(rotation0: np.ndarray, translation0: np.ndarray, centre: np.ndarray,
         turn = Rotation.from_rotvec(p[:3]).as_matrix()
         return turn @ rotation0, turn @ (translation0 - centre) + centre + w.scale * p[3:]
 
+    pairs = len(evaluate(rotation0, translation0)[0])
+
     def residuals(p):
-        r = evaluate(*motion(p))[0]
-        return r.ravel() / np.sqrt(len(r))
+        return evaluate(*motion(p))[0].ravel() / np.sqrt(pairs)
 
     result = least_squares(residuals, np.zeros(6), method="trf", x_scale=1.0, ftol=1e-12, xtol=1e-12, gtol=1e-12,
-                           max_nfev=300)
+                           max_nfev=300, loss="soft_l1" if w.robust > 0 else "linear",
+                           f_scale=w.robust / np.sqrt(pairs) if w.robust > 0 else 1.0)
     rotation, translation = motion(result.x)
     return rotation, translation, evaluate(rotation, translation)[1]
 
 
 def alignment_at(first: Boundary | list[Boundary], second: Boundary | list[Boundary], rotation: np.ndarray, translation: np.ndarray, *,
                  alpha: float = ALPHA, beta: float = BETA, gamma: float = GAMMA, along: float = ALONG,
-                 samples: int = 128) -> Alignment:
+                 robust: float = 0.0, samples: int = 128) -> Alignment:
     """J at a known rigid motion of ``second`` onto ``first`` (registered cameras, a turntable, the truth).
 
     Nothing is searched, so :func:`stitch` can join scans whose motion is known and an
@@ -568,7 +648,7 @@ def alignment_at(first: Boundary | list[Boundary], second: Boundary | list[Bound
     """
     begin = time.perf_counter()
     c1, c2 = _Curve.of(_as_loops(first), samples), _Curve.of(_as_loops(second), samples)
-    w = _weights(c1, alpha, beta, gamma, along, samples)
+    w = _weights(c1, alpha, beta, gamma, along, robust, samples)
     return _alignment(np.asarray(rotation, np.float64), np.asarray(translation, np.float64), c1, c2, w, np.nan, 1,
                       begin)
 
@@ -709,8 +789,8 @@ def rigid_motion(motion) -> np.ndarray:
 
 
 def stitch(first: Model, second: Model, *, alpha: float = ALPHA, beta: float = BETA, gamma: float = GAMMA,
-           along: float = ALONG, samples: int = 128, name: str | None = None, motion: np.ndarray | None = None
-           ) -> Stitched:
+           along: float | None = None, robust: float | None = None, samples: int = 128, scans: bool = False,
+           name: str | None = None, motion: np.ndarray | None = None) -> Stitched:
     """JASNOM: align ``second`` onto ``first`` by their longest boundaries and stitch them into one model.
 
     The longest loops align the meshes (7.2-7.3, 7.5; module docstring). Beyond the
@@ -723,8 +803,15 @@ def stitch(first: Model, second: Model, *, alpha: float = ALPHA, beta: float = B
         Two meshes that together cover an object without overlapping, each a 2-manifold
         with a boundary, both wound the same way about the object (both outwards, or both
         inwards as two of heatdata's views are, whose faces point away from their cameras).
-    alpha, beta, gamma, along, samples
-        As for :func:`align`.
+    alpha, beta, gamma, along, robust, samples
+        As for :func:`align`; ``along`` and ``robust`` default to :data:`ALONG` and 0, or
+        for scans to :data:`SCAN_ALONG` and :data:`SCAN_ROBUST`.
+    scans : bool
+        Each mesh is a depth scan in its own camera's frame (the camera at the origin, as
+        a sensor writes it), the two taken from roughly opposite sides (the object
+        flipped, 7.5). Poses are then allowed where each scan lies on the far side of
+        the object from the other's camera (:class:`ScanSurface`), instead of where the
+        boundary normals face each other, which silhouettes cut at depth jumps do not.
     name : str, optional
         The stitched model's name (default: ``first.name + "+" + second.name``).
     motion : (4, 4) float, optional
@@ -753,17 +840,20 @@ def stitch(first: Model, second: Model, *, alpha: float = ALPHA, beta: float = B
                           "object")
     loops1, loops2 = boundaries(first), boundaries(second)
     b1, b2 = _longest(loops1, first.name), _longest(loops2, second.name)
+    weights = {"alpha": alpha, "beta": beta, "gamma": gamma, "samples": samples,
+               "along": (SCAN_ALONG if scans else ALONG) if along is None else along,
+               "robust": (SCAN_ROBUST if scans else 0.0) if robust is None else robust}
     if motion is None:
-        alignment = align(loops1, loops2, alpha=alpha, beta=beta, gamma=gamma, along=along, samples=samples)
+        alignment = align(loops1, loops2, **weights,
+                          scans=(ScanSurface.of(first), ScanSurface.of(second)) if scans else None)
     else:
         motion = rigid_motion(motion)
-        alignment = alignment_at(loops1, loops2, motion[:3, :3], motion[:3, 3], alpha=alpha, beta=beta, gamma=gamma,
-                                 along=along, samples=samples)
-    if alignment.facing > 0 and motion is not None:
+        alignment = alignment_at(loops1, loops2, motion[:3, :3], motion[:3, 3], **weights)
+    if alignment.facing > 0 and motion is not None and not scans:
         log.warning("%s and %s do not face each other across their boundaries at the given motion (mean cosine of "
                     "the boundary normals %+.2f): the strip spans a gap the scans did not see", first.name,
                     second.name, alignment.facing)
-    elif alignment.facing > 0:
+    elif alignment.facing > 0 and not scans:
         raise StitchError(f"{first.name} and {second.name} do not face each other across their boundaries after "
                           f"the best alignment (mean cosine of the boundary normals {alignment.facing:+.2f}): either "
                           "both are wound the same way round the cut (reverse one's faces), the second lies on the "

@@ -1,20 +1,23 @@
-"""JASNOM on two scans rendered from opposite sides (issue 14): alignment, stitching and recognition.
+"""JASNOM on two scans rendered from opposite sides (issues 14 and 29): alignment, stitching and recognition.
 
 Each embedded model is rendered by the virtual Kinect standing (azimuth 0, elevation
 +``--elevation``) and flipped (azimuth 180, elevation -``--elevation``), the thesis's
 acquisition of 7.5, each view in its own camera frame; the camera poses give the true
 motion. Per object:
 
-- **Alignment**: ``heatdata.stitch.align`` on the views' longest boundaries (their
-  silhouettes, cut where the depth jumps), with and without the crossing penalty:
-  rotation and translation errors; the RMS gap between the boundaries at the true motion
-  (best shift, as a fraction of the object's size), and J1 there against J1 at the
-  optimum found: when the optimum is lower than the truth, the cost itself prefers the
-  wrong pose (the boundaries are not one curve), which no search can fix.
-- **Stitching**, twice: at JASNOM's alignment (beta 1), and at the true motion
-  (registered cameras, ``stitch(..., motion=)``), which isolates the strip from the
-  alignment. Watertight and consistently wound (trimesh); distances from the stitched
-  surface to the original's (mean, and the symmetric Hausdorff), as fractions of the size.
+- **Alignment** with no motion given: ``heatdata.stitch.stitch(..., scans=True)`` (the
+  scan constraint and the scans' ``along`` and ``robust``), and, as a baseline on the
+  same pair, open3d's global registration (FPFH features matched by RANSAC, seeded).
+  Rotation error; translation error as the distance between where the found and the
+  true motion put the flipped scan's centroid, over the size (the bounding-box
+  diagonal), and its component along the standing camera's ray to the object (the
+  depth of the band of surface neither camera saw); J at the truth against J found.
+  The mean gap between the boundaries at the true motion says how far the two
+  silhouettes are from one curve.
+- **Stitching**, twice: at JASNOM's alignment, and at the true motion (registered
+  cameras, ``stitch(..., motion=)``), which isolates the strip from the alignment.
+  Watertight and consistently wound (trimesh); distances from the stitched surface to
+  the original's (mean, and the symmetric Hausdorff), as fractions of the size.
 - **Recognition**: a PVHK library of every original (``--library`` views at elevation 30,
   1 m, the default run's camera); test views rendered from the originals, from the
   registered stitches and from JASNOM's, at azimuths between the library's, with fresh
@@ -40,12 +43,14 @@ from heatdata.catalog import embedded_catalog, load_catalog_model, read_catalog
 from heatdata.dataset import render_views, view_plan
 from heatdata.descriptors import DescriptorSpec, describe
 from heatdata.errors import HeatdataError
+from heatdata.figures import plot_stitch
 from heatdata.log import progress
 from heatdata.mesh import surface_distances
 from heatdata.models import Model
 from heatdata.recognition import nearest_neighbours
 from heatdata.render import render_view
-from heatdata.stitch import align, alignment_at, boundary, resample_loop, stitch, transformed
+from heatdata.stitch import (SCAN_ALONG, SCAN_ROBUST, ScanSurface, align, alignment_at, boundaries, stitch,
+                             transformed)
 
 SPEC = DescriptorSpec("pvhk", 64, "center", "polar")  # the default run's primary descriptor
 
@@ -77,11 +82,14 @@ def main() -> None:
     parser.add_argument("--test", type=int, default=24, help="test views per model (default 24)")
     parser.add_argument("--out")
     parser.add_argument("--precision-out", help="write the per-object precision table here")
+    parser.add_argument("--figure", help="draw JASNOM's stitch of --figure-object here (before and after)")
+    parser.add_argument("--figure-object", default="yogurt-bottle")
+    parser.add_argument("--tried-out", help="also align every pair with each setting of TRIED; write the table here")
     args = parser.parse_args()
     begin = time.perf_counter()
     catalog = read_catalog(embedded_catalog())
     plan = view_plan(list(catalog["object"]), n_train=args.library, n_test=args.test)
-    rows, library, queries = [], [], []
+    rows, library, queries, tried = [], [], [], []
     for _, row in progress(list(catalog.iterrows()), desc="scan pairs", unit="object"):
         obj = row["object"]
         model = load_catalog_model(row)
@@ -94,42 +102,60 @@ def main() -> None:
         library += [(obj, d) for d in describe_views(model, mine[mine["split"] == "train"])]
         queries += [("original", obj, d) for d in describe_views(model, mine[mine["split"] == "test"])]
         try:
-            b1, b2 = boundary(first), boundary(second)
+            loops1, loops2 = boundaries(first), boundaries(second)
+            found = stitch(first, second, scans=True, samples=args.samples).alignment
         except HeatdataError as error:
             rows.append({"object": obj, "error": str(error)})
             continue
-        at_truth = alignment_at(b1, b2, truth[:3, :3], truth[:3, 3], beta=0.0, samples=args.samples)
-        result = {"object": obj, "size": size, "loops": f"{b1.loops}/{b2.loops}",
-                  "boundary_ratio": max(b1.length, b2.length) / min(b1.length, b2.length),
-                  "gap_at_truth": float(np.sqrt(at_truth.edge_cost)) * rms_radius(b1, args.samples) / size,
-                  "j1_at_truth": at_truth.edge_cost, "error": ""}
-        for beta in (1.0, 0.0):
-            found = align(b1, b2, beta=beta, samples=args.samples)
-            result[f"rotation_error_deg_beta{beta:g}"] = rotation_error(found.rotation, truth[:3, :3])
-            result[f"translation_error_beta{beta:g}"] = float(np.linalg.norm(found.translation - truth[:3, 3])) / size
-            result[f"j1_found_beta{beta:g}"] = found.edge_cost
+        at_truth = alignment_at(loops1, loops2, truth[:3, :3], truth[:3, 3], along=SCAN_ALONG, robust=SCAN_ROBUST,
+                                samples=args.samples)
+        centre = second.vertices.mean(axis=0)
+        ray = truth[:3, :3] @ centre + truth[:3, 3]
+        result = {"object": obj, "size": size, "loops": f"{len(loops1)}/{len(loops2)}",
+                  "boundary_ratio": max(loops1[0].length, loops2[0].length) / min(loops1[0].length, loops2[0].length),
+                  "gap_at_truth": at_truth.gap / size, "cost_at_truth": at_truth.cost, "cost_found": found.cost,
+                  "ambiguous": found.ambiguous, "error": ""}
+        for prefix, motion in (("jasnom", (found.rotation, found.translation)), ("fpfh", fpfh_ransac(first, second,
+                                                                                                     size))):
+            moved = motion[0] @ centre + motion[1] - ray
+            result[f"{prefix}_rotation_error_deg"] = rotation_error(motion[0], truth[:3, :3])
+            result[f"{prefix}_translation_error"] = float(np.linalg.norm(moved)) / size
+            result[f"{prefix}_depth_error"] = float(abs(moved @ ray) / np.linalg.norm(ray)) / size
         to_world = standing.pose  # the standing camera's frame -> the model's
-        for prefix, motion in (("registered", truth), ("jasnom", None)):
+        found_motion = np.eye(4)
+        found_motion[:3, :3], found_motion[:3, 3] = found.rotation, found.translation
+        for prefix, motion in (("registered", truth), ("jasnom", found_motion)):
             try:
-                joined = stitch(first, second, motion=motion, name=f"{obj}+{prefix}").model
+                stitched = stitch(first, second, motion=motion, scans=True, name=f"{obj}+{prefix}")
             except HeatdataError as error:
                 result[f"{prefix}_error"] = str(error)
                 continue
-            joined = transformed(joined, to_world[:3, :3], to_world[:3, 3])
+            if args.figure and prefix == "jasnom" and obj == args.figure_object:
+                plot_stitch(first, second, stitched.model, stitched.strip_faces, args.figure,
+                            f"JASNOM on two rendered scans of the {obj} (standing, then flipped; no motion given): "
+                            f"rotation {result['jasnom_rotation_error_deg']:.1f} deg off, the flipped scan "
+                            f"{result['jasnom_depth_error']:.1%} of the size too near along the camera ray")
+            joined = transformed(stitched.model, to_world[:3, :3], to_world[:3, 3])
             result.update(stitched_row(joined, model, size, prefix))
             try:
                 queries += [(prefix, obj, d) for d in describe_views(joined, mine[mine["split"] == "test"])]
             except HeatdataError as error:
                 result[f"{prefix}_error"] = f"rendering: {error}"
         rows.append(result)
+        if args.tried_out:
+            tried += [{"object": obj, **setting_row(name, settings, first, second, truth, size, args.samples)}
+                      for name, settings in TRIED.items()]
     table = pd.DataFrame(rows)
     precision = recognition(library, queries)
     ok = table[table["error"] == ""]
     print(table.drop(columns=["error"]).round(3).to_string(index=False))
-    for beta in ("1", "0"):
-        aligned = (ok[f"rotation_error_deg_beta{beta}"] <= 2) & (ok[f"translation_error_beta{beta}"] <= 0.01)
-        print(f"beta {beta}: {aligned.mean():.1%} of {len(ok)} pairs within 2 deg and 1%; the optimum's J1 below the "
-              f"truth's in {(ok[f'j1_found_beta{beta}'] < ok['j1_at_truth']).mean():.1%}")
+    for prefix in ("jasnom", "fpfh"):
+        aligned = (ok[f"{prefix}_rotation_error_deg"] <= 5) & (ok[f"{prefix}_translation_error"] <= 0.02)
+        turned = ok[f"{prefix}_rotation_error_deg"] <= 5
+        print(f"{prefix}: {aligned.sum()} of {len(ok)} pairs within 5 deg and 2%; rotation within 5 deg in "
+              f"{turned.sum()}; median translation error {ok[f'{prefix}_translation_error'].median():.1%} of the size, "
+              f"of which along the camera ray {ok[f'{prefix}_depth_error'].median():.1%}")
+    print(f"J at the truth at or below J found in {(ok['cost_at_truth'] <= ok['cost_found']).sum()} of {len(ok)}")
     print(f"median gap at the true motion {ok['gap_at_truth'].median():.1%} of the size")
     for prefix in ("registered", "jasnom"):
         done = ok.dropna(subset=[f"{prefix}_watertight"])
@@ -143,12 +169,88 @@ def main() -> None:
         table.round(6).to_csv(args.out, index=False)
     if args.precision_out:
         precision.round(6).to_csv(args.precision_out)
+    if args.tried_out:
+        summary = summarize_tried(pd.DataFrame(tried))
+        print(summary.to_string())
+        summary.to_csv(args.tried_out)
 
 
-def rms_radius(b, samples: int) -> float:
-    """J1's scale (heatdata.stitch): the RMS distance of the resampled boundary from its centroid."""
-    x = resample_loop(b.points, samples)[0]
-    return float(np.sqrt(np.mean(np.sum((x - x.mean(axis=0)) ** 2, axis=1))))
+TRIED = {
+    "the cut models' defaults (boundary normals face each other)": {},
+    "no orientation constraint": {"constraint": False},
+    "no orientation constraint, along 0.1, robust 0.05": {"constraint": False, "along": 0.1, "robust": 0.05},
+    "scan constraint": {"scans": True, "along": 1.0, "robust": 0.0},
+    "scan constraint, along 0.1, robust 0.05 (the scans' defaults)": {"scans": True},
+    "scan constraint, along 0, robust 0.05": {"scans": True, "along": 0.0},
+    "scan constraint, along 0.1, robust 0.05, longest loop only": {"scans": True, "loops": 1},
+    "scan constraint, beta 0, along 0, robust 0.05, longest loop only": {"scans": True, "loops": 1, "beta": 0.0,
+                                                                          "along": 0.0},
+}
+"""The JASNOM settings ``--tried-out`` measures on every pair (issue 29: what was tried for opposite scans)."""
+
+
+def setting_row(name: str, settings: dict, first: Model, second: Model, truth: np.ndarray, size: float,
+                samples: int) -> dict:
+    """One JASNOM setting on one scan pair: errors as in the main table, and J at the truth against J found."""
+    settings = dict(settings)
+    loops = settings.pop("loops", None)
+    scans = settings.pop("scans", False)
+    constraint = settings.pop("constraint", True)
+    weights = {"along": SCAN_ALONG if scans else 1.0, "robust": SCAN_ROBUST if scans else 0.0, **settings}
+    loops1, loops2 = boundaries(first)[:loops], boundaries(second)[:loops]
+    surfaces = (ScanSurface.of(first), ScanSurface.of(second)) if scans else None
+    try:
+        found = align(loops1, loops2, samples=samples, scans=surfaces, constrained=constraint, **weights)
+    except HeatdataError as error:
+        return {"setting": name, "error": str(error)}
+    at_truth = alignment_at(loops1, loops2, truth[:3, :3], truth[:3, 3], samples=samples, **weights)
+    centre = second.vertices.mean(axis=0)
+    ray = truth[:3, :3] @ centre + truth[:3, 3]
+    moved = found.rotation @ centre + found.translation - ray
+    return {"setting": name, "rotation_error_deg": rotation_error(found.rotation, truth[:3, :3]),
+            "translation_error": float(np.linalg.norm(moved)) / size,
+            "depth_error": float(abs(moved @ ray) / np.linalg.norm(ray)) / size,
+            "truth_preferred": bool(at_truth.cost <= found.cost), "error": ""}
+
+
+def summarize_tried(tried: pd.DataFrame) -> pd.DataFrame:
+    """Per setting: pairs within 5 deg and 2%, within 5 deg, median errors, pairs where J prefers the truth."""
+    done = tried[tried["error"] == ""]
+    groups = done.groupby("setting", sort=False)
+    return pd.DataFrame({
+        "pairs": tried.groupby("setting", sort=False).size(),
+        "errors": tried[tried["error"] != ""].groupby("setting", sort=False).size(),
+        "within_5deg_2pct": groups.apply(lambda g: int(((g["rotation_error_deg"] <= 5)
+                                                        & (g["translation_error"] <= 0.02)).sum())),
+        "within_5deg": groups.apply(lambda g: int((g["rotation_error_deg"] <= 5).sum())),
+        "median_translation_error": groups["translation_error"].median(),
+        "median_depth_error": groups["depth_error"].median(),
+        "truth_preferred": groups["truth_preferred"].sum().astype(int),
+    }).fillna({"errors": 0}).astype({"errors": int}).round(4)
+
+
+def fpfh_ransac(first: Model, second: Model, size: float) -> tuple[np.ndarray, np.ndarray]:
+    """open3d's global registration of ``second`` onto ``first`` (FPFH features matched by RANSAC, seeded), the
+    baseline that needs no initial pose: its rotation and translation."""
+    import open3d as o3d
+
+    o3d.utility.random.seed(0)
+    voxel = size / 40
+    clouds, features = [], []
+    for model in (first, second):
+        cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(model.vertices)).voxel_down_sample(voxel)
+        cloud.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=2 * voxel, max_nn=30))
+        features.append(o3d.pipelines.registration.compute_fpfh_feature(
+            cloud, o3d.geometry.KDTreeSearchParamHybrid(radius=5 * voxel, max_nn=100)))
+        clouds.append(cloud)
+    registration = o3d.pipelines.registration
+    found = registration.registration_ransac_based_on_feature_matching(
+        clouds[1], clouds[0], features[1], features[0], True, 1.5 * voxel,
+        registration.TransformationEstimationPointToPoint(False), 3,
+        [registration.CorrespondenceCheckerBasedOnEdgeLength(0.9),
+         registration.CorrespondenceCheckerBasedOnDistance(1.5 * voxel)],
+        registration.RANSACConvergenceCriteria(100000, 0.999))
+    return np.asarray(found.transformation[:3, :3]), np.asarray(found.transformation[:3, 3])
 
 
 def describe_views(model: Model, plan: pd.DataFrame) -> list:

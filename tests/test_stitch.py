@@ -8,7 +8,7 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 from heatdata.models import Model
-from heatdata.stitch import (StitchError, align, alignment_at, boundaries, boundary, closed_part, nearest_targets,
+from heatdata.stitch import (ScanSurface, StitchError, align, alignment_at, boundaries, boundary, closed_part, nearest_targets,
                              resample_loop, split_model, stitch, strip_faces, transformed)
 
 MOTION = Rotation.from_rotvec([0.5, -1.0, 0.3]), np.array([0.3, 0.1, -0.2])
@@ -310,3 +310,32 @@ def test_the_closed_part_merges_seams_keeps_the_largest_piece_and_faces_outwards
     assert len(part.faces) == len(ellipsoid.faces) and mesh.is_watertight and mesh.volume > 0
     with pytest.raises(StitchError, match="not closed"):
         closed_part(split_model(ellipsoid, [0.0, 1.0, 0.0])[0])
+
+
+def test_a_scan_faces_its_own_camera_and_not_the_opposite_one():
+    cap = trimesh.creation.icosphere(subdivisions=3, radius=0.1)
+    keep = cap.triangles_center[:, 2] < 0  # the half a camera at the origin sees of a ball 1 m ahead
+    scan = Model.untextured("scan", cap.vertices + [0.0, 0.0, 1.0], cap.faces[keep][:, ::-1], (0.5, 0.5, 0.5))
+    surface = ScanSurface.of(scan)
+    assert surface.toward_camera == -1.0  # wound away from its camera, as heatdata's views are
+    assert surface.faces_camera(np.eye(3), np.zeros(3), np.zeros(3)) > 0.85  # all but the faces near the limb
+    turned = Rotation.from_rotvec([0.0, np.pi, 0.0]).as_matrix()  # the back of the ball, seen from the same camera
+    assert surface.faces_camera(turned, [0.0, 0.0, 2.0] - turned @ [0.0, 0.0, 1.0], np.zeros(3)) < 0.15
+
+
+def test_two_rendered_scans_from_opposite_sides_are_turned_right():
+    from heatdata.catalog import embedded_catalog, load_catalog_model, read_catalog
+    from heatdata.render import render_view
+
+    catalog = read_catalog(embedded_catalog()).set_index("object", drop=False)
+    bottle = load_catalog_model(catalog.loc["yogurt-bottle"])
+    size = float(np.linalg.norm(bottle.extents))
+    views = [render_view(bottle, azimuth, elevation, 3 * size, seed=seed)
+             for azimuth, elevation, seed in ((0.0, 45.0, 1), (180.0, -45.0, 2))]  # standing, then flipped (7.5)
+    first, second = (Model.untextured(name, v.vertices, v.faces, v.colors[v.faces]) for name, v in
+                     zip(("standing", "flipped"), views, strict=True))
+    truth = np.linalg.inv(views[0].pose) @ views[1].pose
+    found = stitch(first, second, scans=True, samples=64).alignment
+    assert np.degrees(Rotation.from_matrix(found.rotation @ truth[:3, :3].T).magnitude()) < 5
+    # each scan lies on the far side from the other's camera there
+    assert ScanSurface.of(second).faces_camera(found.rotation, found.translation, np.zeros(3)) < 0.5

@@ -18,7 +18,7 @@ if "motion" in pair:  # registered cameras: translation in file units, between t
     motion = np.array(pair["motion"], float)
     motion[:3, 3] *= scale
 first, second = (load_model(path, scale=scale, label=pair.get("label", ""), center=False) for path in snakemake.input)
-result = stitch(first, second, **settings, name=pair["object"], motion=motion)
+result = stitch(first, second, **settings, scans=pair.get("scans", False), name=pair["object"], motion=motion)
 save_model(result.model, snakemake.output.model)
 a = result.alignment
 if a.ambiguous:
