@@ -522,8 +522,9 @@ def _differs(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray],
     return angle > degrees or float(np.linalg.norm(a[0] @ centre + a[1] - b[0] @ centre - b[1])) > fraction * size
 
 
-def align(first: Boundary | list[Boundary], second: Boundary | list[Boundary], *, alpha: float = ALPHA, beta: float = BETA, gamma: float = GAMMA,
-          along: float = ALONG, samples: int = 128, refine: int = REFINE, robust: float = 0.0,
+def align(first: Boundary | list[Boundary], second: Boundary | list[Boundary], *, alpha: float = ALPHA,
+          beta: float = BETA, gamma: float = GAMMA, along: float = ALONG, samples: int = 128, refine: int = REFINE,
+          robust: float = 0.0,
           scans: tuple[ScanSurface, ScanSurface] | None = None, constrained: bool = True, trace: list | None = None
           ) -> Alignment:
     """Eq. 7.5-7.6: the rigid motion of ``second`` onto ``first`` that minimizes J (module docstring).
@@ -597,21 +598,24 @@ def align(first: Boundary | list[Boundary], second: Boundary | list[Boundary], *
     rotations, translations = _kabsch(c1.samples[:samples][order], c2.samples[:samples])
     coarse = np.array([evaluate(r, t)[1] for r, t in zip(rotations, translations, strict=True)])
     if not np.isfinite(coarse).any():
-        raise StitchError("the two meshes do not face each other across their boundaries at any alignment (the "
-                          "boundary normals agree): either both are wound the same way round the cut (reverse one's "
-                          "faces), the second lies on the first (the same surface twice), or their longest "
-                          "boundaries are not one curve")
-    starts: list[tuple[np.ndarray, np.ndarray]] = []
+        raise StitchError(
+            "no alignment puts each scan on the far side of the object from the other's camera: are both in their "
+            "cameras' frames (camera at the origin), taken from opposite sides?" if scans is not None else
+            "the two meshes do not face each other across their boundaries at any alignment (the boundary normals "
+            "agree): either both are wound the same way round the cut (reverse one's faces), the second lies on the "
+            "first (the same surface twice), or their longest boundaries are not one curve")
+    starts: list[tuple[np.ndarray, np.ndarray, float]] = []
     for k in np.argsort(coarse, kind="stable")[:np.isfinite(coarse).sum()]:  # the cheapest, 10 deg or 5% apart
-        pose = (rotations[k], translations[k])
-        if all(_differs(pose, start, centre, size, 10.0, 0.05) for start in starts):
-            starts.append(pose)
+        if all(_differs((rotations[k], translations[k]), start[:2], centre, size, 10.0, 0.05) for start in starts):
+            starts.append((rotations[k], translations[k], float(coarse[k])))
         if len(starts) == refine:
             break
-    refined = sorted((_refine(r, t, r @ centre + t, w, evaluate) for r, t in starts), key=lambda found: found[2])
-    rotation, translation, best = refined[0]
-    others = [j for r, t, j in refined[1:] if np.isfinite(j)
-              and _differs((r, t), (rotation, translation), centre, size, DISTINCT_DEGREES, DISTINCT_SIZE)]
+    # a refinement that ends where the constraint forbids (J = inf) leaves its start as the candidate
+    found = sorted((min((_refine(r, t, r @ centre + t, w, evaluate), (r, t, j)), key=lambda pose: pose[2])
+                    for r, t, j in starts), key=lambda pose: pose[2])
+    rotation, translation, best = found[0]
+    others = [j for r, t, j in found[1:]
+              if _differs((r, t), (rotation, translation), centre, size, DISTINCT_DEGREES, DISTINCT_SIZE)]
     if trace is not None:
         trace.extend(visited)
     return _alignment(rotation, translation, c1, c2, w, min(others, default=np.nan), len(visited), begin)
@@ -638,9 +642,9 @@ def _refine(rotation0: np.ndarray, translation0: np.ndarray, centre: np.ndarray,
     return rotation, translation, evaluate(rotation, translation)[1]
 
 
-def alignment_at(first: Boundary | list[Boundary], second: Boundary | list[Boundary], rotation: np.ndarray, translation: np.ndarray, *,
-                 alpha: float = ALPHA, beta: float = BETA, gamma: float = GAMMA, along: float = ALONG,
-                 robust: float = 0.0, samples: int = 128) -> Alignment:
+def alignment_at(first: Boundary | list[Boundary], second: Boundary | list[Boundary], rotation: np.ndarray,
+                 translation: np.ndarray, *, alpha: float = ALPHA, beta: float = BETA, gamma: float = GAMMA,
+                 along: float = ALONG, robust: float = 0.0, samples: int = 128) -> Alignment:
     """J at a known rigid motion of ``second`` onto ``first`` (registered cameras, a turntable, the truth).
 
     Nothing is searched, so :func:`stitch` can join scans whose motion is known and an

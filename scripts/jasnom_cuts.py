@@ -1,4 +1,4 @@
-"""JASNOM against ground truth (thesis ch. 7, issues 14 and 29): closed models cut in two, one half moved, stitched back.
+"""JASNOM against ground truth (thesis ch. 7, issues 14, 29): closed models cut in two, one half moved, stitched back.
 
 Every model whose largest piece is a closed 2-manifold (``heatdata.stitch.closed_part``)
 from the embedded set and from Sweet Home 3D libraries (imported into a temporary
@@ -204,9 +204,11 @@ def main() -> None:
     prefers = (ok["cost_at_truth"] <= ok["cheapest_wrong"]) | ok["cheapest_wrong"].isna()
     print(table.drop(columns=["error"]).round(4).to_string(index=False))
     print(f"{len(ok)} of {len(table)} cuts stitched; rotation <= 2 deg and translation <= 1%: {good.mean():.1%} "
-          f"({good.sum()}); watertight and consistently wound: {(ok['watertight'] & ok['winding_consistent']).mean():.1%}; "
+          f"({good.sum()}); watertight and consistently wound: "
+          f"{(ok['watertight'] & ok['winding_consistent']).mean():.1%}; "
           f"Hausdorff <= 1%: {(ok['hausdorff'] <= 0.01).mean():.1%}; J at the truth at or below every wrong pose "
-          f"visited: {prefers.mean():.1%}; ambiguous: {ok['ambiguous'].mean():.1%}; median {ok['seconds'].median():.2f} "
+          f"visited: {prefers.mean():.1%}; ambiguous: {ok['ambiguous'].mean():.1%}; median "
+          f"{ok['seconds'].median():.2f} "
           f"s a cut; {time.perf_counter() - begin:.0f} s in all")
     if args.out:
         table.round(6).to_csv(args.out, index=False)
