@@ -52,10 +52,11 @@ way round the object, whose faces are then reversed with a warning), gives a
 correspondence of the longest loops; its closed-form rigid alignment (Kabsch) is a
 candidate. J is evaluated at all ``2 * samples`` candidates, and the cheapest ``refine``
 that are at least 10 deg or 5% of the size apart are refined over all six degrees of
-freedom (scipy's trust-region least squares on J's residuals). The best is kept; the
-best *different* refined pose (more than 2 deg or 1% of the size away) is the runner-up,
-whose J says whether the answer is ambiguous (:attr:`Alignment.ambiguous`): a symmetric
-boundary, such as a circle, fits as well at other turns.
+freedom (scipy's trust-region least squares on J's residuals, then closest-point Kabsch
+steps while J decreases). The best is kept; the best *different* refined pose (more than
+2 deg or 1% of the size away) is the runner-up, whose J says whether the answer is
+ambiguous (:attr:`Alignment.ambiguous`): a symmetric boundary, such as a circle, fits as
+well at other turns.
 
 **The stitch** (7.4). At the motion, each vertex of B2 is assigned its nearest vertex of
 B1, made monotone along the loops (the order constraint of eq. 7.7), and the strip of
@@ -218,19 +219,24 @@ def _moved(b: Boundary, rotation: np.ndarray, translation: np.ndarray) -> Bounda
 
 
 def _pair_loops(first: list[Boundary], second: list[Boundary]) -> list[tuple[Boundary, Boundary]]:
-    """Greedy pairs of loops of two aligned meshes: nearest centroids, lengths within a factor 1.5."""
-    pairs, taken = [], set()
-    for b1 in first:
-        best, gap = None, np.inf
+    """Pairs of loops of two aligned meshes, closest first: by the mean distance from each loop's vertices to the
+    other's (both ways), lengths within a factor 1.5, apart by less than a loop's radius."""
+    trees = [cKDTree(b2.points) for b2 in second]
+    candidates = []
+    for i, b1 in enumerate(first):
+        tree1 = cKDTree(b1.points)
         for k, b2 in enumerate(second):
-            if k in taken or max(b1.length, b2.length) > 1.5 * min(b1.length, b2.length) or len(b2.loop) < 3:
+            if len(b1.loop) < 3 or len(b2.loop) < 3 or max(b1.length, b2.length) > 1.5 * min(b1.length, b2.length):
                 continue
-            distance = np.linalg.norm(b1.points.mean(axis=0) - b2.points.mean(axis=0))
-            if distance < gap and distance < 0.5 * max(b1.length, b2.length) / np.pi:
-                best, gap = k, distance
-        if best is not None and len(b1.loop) >= 3:
-            taken.add(best)
-            pairs.append((b1, second[best]))
+            distance = 0.5 * (trees[k].query(b1.points)[0].mean() + tree1.query(b2.points)[0].mean())
+            if distance < 0.5 * max(b1.length, b2.length) / np.pi:
+                candidates.append((distance, i, k))
+    pairs, taken1, taken2 = [], set(), set()
+    for _, i, k in sorted(candidates):
+        if i not in taken1 and k not in taken2:
+            taken1.add(i)
+            taken2.add(k)
+            pairs.append((first[i], second[k]))
     return pairs
 
 
@@ -345,10 +351,11 @@ class _Curve:
     @classmethod
     def of(cls, loops: list[Boundary], samples: int) -> "_Curve":
         loops = [b for b in loops if len(b.loop) >= 3]
-        resampled = [resample_loop(b.points, samples if k == 0 else max(3, round(samples * b.length / loops[0].length)),
-                                   b.normals) for k, b in enumerate(loops)]
-        spacing = loops[0].length / (2 * samples)  # polylines split finer, so that the nearest vertex finds the
-        dense = [_densified(b, spacing) for b in loops]  # closest segment
+        counts = [samples if k == 0 else max(3, round(samples * b.length / loops[0].length)) for k, b in enumerate(loops)]
+        resampled = [resample_loop(b.points, count, b.normals) for b, count in zip(loops, counts, strict=True)]
+        # every loop split to half the finest sample spacing, so that the nearest vertices find the closest segment
+        spacing = min(b.length / (2 * count) for b, count in zip(loops, counts, strict=True))
+        dense = [_densified(b, spacing) for b in loops]
         counts = [len(points) for points, _ in dense]
         starts = np.cumsum([0] + counts)
         index = np.arange(starts[-1])
@@ -611,7 +618,7 @@ def align(first: Boundary | list[Boundary], second: Boundary | list[Boundary], *
         if len(starts) == refine:
             break
     # a refinement that ends where the constraint forbids (J = inf) leaves its start as the candidate
-    found = sorted((min((_refine(r, t, r @ centre + t, w, evaluate), (r, t, j)), key=lambda pose: pose[2])
+    found = sorted((min((_refine(r, t, r @ centre + t, w, c1, c2, evaluate), (r, t, j)), key=lambda pose: pose[2])
                     for r, t, j in starts), key=lambda pose: pose[2])
     rotation, translation, best = found[0]
     others = [j for r, t, j in found[1:]
@@ -621,10 +628,10 @@ def align(first: Boundary | list[Boundary], second: Boundary | list[Boundary], *
     return _alignment(rotation, translation, c1, c2, w, min(others, default=np.nan), len(visited), begin)
 
 
-def _refine(rotation0: np.ndarray, translation0: np.ndarray, centre: np.ndarray, w: _Weights, evaluate
-            ) -> tuple[np.ndarray, np.ndarray, float]:
+def _refine(rotation0: np.ndarray, translation0: np.ndarray, centre: np.ndarray, w: _Weights, c1: _Curve,
+            c2: _Curve, evaluate) -> tuple[np.ndarray, np.ndarray, float]:
     """Trust-region least squares from a pose, over a rotation vector about ``centre`` (B2's moved centroid) and a
-    translation in units of s."""
+    translation in units of s, then :func:`_polished`."""
 
     def motion(p):
         turn = Rotation.from_rotvec(p[:3]).as_matrix()
@@ -639,7 +646,25 @@ def _refine(rotation0: np.ndarray, translation0: np.ndarray, centre: np.ndarray,
                            max_nfev=300, loss="soft_l1" if w.robust > 0 else "linear",
                            f_scale=w.robust / np.sqrt(pairs) if w.robust > 0 else 1.0)
     rotation, translation = motion(result.x)
-    return rotation, translation, evaluate(rotation, translation)[1]
+    return _polished(rotation, translation, c1, c2, evaluate)
+
+
+def _polished(rotation: np.ndarray, translation: np.ndarray, c1: _Curve, c2: _Curve, evaluate,
+              steps: int = 30) -> tuple[np.ndarray, np.ndarray, float]:
+    """A pose improved by closest-point Kabsch steps (ICP on the loops) while J decreases: where the boundaries
+    coincide it ends exactly on them, which the least squares, over closest points that switch segments, can
+    stop short of."""
+    best = evaluate(rotation, translation)[1]
+    for _ in range(steps):
+        moved = c2.samples @ rotation.T + translation
+        targets = np.vstack([c1.closest(moved)[0], c1.samples])
+        sources = np.vstack([c2.samples, c2.closest((c1.samples - translation) @ rotation)[0]])
+        turn, shift = _kabsch(targets[None], sources)
+        cost = evaluate(turn[0], shift[0])[1]
+        if not cost < best:
+            break
+        rotation, translation, best = turn[0], shift[0], cost
+    return rotation, translation, best
 
 
 def alignment_at(first: Boundary | list[Boundary], second: Boundary | list[Boundary], rotation: np.ndarray,
