@@ -60,7 +60,7 @@ well at other turns.
 
 **The stitch** (7.4). At the motion, each vertex of B2 is assigned its nearest vertex of
 B1, made monotone along the loops (the order constraint of eq. 7.7), and the strip of
-7.4 walks both loops; the other loops are paired by nearest centroid and similar length.
+7.4 walks both loops; the other loops are paired by their mean distance and similar length.
 Strip edges shorter than a hundredth of the seam's median edge join vertices that
 coincide: they are welded and the strip's degenerate triangles dropped, so two halves
 that share a boundary become one watertight, consistently wound mesh, also when a reader
@@ -140,11 +140,16 @@ class Boundary:
     loops: int
 
 
-def _manifold_edges(faces: np.ndarray, name: str) -> None:
+def _overfull_edges(faces: np.ndarray) -> int:
+    """How many edges of ``faces`` belong to more than two of them."""
     edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
-    _, counts = np.unique(edges, axis=0, return_counts=True)
-    if (counts > 2).any():
-        raise StitchError(f"{name}: {int((counts > 2).sum())} edge(s) belong to more than two faces: not a "
+    return int((np.unique(edges, axis=0, return_counts=True)[1] > 2).sum())
+
+
+def _manifold_edges(faces: np.ndarray, name: str) -> None:
+    overfull = _overfull_edges(faces)
+    if overfull:
+        raise StitchError(f"{name}: {overfull} edge(s) belong to more than two faces: not a "
                           "2-manifold mesh (clean it first, e.g. pymeshlab's meshing_repair_non_manifold_edges)")
 
 
@@ -637,7 +642,7 @@ def _refine(rotation0: np.ndarray, translation0: np.ndarray, centre: np.ndarray,
         turn = Rotation.from_rotvec(p[:3]).as_matrix()
         return turn @ rotation0, turn @ (translation0 - centre) + centre + w.scale * p[3:]
 
-    pairs = len(evaluate(rotation0, translation0)[0])
+    pairs = len(c1.samples) + len(c2.samples)
 
     def residuals(p):
         return evaluate(*motion(p))[0].ravel() / np.sqrt(pairs)
@@ -767,9 +772,7 @@ def _weld(vertices: np.ndarray, faces: np.ndarray, strip: np.ndarray, offset: in
             index[b] = a
     joined = index[faces]
     keep = (joined[:, 0] != joined[:, 1]) & (joined[:, 1] != joined[:, 2]) & (joined[:, 2] != joined[:, 0])
-    edge_keys = np.sort(np.concatenate([joined[keep][:, [0, 1]], joined[keep][:, [1, 2]], joined[keep][:, [2, 0]]]),
-                        axis=1)
-    if taken and (np.unique(edge_keys, axis=0, return_counts=True)[1] > 2).any():
+    if taken and _overfull_edges(joined[keep]):
         log.warning("welding the seam's coincident vertices would make an edge of more than two faces: the strip is "
                     "kept whole")
         return faces, np.ones(len(faces), dtype=bool), 0
@@ -783,6 +786,12 @@ def _same_direction(first: Boundary, second: Boundary) -> bool:
         return _unit(np.roll(b.points, -1, axis=0) - np.roll(b.points, 1, axis=0))
     targets = nearest_targets(first, second)
     return float(np.mean(np.einsum("ij,ij->i", tangents(first)[targets], tangents(second)))) > 0
+
+
+def _reversed(model: Model) -> Model:
+    """``model`` with every face wound the other way (its corners' colours and texture coordinates with them)."""
+    return replace(model, faces=model.faces[:, ::-1].copy(), corner_colors=model.corner_colors[:, ::-1].copy(),
+                   corner_uv=model.corner_uv[:, ::-1].copy())
 
 
 def transformed(model: Model, rotation: np.ndarray, translation: np.ndarray) -> Model:
@@ -824,7 +833,7 @@ def stitch(first: Model, second: Model, *, alpha: float = ALPHA, beta: float = B
 
     The longest loops align the meshes (7.2-7.3, 7.5; module docstring). Beyond the
     thesis, the other loops (a cut through a concave object leaves several) are paired by
-    nearest centroid and similar length and stitched at that alignment.
+    their mean distance and similar length and stitched at that alignment.
 
     Parameters
     ----------
@@ -859,9 +868,8 @@ def stitch(first: Model, second: Model, *, alpha: float = ALPHA, beta: float = B
     Raises
     ------
     StitchError
-        As :func:`boundary` and :func:`align`; the same mesh twice; meshes that do not face
-        each other across their boundaries after the search (wound the same way round the
-        cut, or the second lying on the first).
+        As :func:`boundary` and :func:`align` (no pose where the meshes face each other);
+        the same mesh twice.
     """
     if (first.vertices.shape == second.vertices.shape and first.faces.shape == second.faces.shape
             and np.array_equal(first.faces, second.faces) and np.allclose(first.vertices, second.vertices)):
@@ -878,20 +886,14 @@ def stitch(first: Model, second: Model, *, alpha: float = ALPHA, beta: float = B
     else:
         motion = rigid_motion(motion)
         alignment = alignment_at(loops1, loops2, motion[:3, :3], motion[:3, 3], **weights)
-    if alignment.facing > 0 and motion is not None and not scans:
+    if alignment.facing > 0 and motion is not None and not scans:  # a found motion faces them (align's constraint)
         log.warning("%s and %s do not face each other across their boundaries at the given motion (mean cosine of "
                     "the boundary normals %+.2f): the strip spans a gap the scans did not see", first.name,
                     second.name, alignment.facing)
-    elif alignment.facing > 0 and not scans:
-        raise StitchError(f"{first.name} and {second.name} do not face each other across their boundaries after "
-                          f"the best alignment (mean cosine of the boundary normals {alignment.facing:+.2f}): either "
-                          "both are wound the same way round the cut (reverse one's faces), the second lies on the "
-                          "first (the same surface twice), or their longest boundaries are not one curve")
     if _same_direction(b1, _moved(b2, alignment.rotation, alignment.translation)):
         log.warning("%s is wound the other way round the object from %s (their boundaries run the same way at the "
                     "seam): its faces are reversed", second.name, first.name)
-        second = replace(second, faces=second.faces[:, ::-1].copy(), corner_colors=second.corner_colors[:, ::-1].copy(),
-                         corner_uv=second.corner_uv[:, ::-1].copy())
+        second = _reversed(second)
         loops2 = boundaries(second)
     moved = transformed(second, alignment.rotation, alignment.translation)
     moved_loops = [_moved(b, alignment.rotation, alignment.translation) for b in loops2]
@@ -997,6 +999,5 @@ def closed_part(model: Model, tolerance: float = 1e-6) -> Model:
                           f"wound")
     corners = part.vertices[part.faces]
     if np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2])).sum() < 0:  # wound inwards
-        part = replace(part, faces=part.faces[:, ::-1].copy(), corner_colors=part.corner_colors[:, ::-1].copy(),
-                       corner_uv=part.corner_uv[:, ::-1].copy())
+        part = _reversed(part)
     return part
