@@ -23,20 +23,27 @@ def timed(function):
 
 def main() -> None:
     catalog = hd.read_catalog("data/models/catalog.csv")
-    view = hd.render_view(hd.load_catalog_model(catalog[catalog["object"] == "beer-mug"].iloc[0]), 30.0, 30.0, 1.0,
-                          seed=0)
+    view = hd.render_view(
+        hd.load_catalog_model(catalog[catalog["object"] == "beer-mug"].iloc[0]), 30.0, 30.0, 1.0, seed=0
+    )
     sources = hd.candidate_sources(view, 250)
     pvhk = hd.DescriptorSpec(kind="pvhk", sampling="polar")
     with threadpool_limits(1):
         spectral, spectral_s = timed(lambda: hd.candidate_descriptors(view, sources, pvhk))
-        krylov, krylov_s = timed(lambda: hd.describe(view, [hd.DescriptorSpec(kind="pvhk", sampling="polar",
-                                                                               source=int(s)) for s in sources]))
-        _, pvst_s = timed(lambda: hd.candidate_descriptors(view, sources, hd.DescriptorSpec(kind="pvst",
-                                                                                          sampling="polar")))
+        krylov, krylov_s = timed(
+            lambda: hd.describe(
+                view, [hd.DescriptorSpec(kind="pvhk", sampling="polar", source=int(s)) for s in sources]
+            )
+        )
+        _, pvst_s = timed(
+            lambda: hd.candidate_descriptors(view, sources, hd.DescriptorSpec(kind="pvst", sampling="polar"))
+        )
     error = max(np.abs(a.values - b.values).max() for a, b in zip(spectral, krylov, strict=True))
-    print(f"{view.n_vertices} vertices, 250 sources: PVHK from one spectrum {spectral_s:.2f} s, one Krylov solve "
-          f"per source {krylov_s:.2f} s ({krylov_s / spectral_s:.0f}x), max difference {error:.1e}; "
-          f"PVST (a heat model per source) {pvst_s:.1f} s")
+    print(
+        f"{view.n_vertices} vertices, 250 sources: PVHK from one spectrum {spectral_s:.2f} s, one Krylov solve "
+        f"per source {krylov_s:.2f} s ({krylov_s / spectral_s:.0f}x), max difference {error:.1e}; "
+        f"PVST (a heat model per source) {pvst_s:.1f} s"
+    )
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@
 Builds the candidate descriptors of a compact config's objects as the workflow does (Sweet Home 3D models,
 the config's views, ``compact.library_candidates`` sources per library view; test views are not needed)
 and selects the sources of every (object, library size, alpha) with the LP and with the DP
-(``heatdata.library.cyclic_dp``), each in a child process with a time limit, and compares the optima.
+(``heatdata.recognition.compact.cyclic_dp``), each in a child process with a time limit, and compares the optima.
 Needs Debian's sweethome3d-furniture.
 
     .venv/bin/python benchmarks/bench_compact_lp.py config/compact_chairs.yaml [--timeout 600]
@@ -21,11 +21,18 @@ import pandas as pd
 import yaml
 from threadpoolctl import threadpool_limits
 
-from heatdata.catalog import extract_sh3f_model, sh3f_catalogs
-from heatdata.dataset import candidate_view_table, render_object_views
 from heatdata.descriptors import DescriptorSpec
-from heatdata.library import combined_costs, consecutive_costs, cyclic_dp, library_subset, other_object_distances
-from heatdata.library import select_sources
+from heatdata.experiments.describe import candidate_view_table
+from heatdata.experiments.views import render_object_views
+from heatdata.io.sh3f import extract_sh3f_model, sh3f_catalogs
+from heatdata.recognition.compact import (
+    combined_costs,
+    consecutive_costs,
+    cyclic_dp,
+    other_object_distances,
+    select_sources,
+)
+from heatdata.recognition.evaluate import library_subset
 
 log = logging.getLogger("bench_compact_lp")
 
@@ -33,8 +40,9 @@ log = logging.getLogger("bench_compact_lp")
 def candidate_table(config: dict, folder: Path) -> pd.DataFrame:
     """Library-view candidate rows of every object of ``config`` (a compact config over config/config.yaml)."""
     sh3f = config["sh3f"]
-    catalog = sh3f_catalogs(sh3f["files"], name_pattern=sh3f.get("names"), label=sh3f.get("label"),
-                            exclude_pattern=sh3f.get("exclude"))
+    catalog = sh3f_catalogs(
+        sh3f["files"], name_pattern=sh3f.get("names"), label=sh3f.get("label"), exclude_pattern=sh3f.get("exclude")
+    )
     if config.get("objects"):
         catalog = catalog[catalog["object"].isin(config["objects"])]
     views = {**config["views"], "test": 0}
@@ -44,19 +52,27 @@ def candidate_table(config: dict, folder: Path) -> pd.DataFrame:
         tic = time.perf_counter()
         row["path"] = str(extract_sh3f_model(row["archive"], row["file"], folder))
         frame = render_object_views(row, views)
-        tables.append(candidate_view_table(frame, DescriptorSpec(**compact["descriptor"]),
-                                           library_count=compact["library_candidates"], test_count=0))
+        tables.append(
+            candidate_view_table(
+                frame,
+                DescriptorSpec(**compact["descriptor"]),
+                library_count=compact["library_candidates"],
+                test_count=0,
+            )
+        )
         log.info("%s: %d views, candidates in %.1f s", row["object"], len(frame), time.perf_counter() - tic)
     return pd.concat(tables, ignore_index=True)
 
 
 def problems(table: pd.DataFrame, sizes: list[int], alphas: list[float]):
-    """(object, size, alpha, edge costs) as :func:`heatdata.library.compact_libraries` builds them."""
+    """(object, size, alpha, edge costs) as :func:`heatdata.experiments.compact.compact_libraries` builds them."""
     multi = table[table["source_rule"] == "candidates"]
     for size in sizes:
         subset = library_subset(multi, size)
-        stacked = {obj: [np.stack(g["values"].to_numpy()) for _, g in rows.groupby("azimuth", sort=True)]
-                   for obj, rows in subset.groupby("object")}
+        stacked = {
+            obj: [np.stack(g["values"].to_numpy()) for _, g in rows.groupby("azimuth", sort=True)]
+            for obj, rows in subset.groupby("object")
+        }
         rho = other_object_distances(stacked)
         for obj, views in stacked.items():
             consecutive = consecutive_costs(views)
@@ -104,12 +120,14 @@ def main() -> None:
         table = candidate_table(config, Path(folder))
     sizes = args.sizes or config["library_sizes"]
     warm_up()
-    print(f"{args.config}: {table['object'].nunique()} objects, {config['compact']['library_candidates']} "
-          f"candidates per view; LP and DP, one thread, limit {args.timeout:.0f} s a solve")
+    print(
+        f"{args.config}: {table['object'].nunique()} objects, {config['compact']['library_candidates']} "
+        f"candidates per view; LP and DP, one thread, limit {args.timeout:.0f} s a solve"
+    )
     print(f"{'object':<44} {'size':>4} {'alpha':>5} {'LP s':>8} {'DP s':>7} {'difference':>10}")
     worst = 0.0
     for obj, size, alpha, costs in problems(table, sizes, config["compact"]["alphas"]):
-        lp_seconds, lp = run(lambda c: select_sources(c, name=obj), costs, args.timeout)
+        lp_seconds, lp = run(lambda c, name=obj: select_sources(c, name=name), costs, args.timeout)
         dp_seconds, dp = run(cyclic_dp, costs, args.timeout)
         lp_text = f"{lp_seconds:8.2f}" if np.isfinite(lp_seconds) else f"{'>' + format(args.timeout, '.0f'):>8}"
         difference = abs(lp - dp) / max(1.0, abs(dp))

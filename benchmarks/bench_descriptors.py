@@ -24,9 +24,16 @@ from threadpoolctl import threadpool_limits
 import heatdata as hd
 
 ROOT = Path(__file__).resolve().parents[1]
-SPECS = [hd.DescriptorSpec("pvhk", 64, "center", "polar"), hd.DescriptorSpec("pvst", 64, "interior", "polar"),
-         hd.DescriptorSpec("si-hks"), hd.DescriptorSpec("fpfh"), hd.DescriptorSpec("vfh"), hd.DescriptorSpec("esf"),
-         hd.DescriptorSpec("hgd"), hd.DescriptorSpec("hgd", color="hue-saturation")]
+SPECS = [
+    hd.DescriptorSpec("pvhk", 64, "center", "polar"),
+    hd.DescriptorSpec("pvst", 64, "interior", "polar"),
+    hd.DescriptorSpec("si-hks"),
+    hd.DescriptorSpec("fpfh"),
+    hd.DescriptorSpec("vfh"),
+    hd.DescriptorSpec("esf"),
+    hd.DescriptorSpec("hgd"),
+    hd.DescriptorSpec("hgd", color="hue-saturation"),
+]
 
 
 def fresh(view: hd.View) -> hd.View:

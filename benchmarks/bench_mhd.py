@@ -1,5 +1,5 @@
 """Search speed of the modified Hausdorff distance (eq. 3.1) over a large library: the exact search
-(``heatdata.distance.nearest_mhd``) beside the distance matrix it replaces (``mhd_matrix`` + argmin).
+(``heatdata.core.distances.nearest_mhd``) beside the distance matrix it replaces (``mhd_matrix`` + argmin).
 
     .venv/bin/python benchmarks/bench_mhd.py [--library 100000] [--queries 20]
 
@@ -18,7 +18,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 import heatdata as hd
-from heatdata.distance import nearest_mhd
+from heatdata.core.distances import nearest_mhd
 
 
 def curves(rng: np.random.Generator, n: int) -> np.ndarray:
@@ -40,15 +40,21 @@ def main() -> None:
     rng = np.random.default_rng(0)
     large = curves(rng, args.library)
     nearest_mhd(large[:1], large[:2])  # compile (or load the cached kernel) outside the timing
-    methods = {"mhd_matrix + argmin": lambda q, lib: np.argmin(hd.mhd_matrix(q, lib), axis=1),
-               "nearest_mhd": lambda q, lib: nearest_mhd(q, lib)[0]}
+    methods = {
+        "mhd_matrix + argmin": lambda q, lib: np.argmin(hd.mhd_matrix(q, lib), axis=1),
+        "nearest_mhd": lambda q, lib: nearest_mhd(q, lib)[0],
+    }
     with threadpool_limits(1):
-        for name, (queries, library) in {f"{args.queries} x {args.library}": (curves(rng, args.queries), large),
-                                         "100 x 560": (curves(rng, 100), large[:560])}.items():
+        for name, (queries, library) in {
+            f"{args.queries} x {args.library}": (curves(rng, args.queries), large),
+            "100 x 560": (curves(rng, 100), large[:560]),
+        }.items():
             times = {method: per_pair(f, queries, library) for method, f in methods.items()}
             (t0, i0), (t1, i1) = times.values()
-            print(f"{name}: mhd_matrix {t0 * 1e6:.2f} us/pair, nearest_mhd {t1 * 1e6:.3f} us/pair, "
-                  f"{t0 / t1:.1f}x; same items: {bool(np.array_equal(i0, i1))}")
+            print(
+                f"{name}: mhd_matrix {t0 * 1e6:.2f} us/pair, nearest_mhd {t1 * 1e6:.3f} us/pair, "
+                f"{t0 / t1:.1f}x; same items: {bool(np.array_equal(i0, i1))}"
+            )
 
 
 if __name__ == "__main__":

@@ -27,9 +27,19 @@ def synthetic(objects: int, views: int, seed: int) -> pd.DataFrame:
     rng = np.random.default_rng(seed)
     shapes = np.cumsum(np.random.default_rng(0).normal(0, 0.05, (objects, 64)), axis=1)
     angles = np.arange(views) * 360.0 / views
-    return pd.DataFrame([{"object": f"object-{o}", "azimuth": a, "kind": "pvhk",
-                          "values": 1 + shapes[o] + 0.05 * np.cos(np.radians(a)) + rng.normal(0, 0.01, 64)}
-                         for o in range(objects) for a in angles for _ in range(2)])
+    return pd.DataFrame(
+        [
+            {
+                "object": f"object-{o}",
+                "azimuth": a,
+                "kind": "pvhk",
+                "values": 1 + shapes[o] + 0.05 * np.cos(np.radians(a)) + rng.normal(0, 0.01, 64),
+            }
+            for o in range(objects)
+            for a in angles
+            for _ in range(2)
+        ]
+    )
 
 
 def best(function, repeat: int) -> float:
@@ -55,10 +65,12 @@ def main() -> None:
         f = hd.ParticleFilter(library, similarity, particles=args.particles, seed=0)
         step = best(lambda: f.step(observations, 360.0 / args.views), args.repeat)
         move = best(lambda: f.best_move((-90, -45, -15, 15, 45, 90)), args.repeat)
-        exact = hd.multiview.ExhaustiveFilter(f.model)
+        exact = hd.ExhaustiveFilter(f.model)
         exhaustive = best(lambda: exact.step(observations, 360.0 / args.views), args.repeat)
-    print(f"{args.objects} objects x {args.views} views x 2 descriptors, {args.particles} particles, one thread, "
-          f"best of {args.repeat}")
+    print(
+        f"{args.objects} objects x {args.views} views x 2 descriptors, {args.particles} particles, one thread, "
+        f"best of {args.repeat}"
+    )
     print(f"filter step (2 observations): {step:.2f} ms")
     print(f"best_move over 6 candidate steps: {move:.2f} ms")
     print(f"exhaustive filter step ({len(exact.object)} hypotheses, 1 deg apart): {exhaustive:.2f} ms")

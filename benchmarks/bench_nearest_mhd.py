@@ -22,7 +22,8 @@ import pandas as pd
 from scipy.spatial.distance import cdist
 
 import heatdata as hd
-from heatdata.dataset import candidate_rows, render_views, view_plan
+from heatdata.experiments.describe import candidate_rows
+from heatdata.experiments.views import render_views, view_plan
 
 OBJECTS = ["coffee-cup", "beer-mug", "plastic-cup"]
 
@@ -49,10 +50,12 @@ def main() -> None:
         candidates = np.stack(rows["values"].to_numpy())
         best = hd.nearest_pair_mhd(candidates, lib_values, shortlist=None)
         for shortlist in args.shortlist:
-            same[shortlist] += hd.nearest_pair_mhd(candidates, lib_values, shortlist=shortlist)[1] == best[1]
+            same[shortlist] += hd.nearest_pair_mhd(candidates, lib_values, shortlist=shortlist).index == best.index
     count = tests["view_id"].nunique()
-    print(f"Alg. 6.1: {count} test views x 250 candidates against {len(lib_values)} library descriptors "
-          f"({time.perf_counter() - tic:.0f} s)")
+    print(
+        f"Alg. 6.1: {count} test views x 250 candidates against {len(lib_values)} library descriptors "
+        f"({time.perf_counter() - tic:.0f} s)"
+    )
     for shortlist, hits in same.items():
         print(f"  shortlist {shortlist}: the same nearest library descriptor for {hits} of {count} test views")
     queries = np.stack(library.loc[library["object"] == OBJECTS[0], "values"].to_numpy())
@@ -62,11 +65,15 @@ def main() -> None:
     seconds = time.perf_counter() - tic
     l1 = cdist(queries, others, "cityblock")
     rank = (l1 < l1[np.arange(len(queries)), full.argmin(axis=1)][:, None]).sum(axis=1)
-    print(f"rho: {len(queries)} candidates of {OBJECTS[0]} against {len(others)} of the others: full MHD search "
-          f"{seconds:.1f} s ({seconds / full.size * 1e6:.1f} us per pair); L1 search "
-          f"{time.perf_counter() - tic - seconds:.2f} s")
-    print(f"  rank of the MHD's nearest in L1 order: median {np.median(rank):.0f}, 90th percentile "
-          f"{np.percentile(rank, 90):.0f}, max {rank.max()}; within the first 64 for {np.mean(rank < 64):.0%}")
+    print(
+        f"rho: {len(queries)} candidates of {OBJECTS[0]} against {len(others)} of the others: full MHD search "
+        f"{seconds:.1f} s ({seconds / full.size * 1e6:.1f} us per pair); L1 search "
+        f"{time.perf_counter() - tic - seconds:.2f} s"
+    )
+    print(
+        f"  rank of the MHD's nearest in L1 order: median {np.median(rank):.0f}, 90th percentile "
+        f"{np.percentile(rank, 90):.0f}, max {rank.max()}; within the first 64 for {np.mean(rank < 64):.0%}"
+    )
 
 
 if __name__ == "__main__":

@@ -36,7 +36,7 @@ import scipy.sparse.linalg as sla
 from threadpoolctl import threadpool_limits
 
 import heatdata as hd
-from heatdata.spectrum import laplacian
+from heatdata.core.spectrum import laplacian
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -113,18 +113,27 @@ def main() -> None:
         timings = interleaved_best(runs, args.repeat)
     for name in methods:
         report["methods"][name] = {mode: timings[name, mode] for mode in ("prepared", "raw")}
-    print(f"view: {args.object} at {args.distance} m, {view.n_vertices} vertices, "
-          f"{len(view.boundary)} boundary vertices; one thread; best of {args.repeat}")
+    print(
+        f"view: {args.object} at {args.distance} m, {view.n_vertices} vertices, "
+        f"{len(view.boundary)} boundary vertices; one thread; best of {args.repeat}"
+    )
     print(f"{'method':31s} {'prepared ms':>11s} {'speed-up':>8s} {'raw ms':>8s} {'speed-up':>8s} {'max |error|':>11s}")
     base = report["methods"]["naive eigsh k=30 (SuperLU)"]
     base_prepared, base_raw = base["prepared"][0], base["raw"][0]
     for name, timings in report["methods"].items():
         (prep, values), (raw, _) = timings["prepared"], timings["raw"]
         error = float(np.max(np.abs(values - exact)))
-        print(f"{name:31s} {prep * 1e3:11.1f} {base_prepared / prep:8.1f} {raw * 1e3:8.1f} {base_raw / raw:8.1f} "
-              f"{error:11.2e}")
-        report["methods"][name] = {"prepared_ms": prep * 1e3, "raw_ms": raw * 1e3, "max_error": error,
-                                   "speedup_prepared": base_prepared / prep, "speedup_raw": base_raw / raw}
+        print(
+            f"{name:31s} {prep * 1e3:11.1f} {base_prepared / prep:8.1f} {raw * 1e3:8.1f} {base_raw / raw:8.1f} "
+            f"{error:11.2e}"
+        )
+        report["methods"][name] = {
+            "prepared_ms": prep * 1e3,
+            "raw_ms": raw * 1e3,
+            "max_error": error,
+            "speedup_prepared": base_prepared / prep,
+            "speedup_raw": base_raw / raw,
+        }
     report["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"peak RSS of this process: {report['peak_rss_mb']:.0f} MB")
     if args.out:

@@ -27,11 +27,11 @@ import logging
 from pathlib import Path
 
 import numpy as np
+from bench_pvhk import interleaved_best, prepared  # run as a script: benchmarks/ is on sys.path
 from scipy.optimize import brentq
 from threadpoolctl import threadpool_limits
 
 import heatdata as hd
-from bench_pvhk import interleaved_best, prepared  # run as a script: benchmarks/ is on sys.path
 from heatdata.descriptors import heat_operator
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -57,8 +57,9 @@ def dense_crossings(view: hd.View, source: int, threshold: float, t_end: float) 
         if not above.any() or above[0]:
             continue
         first = int(np.argmax(above))
-        out[k] = brentq(lambda t, c=coefficients: c @ np.exp(-values * t) - threshold, grid[first - 1], grid[first],
-                        xtol=1e-16)
+        out[k] = brentq(
+            lambda t, c=coefficients: c @ np.exp(-values * t) - threshold, grid[first - 1], grid[first], xtol=1e-16
+        )
     return out
 
 
@@ -74,23 +75,36 @@ def main() -> None:
     t_fixed = 1.0 / hd.pvhk(view, 64, "center", sampling="polar").lambda2
     with threadpool_limits(1):
         ready = prepared(view)
-        best = interleaved_best({
-            "pvhk": lambda: hd.pvhk(ready, 64, "center", sampling="polar"),
-            "ft_pvhk": lambda: hd.ft_pvhk(ready, t_fixed, 64, "center", sampling="polar"),
-            "ft_pvhk + part_weights": lambda: hd.describe(ready, [hd.DescriptorSpec("ft-pvhk", 64, "center", "polar")],
-                                                          times=[t_fixed]),
-            "pvst": lambda: hd.pvst(ready, 64, source="center", sampling="polar"),
-            "pvhk + pvst in one describe": lambda: hd.describe(ready, [
-                hd.DescriptorSpec("pvhk", 64, "center", "polar"), hd.DescriptorSpec("pvst", 64, "center", "polar")]),
-        }, args.repeat)
+        best = interleaved_best(
+            {
+                "pvhk": lambda: hd.pvhk(ready, 64, "center", sampling="polar"),
+                "ft_pvhk": lambda: hd.ft_pvhk(ready, t_fixed, 64, "center", sampling="polar"),
+                "ft_pvhk + part_weights": lambda: hd.describe(
+                    ready, [hd.DescriptorSpec("ft-pvhk", 64, "center", "polar")], times=[t_fixed]
+                ),
+                "pvst": lambda: hd.pvst(ready, 64, source="center", sampling="polar"),
+                "pvhk + pvst in one describe": lambda: hd.describe(
+                    ready,
+                    [
+                        hd.DescriptorSpec("pvhk", 64, "center", "polar"),
+                        hd.DescriptorSpec("pvst", 64, "center", "polar"),
+                    ],
+                ),
+            },
+            args.repeat,
+        )
     times = {name: seconds for name, (seconds, _) in best.items()}
-    print(f"speed: {args.object} at {args.distance} m, {view.n_vertices} vertices, {len(view.boundary)} boundary "
-          f"vertices; source center, polar, 64 samples; one thread; best of {args.repeat}")
+    print(
+        f"speed: {args.object} at {args.distance} m, {view.n_vertices} vertices, {len(view.boundary)} boundary "
+        f"vertices; source center, polar, 64 samples; one thread; best of {args.repeat}"
+    )
     for name, seconds in times.items():
         print(f"  {name:28s} {seconds * 1e3:7.1f} ms  {seconds / times['pvhk']:4.2f}x pvhk")
     added = times["pvhk + pvst in one describe"] - times["pvhk"]
-    print(f"  a PVST next to a PVHK (shared factorization and lambda_2) adds {added * 1e3:.1f} ms, "
-          f"{added / times['pvhk']:.2f}x pvhk")
+    print(
+        f"  a PVST next to a PVHK (shared factorization and lambda_2) adds {added * 1e3:.1f} ms, "
+        f"{added / times['pvhk']:.2f}x pvhk"
+    )
 
     small = render(args.accuracy_object, 1.0)
     print(f"accuracy: {args.accuracy_object} at 1.0 m, {small.n_vertices} vertices, every boundary vertex")
@@ -103,9 +117,11 @@ def main() -> None:
         both = np.isfinite(exact) & np.isfinite(d.values)
         relative = np.abs(d.values[both] - exact[both]) / exact[both]
         gap = np.min(np.linalg.norm(small.vertices[small.boundary] - small.vertices[source], axis=1))
-        print(f"  source {rule:8s} (gap {gap * 1e3:.1f} mm): window {np.nanmin(exact):.2e}..{d.time:.2e}; "
-              f"max relative error {relative.max():.1e} over {both.sum()} vertices; NaN in heatdata "
-              f"{int(np.isnan(d.values).sum())}, in the reference {int(np.isnan(exact).sum())}")
+        print(
+            f"  source {rule:8s} (gap {gap * 1e3:.1f} mm): window {np.nanmin(exact):.2e}..{d.time:.2e}; "
+            f"max relative error {relative.max():.1e} over {both.sum()} vertices; NaN in heatdata "
+            f"{int(np.isnan(d.values).sum())}, in the reference {int(np.isnan(exact).sum())}"
+        )
 
 
 if __name__ == "__main__":

@@ -52,8 +52,10 @@ def main() -> None:
             worst = max(worst, best)
             print(f"{name:15s} {view.n_vertices:8d} {best * 1e3:15.1f}")
     print(f"slowest object: {worst * 1e3:.1f} ms per view (best of {args.repeat})")
-    print(f"large view: {large.n_vertices} vertices, PVHK {large_seconds * 1e3:.0f} ms; "
-          f"peak RSS {before:.0f} MB before, {after:.0f} MB after (+{after - before:.0f} MB)")
+    print(
+        f"large view: {large.n_vertices} vertices, PVHK {large_seconds * 1e3:.0f} ms; "
+        f"peak RSS {before:.0f} MB before, {after:.0f} MB after (+{after - before:.0f} MB)"
+    )
 
 
 if __name__ == "__main__":

@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 import heatdata as hd
-from heatdata.library import cyclic_dp
+from heatdata.recognition.compact import cyclic_dp
 
 
 def main() -> None:
@@ -27,8 +27,9 @@ def main() -> None:
         logging.getLogger(noisy).setLevel(logging.WARNING)
     rng = np.random.default_rng(0)
     curves = [np.cumsum(rng.normal(size=(args.candidates, 16)), axis=1) for _ in range(args.views)]
-    costs = [np.abs(curves[i][:, None, :] - curves[(i + 1) % args.views][None, :, :]).mean(axis=2)
-             for i in range(args.views)]
+    costs = [
+        np.abs(curves[i][:, None, :] - curves[(i + 1) % args.views][None, :, :]).mean(axis=2) for i in range(args.views)
+    ]
     tic = time.perf_counter()
     _, lp = hd.select_sources(costs)
     lp_seconds = time.perf_counter() - tic
@@ -37,9 +38,11 @@ def main() -> None:
     _, dp = cyclic_dp(costs)
     dp_seconds = time.perf_counter() - tic
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print(f"{args.views} views x {args.candidates} candidates: LP {lp_seconds:.1f} s, DP {dp_seconds:.2f} s, "
-          f"relative difference {abs(lp - dp) / dp:.1e}, peak RSS {lp_peak:.0f} MB after the LP, {peak:.0f} MB "
-          "after the DP")
+    print(
+        f"{args.views} views x {args.candidates} candidates: LP {lp_seconds:.1f} s, DP {dp_seconds:.2f} s, "
+        f"relative difference {abs(lp - dp) / dp:.1e}, peak RSS {lp_peak:.0f} MB after the LP, {peak:.0f} MB "
+        "after the DP"
+    )
 
 
 if __name__ == "__main__":

@@ -1,7 +1,7 @@
 """Time and memory of JASNOM (thesis ch. 7) on two halves with 2,000-vertex boundaries.
 
 A latitude-longitude ellipsoid with 2,000 segments round its equator, cut there by a plane
-(``heatdata.stitch.split_model``), one half moved by a rigid motion, then ``stitch``
+(``heatdata.jasnom.cuts.split_model``), one half moved by a rigid motion, then ``stitch``
 with the default 128 boundary samples (256 coarse candidates, then refinement of the best
 few over six degrees of freedom). Prints the time of the boundary extraction, of the
 search and of the whole call, the poses evaluated, the errors against the truth, and
@@ -19,8 +19,10 @@ import time
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from heatdata.models import Model
-from heatdata.stitch import boundary, split_model, stitch, transformed
+from heatdata.io.models import Model, transformed
+from heatdata.jasnom.boundary import boundary
+from heatdata.jasnom.cuts import split_model
+from heatdata.jasnom.seam import stitch
 
 
 def main() -> None:
@@ -31,8 +33,13 @@ def main() -> None:
     args = parser.parse_args()
     theta = np.pi * np.arange(1, args.rings) / args.rings  # latitudes; an even count puts one on the equator
     phi = 2 * np.pi * np.arange(args.segments) / args.segments
-    ring = np.column_stack([np.outer(np.sin(theta), np.cos(phi)).ravel(), np.outer(np.sin(theta), np.sin(phi)).ravel(),
-                            np.repeat(np.cos(theta), args.segments)])
+    ring = np.column_stack(
+        [
+            np.outer(np.sin(theta), np.cos(phi)).ravel(),
+            np.outer(np.sin(theta), np.sin(phi)).ravel(),
+            np.repeat(np.cos(theta), args.segments),
+        ]
+    )
     vertices = np.vstack([[0.0, 0.0, 1.0], ring, [0.0, 0.0, -1.0]]) * [0.1, 0.08, 0.06]
     s, last = args.segments, len(theta) - 1
     j = np.arange(s)
@@ -53,11 +60,15 @@ def main() -> None:
     result = stitch(a, b, samples=args.samples)
     total = time.perf_counter() - start
     found = result.alignment
-    print(f"halves of {len(a.vertices)} and {len(b.vertices)} vertices, boundaries of {len(first.loop)} and "
-          f"{len(second.loop)} vertices, {args.samples} samples")
+    print(
+        f"halves of {len(a.vertices)} and {len(b.vertices)} vertices, boundaries of {len(first.loop)} and "
+        f"{len(second.loop)} vertices, {args.samples} samples"
+    )
     print(f"boundaries and their normals: {boundaries:.2f} s (both)")
-    print(f"search (align): {found.seconds:.2f} s, {found.candidates} poses evaluated; rotation error "
-          f"{Rotation.from_matrix(found.rotation @ motion.as_matrix()).magnitude():.2e} rad")
+    print(
+        f"search (align): {found.seconds:.2f} s, {found.candidates} poses evaluated; rotation error "
+        f"{Rotation.from_matrix(found.rotation @ motion.as_matrix()).magnitude():.2e} rad"
+    )
     print(f"stitch, in all: {total:.2f} s")
     print(f"peak RSS {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
 

@@ -5,51 +5,104 @@
 >>> view = hd.render_view(model, azimuth=30.0, elevation=45.0, distance=1.0, noise=True, seed=0)
 >>> d = hd.pvhk(view, samples=64, source="closest")
 
-The README's "Using the library" runs a whole example (recognition, the baselines, a compact library).
+The package's stages, each a subpackage that imports only those before it:
 
-The descriptors, distances, spectra and views are imported with the package; the other stages are imported
-the first time one of their names is used (``hd.render_view`` imports open3d, ``hd.load_model`` trimesh), so
-a job that only compares descriptor tables does not load the renderer (~260 MB of open3d).
+- :mod:`heatdata.core`: mesh topology, the Laplace-Beltrami spectrum and heat, the MHD (thesis ch. 2, 3.2);
+- :mod:`heatdata.io`: models, catalogues, Sweet Home 3D libraries, Parquet tables, MakeHuman bodies;
+- :mod:`heatdata.views`: the :class:`View`, the virtual Kinect, depth frames and organized clouds;
+- :mod:`heatdata.descriptors`: every descriptor kind (PVHK and its family, PVST, the baselines) and heat sources;
+- :mod:`heatdata.recognition`, :mod:`heatdata.jasnom`, :mod:`heatdata.rump`: the thesis's uses of them;
+- :mod:`heatdata.experiments`: the workflow's steps; :mod:`heatdata.reporting`: figures and pages;
+  :mod:`heatdata.cli`: the ``heatdata`` command.
+
+The names below are what ``import heatdata as hd`` offers. The descriptors, distances, spectra and views
+are imported with the package; the other names are imported the first time one is used
+(``hd.render_view`` imports open3d, ``hd.load_model`` trimesh), so a job that only compares descriptor
+tables loads neither (nor matplotlib).
 """
 
 import importlib
+from typing import Any
 
-from .descriptors import (COLOR_MAPS, DESCRIPTORS, Descriptor, DescriptorSpec, c_pvhk, describe, distance, fit_spec,
-                          ft_pvhk, global_derivative, heat_kernel, object_time_scale, part_weights, pvhk, pvst,
-                          sample_boundary, source_vertex, view_time_scale)
-from .distance import chi_square_matrix, mhd, mhd_matrix, nearest_pair_mhd, weighted_mhd
-from .errors import HeatdataError, ModelError, RenderError, SpectrumError, ViewError
-from .spectrum import (HeatModel, HeatOperator, Spectrum, eigen_spectrum, first_crossings, heat_model, krylov_heat,
-                       lambda2, laplacian)
-from .version import __version__
-from .view import View, kinect_intrinsics
-
-# ``hd.distance`` is the descriptor-level distance function; the module of distance matrices stays
-# importable as ``heatdata.distance`` (``from heatdata.distance import mhd_matrix``). It is bound above, after
-# the module was loaded, so importing the module later does not rebind it.
+from heatdata.core.distances import (
+    Nearest,
+    NearestPair,
+    chi_square_matrix,
+    mhd,
+    mhd_matrix,
+    nearest_pair_mhd,
+    weighted_mhd,
+)
+from heatdata.core.spectrum import (
+    HeatModel,
+    HeatOperator,
+    Spectrum,
+    eigen_spectrum,
+    first_crossings,
+    heat_model,
+    krylov_heat,
+    lambda2,
+    laplacian,
+)
+from heatdata.descriptors import (
+    COLOR_MAPS,
+    DESCRIPTORS,
+    Descriptor,
+    DescriptorSpec,
+    c_pvhk,
+    describe,
+    distance,
+    fit_spec,
+    ft_pvhk,
+    global_derivative,
+    heat_kernel,
+    object_time_scale,
+    part_weights,
+    pvhk,
+    pvst,
+    sample_boundary,
+    source_vertex,
+    view_time_scale,
+)
+from heatdata.errors import (
+    HeatdataError,
+    ModelError,
+    RenderError,
+    RumpError,
+    SpectrumError,
+    StitchError,
+    ViewError,
+)
+from heatdata.version import __version__
+from heatdata.views.view import View, kinect_intrinsics
 
 #: names imported on first use, by module
 _LAZY = {
-    "catalog": ["catalog_from_folder", "embedded_catalog", "import_sh3f", "load_catalog_model", "read_catalog"],
-    "depth": ["read_depth", "read_organized_cloud", "view_from_depth", "write_depth"],
-    "library": ["combined_costs", "consecutive_costs", "library_subset", "other_object_distances", "select_sources"],
-    "models": ["Model", "hue_rotated", "load_model"],
-    "multiview": ["AppearanceModel", "ExhaustiveFilter", "ParticleFilter", "appearance_model", "learn_similarity"],
-    "recognition": ["precision_by", "classify_candidates", "confusion_matrix", "nearest_neighbours"],
-    "render": ["camera_pose", "render_view"],
-    "rump": ["RumpError", "hbrd", "rump_heat"],
-    "sources": ["candidate_descriptors", "candidate_sources"],
-    "stitch": ["StitchError"],
+    "heatdata.descriptors.sources": ["candidate_descriptors", "candidate_sources"],
+    "heatdata.io.catalog": ["catalog_from_folder", "embedded_catalog", "load_catalog_model", "read_catalog"],
+    "heatdata.io.models": ["Model", "hue_rotated", "load_model", "transformed"],
+    "heatdata.io.sh3f": ["import_sh3f"],
+    "heatdata.jasnom.align": ["Alignment", "align"],
+    "heatdata.jasnom.cuts": ["closed_part", "split_model"],
+    "heatdata.jasnom.seam": ["Stitched", "stitch"],
+    "heatdata.recognition.compact": ["combined_costs", "consecutive_costs", "other_object_distances", "select_sources"],
+    "heatdata.recognition.evaluate": ["library_subset"],
+    "heatdata.recognition.metrics": ["confusion_matrix", "precision_by"],
+    "heatdata.recognition.multiview.appearance": ["AppearanceModel", "appearance_model", "learn_similarity"],
+    "heatdata.recognition.multiview.filters": ["ExhaustiveFilter", "ParticleFilter"],
+    "heatdata.recognition.nearest": ["classify_candidates", "nearest_neighbors"],
+    "heatdata.rump": ["hbrd", "rump_heat"],
+    "heatdata.views.clouds": ["read_organized_cloud"],
+    "heatdata.views.depth": ["read_depth", "view_from_depth", "write_depth"],
+    "heatdata.views.render": ["camera_pose", "render_view"],
 }
 _MODULE_OF = {name: module for module, names in _LAZY.items() for name in names}
 
 
-def __getattr__(name: str):
-    if name == "stitch":  # the module: hd.stitch.stitch(first, second), hd.stitch.split_model(...)
-        return importlib.import_module(".stitch", __name__)
+def __getattr__(name: str) -> Any:
     if name not in _MODULE_OF:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{_MODULE_OF[name]}", __name__), name)
+    value = getattr(importlib.import_module(_MODULE_OF[name]), name)
     globals()[name] = value
     return value
 
@@ -57,18 +110,89 @@ def __getattr__(name: str):
 def __dir__() -> list[str]:
     return sorted(set(globals()) | set(__all__))
 
+
 __all__ = [
-    "AppearanceModel", "appearance_model", "learn_similarity", "ParticleFilter", "ExhaustiveFilter", "precision_by",
-    "c_pvhk", "camera_pose", "candidate_descriptors", "candidate_sources", "catalog_from_folder",
-    "chi_square_matrix", "DESCRIPTORS", "distance", "embedded_catalog", "fit_spec", "library_subset",
-    "classify_candidates", "COLOR_MAPS", "combined_costs", "confusion_matrix", "consecutive_costs", "describe",
-    "Descriptor", "DescriptorSpec", "eigen_spectrum", "first_crossings", "ft_pvhk", "global_derivative",
-    "heat_kernel", "heat_model", "HeatdataError", "HeatModel", "HeatOperator", "import_sh3f", "kinect_intrinsics",
-    "krylov_heat", "lambda2", "laplacian", "load_catalog_model", "load_model", "mhd", "mhd_matrix", "Model",
-    "ModelError", "nearest_neighbours", "stitch", "StitchError", "nearest_pair_mhd", "object_time_scale",
-    "other_object_distances", "part_weights", "pvhk", "pvst", "read_catalog", "render_view", "RenderError",
-    "sample_boundary", "select_sources", "source_vertex", "Spectrum", "SpectrumError", "View", "view_time_scale",
-    "ViewError", "weighted_mhd", "view_from_depth", "read_depth", "read_organized_cloud", "write_depth", "hbrd",
-    "rump_heat", "RumpError", "hue_rotated",
+    "COLOR_MAPS",
+    "DESCRIPTORS",
+    "Alignment",
+    "AppearanceModel",
+    "Descriptor",
+    "DescriptorSpec",
+    "ExhaustiveFilter",
+    "HeatModel",
+    "HeatOperator",
+    "HeatdataError",
+    "Model",
+    "ModelError",
+    "Nearest",
+    "NearestPair",
+    "ParticleFilter",
+    "RenderError",
+    "RumpError",
+    "Spectrum",
+    "SpectrumError",
+    "StitchError",
+    "Stitched",
+    "View",
+    "ViewError",
     "__version__",
+    "align",
+    "appearance_model",
+    "c_pvhk",
+    "camera_pose",
+    "candidate_descriptors",
+    "candidate_sources",
+    "catalog_from_folder",
+    "chi_square_matrix",
+    "classify_candidates",
+    "closed_part",
+    "combined_costs",
+    "confusion_matrix",
+    "consecutive_costs",
+    "describe",
+    "distance",
+    "eigen_spectrum",
+    "embedded_catalog",
+    "first_crossings",
+    "fit_spec",
+    "ft_pvhk",
+    "global_derivative",
+    "hbrd",
+    "heat_kernel",
+    "heat_model",
+    "hue_rotated",
+    "import_sh3f",
+    "kinect_intrinsics",
+    "krylov_heat",
+    "lambda2",
+    "laplacian",
+    "learn_similarity",
+    "library_subset",
+    "load_catalog_model",
+    "load_model",
+    "mhd",
+    "mhd_matrix",
+    "nearest_neighbors",
+    "nearest_pair_mhd",
+    "object_time_scale",
+    "other_object_distances",
+    "part_weights",
+    "precision_by",
+    "pvhk",
+    "pvst",
+    "read_catalog",
+    "read_depth",
+    "read_organized_cloud",
+    "render_view",
+    "rump_heat",
+    "sample_boundary",
+    "select_sources",
+    "source_vertex",
+    "split_model",
+    "stitch",
+    "transformed",
+    "view_from_depth",
+    "view_time_scale",
+    "weighted_mhd",
+    "write_depth",
 ]

@@ -19,43 +19,54 @@ import numpy as np
 import pandas as pd
 from tqdm.contrib.logging import logging_redirect_tqdm
 
-from .catalog import embedded_catalog, import_sh3f, load_catalog_model, read_catalog
-from .dataset import describe_object, view_plan
-from .depth import MAX_DEPTH_JUMP, read_depth, read_organized_cloud
-from .descriptors import COLOR_KIND, DEFAULT_KIND, DESCRIPTORS, KINDS, DescriptorSpec, describe, file_name
-from .errors import HeatdataError
-from .evaluate import TIME_RULES, classify, evaluate_library_sizes, precision_by_object, precision_table
-from .figures import RENDERED_NOTE, draw_example_views, plot_confusion, plot_view_confusion
-from .log import progress, setup_logging
-from .models import SUPPORTED_SUFFIXES, load_model, save_model
-from .render import render_view
-from .stitch import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN_ROBUST, stitch
-from .tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, read_table, write_table
-from .version import __version__
-from .view import View
+from heatdata.descriptors import (
+    COLOR_KIND,
+    DEFAULT_KIND,
+    DESCRIPTORS,
+    KINDS,
+    DescriptorSpec,
+    describe,
+    file_name,
+)
+from heatdata.errors import HeatdataError
+from heatdata.experiments.demo import (
+    DEMO_SPECS,
+    _classify_job,
+    _describe_catalog_object,
+    _one_thread,
+)
+from heatdata.experiments.views import view_plan
+from heatdata.io.catalog import embedded_catalog, read_catalog
+from heatdata.io.models import SUPPORTED_SUFFIXES, load_model, save_model
+from heatdata.io.sh3f import import_sh3f
+from heatdata.io.tables import (
+    DESCRIPTOR_SCHEMA,
+    PREDICTION_SCHEMA,
+    read_table,
+    write_table,
+)
+from heatdata.jasnom.cost import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN_ROBUST
+from heatdata.jasnom.seam import stitch
+from heatdata.log import progress, setup_logging
+from heatdata.recognition.evaluate import (
+    TIME_RULES,
+    classify,
+    evaluate_library_sizes,
+)
+from heatdata.recognition.metrics import precision_by_object, precision_table
+from heatdata.reporting.figures.common import RENDERED_NOTE
+from heatdata.reporting.figures.recognition import plot_confusion, plot_view_confusion
+from heatdata.reporting.figures.views import draw_example_views
+from heatdata.version import __version__
+from heatdata.views.clouds import read_organized_cloud
+from heatdata.views.depth import MAX_DEPTH_JUMP, read_depth
+from heatdata.views.render import render_view
+from heatdata.views.view import View
 
 log = logging.getLogger("heatdata")
 
-DEMO_SPECS = [DescriptorSpec(DEFAULT_KIND, 64, source, sampling)
-              for source in ("closest", "center") for sampling in ("arclength", "polar")]
+
 DEMO_SPECS.append(DescriptorSpec(COLOR_KIND, 64, "center", "polar", "c3"))
-
-
-def _one_thread() -> None:
-    """Worker initializer: one BLAS thread per process, so jobs do not oversubscribe cores."""
-    from threadpoolctl import threadpool_limits
-
-    threadpool_limits(1)
-    setup_logging(verbose=False)
-
-
-def _describe_catalog_object(job: tuple) -> pd.DataFrame:
-    row, plan, specs, noise = job
-    return describe_object(load_catalog_model(row), plan, specs, noise=noise)
-
-
-def _classify_job(job: tuple) -> pd.DataFrame:
-    return classify(*job)
 
 
 def cmd_demo(args: argparse.Namespace) -> None:
@@ -69,22 +80,40 @@ def cmd_demo(args: argparse.Namespace) -> None:
         if unknown:
             raise HeatdataError(f"{args.catalog}: unknown object(s) {unknown}")
         catalog = catalog[catalog["object"].isin(wanted)]
-    plan = view_plan(catalog["object"].tolist(), args.train, args.test, elevation=args.elevation,
-                     distance=args.distance, seed=args.seed)
-    jobs = [(row.to_dict(), plan[plan["object"] == row["object"]], DEMO_SPECS, not args.no_noise)
-            for _, row in catalog.iterrows()]
-    log.info("describing %d views of %d objects (%d descriptors each) with %d processes",
-             len(plan), len(catalog), len(DEMO_SPECS), args.jobs)
+    plan = view_plan(
+        catalog["object"].tolist(),
+        args.train,
+        args.test,
+        elevation=args.elevation,
+        distance=args.distance,
+        seed=args.seed,
+    )
+    jobs = [
+        (row.to_dict(), plan[plan["object"] == row["object"]], DEMO_SPECS, not args.no_noise)
+        for _, row in catalog.iterrows()
+    ]
+    log.info(
+        "describing %d views of %d objects (%d descriptors each) with %d processes",
+        len(plan),
+        len(catalog),
+        len(DEMO_SPECS),
+        args.jobs,
+    )
     with get_context("spawn").Pool(args.jobs, initializer=_one_thread) as pool:
         described = pool.imap(_describe_catalog_object, jobs, chunksize=1)
-        descriptors = pd.concat(progress(described, total=len(jobs), desc="describing", unit="object"),
-                                ignore_index=True)
-        log.info("classifying %d test views per descriptor against %d library views",
-                 (plan["split"] == "test").sum(), (plan["split"] == "train").sum())
+        descriptors = pd.concat(
+            progress(described, total=len(jobs), desc="describing", unit="object"), ignore_index=True
+        )
+        log.info(
+            "classifying %d test views per descriptor against %d library views",
+            (plan["split"] == "test").sum(),
+            (plan["split"] == "train").sum(),
+        )
         subsets = [(descriptors[descriptors["descriptor"] == spec.name], spec.name) for spec in DEMO_SPECS]
         classified = pool.imap(_classify_job, subsets, chunksize=1)
-        predictions = pd.concat(progress(classified, total=len(subsets), desc="classifying", unit="descriptor"),
-                                ignore_index=True)
+        predictions = pd.concat(
+            progress(classified, total=len(subsets), desc="classifying", unit="descriptor"), ignore_index=True
+        )
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     run = {k: v for k, v in vars(args).items() if k != "func"}
@@ -96,15 +125,22 @@ def cmd_demo(args: argparse.Namespace) -> None:
         subset = predictions[predictions["descriptor"] == spec.name]
         plot_confusion(subset, out / f"confusion_objects_{file_name(spec.name)}.png", spec.name)
         plot_view_confusion(subset, out / f"confusion_views_{file_name(spec.name)}.png", spec.name)
-    draw_example_views(catalog, out / "views.png", elevation=args.elevation, distance=args.distance,
-                       noise=not args.no_noise, seed=args.seed)
+    draw_example_views(
+        catalog,
+        out / "views.png",
+        elevation=args.elevation,
+        distance=args.distance,
+        noise=not args.no_noise,
+        seed=args.seed,
+    )
     summary = _summary_markdown(precision, descriptors, args, time.perf_counter() - start)
     (out / "summary.md").write_text(summary)
     print(summary)
 
 
-def _summary_markdown(precision: pd.DataFrame, descriptors: pd.DataFrame, args: argparse.Namespace,
-                      seconds: float) -> str:
+def _summary_markdown(
+    precision: pd.DataFrame, descriptors: pd.DataFrame, args: argparse.Namespace, seconds: float
+) -> str:
     overall = precision.loc["all"].sort_values(ascending=False)
     lines = [
         "# heatdata demo: nearest-neighbour recognition of the embedded objects",
@@ -139,8 +175,17 @@ def cmd_render(args: argparse.Namespace) -> None:
     view = render_view(model, args.azimuth, args.elevation, args.distance, noise=not args.no_noise, seed=args.seed)
     out.parent.mkdir(parents=True, exist_ok=True)
     view.save(out)
-    print(json.dumps({"view": str(out), "vertices": view.n_vertices, "faces": len(view.faces),
-                      "boundary": len(view.boundary), "repairs": view.repairs}))
+    print(
+        json.dumps(
+            {
+                "view": str(out),
+                "vertices": view.n_vertices,
+                "faces": len(view.faces),
+                "boundary": len(view.boundary),
+                "repairs": view.repairs,
+            }
+        )
+    )
 
 
 def cmd_view_from_depth(args: argparse.Namespace) -> None:
@@ -153,23 +198,41 @@ def cmd_view_from_depth(args: argparse.Namespace) -> None:
     source = Path(args.input)
     if source.suffix.lower() in (".pcd", ".ply"):
         if args.intrinsics or args.rgb or args.mask or args.depth_range:
-            raise HeatdataError(f"{source}: an organized cloud carries its own grid and colours; --intrinsics, "
-                                "--rgb, --mask and --depth-range are for depth images")
+            raise HeatdataError(
+                f"{source}: an organized cloud carries its own grid and colours; --intrinsics, "
+                "--rgb, --mask and --depth-range are for depth images"
+            )
         view = read_organized_cloud(source, scale=args.scale, max_depth_jump=args.max_depth_jump)
     else:
         if args.intrinsics is None:
-            raise HeatdataError(f"{source}: a depth image needs --intrinsics (JSON or YAML with fx, fy, cx, cy, "
-                                "width, height)")
-        view = read_depth(source, args.intrinsics, args.rgb, args.mask, depth_range=args.depth_range,
-                          max_depth_jump=args.max_depth_jump)
+            raise HeatdataError(
+                f"{source}: a depth image needs --intrinsics (JSON or YAML with fx, fy, cx, cy, width, height)"
+            )
+        view = read_depth(
+            source,
+            args.intrinsics,
+            args.rgb,
+            args.mask,
+            depth_range=args.depth_range,
+            max_depth_jump=args.max_depth_jump,
+        )
     for out in outs:
         out.parent.mkdir(parents=True, exist_ok=True)
         if out.suffix.lower() == ".npz":
             view.save(out)
         else:
             view.to_ply(out)
-    print(json.dumps({"views": [str(p) for p in outs], "vertices": view.n_vertices, "faces": len(view.faces),
-                      "boundary": len(view.boundary), "repairs": view.repairs}))
+    print(
+        json.dumps(
+            {
+                "views": [str(p) for p in outs],
+                "vertices": view.n_vertices,
+                "faces": len(view.faces),
+                "boundary": len(view.boundary),
+                "repairs": view.repairs,
+            }
+        )
+    )
 
 
 def cmd_stitch(args: argparse.Namespace) -> None:
@@ -180,8 +243,9 @@ def cmd_stitch(args: argparse.Namespace) -> None:
     """
     out = Path(args.out)
     if out.suffix.lower() not in SUPPORTED_SUFFIXES or out.is_dir():
-        raise HeatdataError(f"{out}: the stitched model is written to a mesh file, one of "
-                            f"{', '.join(SUPPORTED_SUFFIXES)}")
+        raise HeatdataError(
+            f"{out}: the stitched model is written to a mesh file, one of {', '.join(SUPPORTED_SUFFIXES)}"
+        )
     for given in (args.first, args.second):
         if out.resolve() == Path(given).resolve():
             raise HeatdataError(f"{out}: is one of the inputs; write the stitched model to another file")
@@ -195,32 +259,70 @@ def cmd_stitch(args: argparse.Namespace) -> None:
             raise HeatdataError(f"{args.motion}: not a 4x4 matrix of numbers (shape {motion.shape})")
         motion[:3, 3] *= args.scale
     first, second = (load_model(path, scale=args.scale, center=False) for path in (args.first, args.second))
-    result = stitch(first, second, alpha=args.alpha, beta=args.beta, gamma=args.gamma, along=args.along,
-                    robust=args.robust, samples=args.samples, scans=args.scans, name=out.stem, motion=motion)
+    result = stitch(
+        first,
+        second,
+        alpha=args.alpha,
+        beta=args.beta,
+        gamma=args.gamma,
+        along=args.along,
+        robust=args.robust,
+        samples=args.samples,
+        scans=args.scans,
+        name=out.stem,
+        motion=motion,
+    )
     save_model(result.model, out)
     a = result.alignment
     if a.ambiguous:
-        log.warning("ambiguous: another pose costs nearly as little (J %.4g against %.4g): check the result, or give "
-                    "--motion", a.runner_up, a.cost)
+        log.warning(
+            "ambiguous: another pose costs nearly as little (J %.4g against %.4g): check the result, or give --motion",
+            a.runner_up,
+            a.cost,
+        )
     if a.poor:
-        log.warning("poor: the seam's mean gap is %.1f%% of the size: the boundaries are not one curve here",
-                    100 * a.gap / a.size)
-    print(json.dumps({"model": str(out), "vertices": len(result.model.vertices), "faces": len(result.model.faces),
-                      "rotation": np.round(a.rotation, 6).tolist(), "translation": np.round(a.translation, 6).tolist(),
-                      "cost": a.cost, "edge_cost": a.edge_cost, "crossing_cost": a.crossing_cost,
-                      "crease_cost": a.crease_cost, "runner_up": None if np.isnan(a.runner_up) else a.runner_up,
-                      "ambiguous": a.ambiguous, "mean_gap": a.gap, "mean_gap_of_size": a.gap / a.size,
-                      "poor": a.poor, "boundaries": [len(result.first.loop), len(result.second.loop)],
-                      "loop_pairs": result.loop_pairs, "open_loops": result.open_loops, "welded": result.welded,
-                      "strip_faces": result.strip_faces, "seconds": round(a.seconds, 2)}))
+        log.warning(
+            "poor: the seam's mean gap is %.1f%% of the size: the boundaries are not one curve here",
+            100 * a.gap / a.size,
+        )
+    print(
+        json.dumps(
+            {
+                "model": str(out),
+                "vertices": len(result.model.vertices),
+                "faces": len(result.model.faces),
+                "rotation": np.round(a.rotation, 6).tolist(),
+                "translation": np.round(a.translation, 6).tolist(),
+                "cost": a.cost,
+                "edge_cost": a.edge_cost,
+                "crossing_cost": a.crossing_cost,
+                "crease_cost": a.crease_cost,
+                "runner_up": None if np.isnan(a.runner_up) else a.runner_up,
+                "ambiguous": a.ambiguous,
+                "mean_gap": a.gap,
+                "mean_gap_of_size": a.gap / a.size,
+                "poor": a.poor,
+                "boundaries": [len(result.first.loop), len(result.second.loop)],
+                "loop_pairs": result.loop_pairs,
+                "open_loops": result.open_loops,
+                "welded": result.welded,
+                "strip_faces": result.strip_faces,
+                "seconds": round(a.seconds, 2),
+            }
+        )
+    )
 
 
 def cmd_describe(args: argparse.Namespace) -> None:
     """Describe a saved view; print the descriptor as JSON."""
     view = View.load(args.view)
     kind = args.kind or (COLOR_KIND if args.color_map else DEFAULT_KIND)
-    given = {"source": int(args.source) if args.source and args.source.isdigit() else args.source,
-             "sampling": args.sampling, "color_map": args.color_map, "threshold": args.threshold}
+    given = {
+        "source": int(args.source) if args.source and args.source.isdigit() else args.source,
+        "sampling": args.sampling,
+        "color_map": args.color_map,
+        "threshold": args.threshold,
+    }
     if args.samples is not None:
         given["samples"] = None if args.samples == 0 else args.samples
     for item in args.option:
@@ -232,11 +334,19 @@ def cmd_describe(args: argparse.Namespace) -> None:
     if args.time is not None and not spec.impl.time_scaled:
         raise HeatdataError(f"--time is the fixed time of a time-scaled kind (ft-pvhk); a {spec.kind} takes none")
     if spec.impl.fitted:
-        raise HeatdataError(f"{args.view}: {spec.kind} is learned on library views first (heatdata.fit_spec, or the "
-                            "workflow's fit_descriptor rule); one saved view cannot describe itself")
+        raise HeatdataError(
+            f"{args.view}: {spec.kind} is learned on library views first (heatdata.fit_spec, or the "
+            "workflow's fit_descriptor rule); one saved view cannot describe itself"
+        )
     d = describe(view, [spec], times=None if args.time is None else [args.time])[0]
-    out = {"descriptor": spec.name, "source": d.source, "time": d.time, "lambda2": d.lambda2,
-           "repairs": list(view.repairs) + list(d.repairs), "values": np.round(d.values, 8).tolist()}
+    out = {
+        "descriptor": spec.name,
+        "source": d.source,
+        "time": d.time,
+        "lambda2": d.lambda2,
+        "repairs": list(view.repairs) + list(d.repairs),
+        "values": np.round(d.values, 8).tolist(),
+    }
     if d.weights is not None:
         out["weights"] = np.round(d.weights, 8).tolist()
     print(json.dumps(out))
@@ -268,16 +378,20 @@ def cmd_classify(args: argparse.Namespace) -> None:
 def _precision_lines(predictions: pd.DataFrame, every_view: bool) -> str:
     """The object and class precision of each descriptor and library size, as a labelled table."""
     table = precision_table(predictions)
-    table = table[table["group"] == "all"].pivot_table(index=["descriptor", "library_size"], columns="level",
-                                                        values="precision")
-    table = table.reset_index().rename(columns={"library_size": "library views", "object": "object precision",
-                                                "class": "class precision"})
+    table = table[table["group"] == "all"].pivot_table(
+        index=["descriptor", "library_size"], columns="level", values="precision"
+    )
+    table = table.reset_index().rename(
+        columns={"library_size": "library views", "object": "object precision", "class": "class precision"}
+    )
     table = table[["descriptor", "library views", "object precision", "class precision"]]
     for column in ("object precision", "class precision"):
         table[column] = table[column].map(lambda v: f"{v:.1%}")
     library = "every train view of each object" if every_view else "library views per object evenly spaced in azimuth"
-    head = (f"nearest-neighbour precision of {predictions['view_id'].nunique()} test views "
-            f"({library}; object: the nearest library view is the same object, class: the same class)")
+    head = (
+        f"nearest-neighbour precision of {predictions['view_id'].nunique()} test views "
+        f"({library}; object: the nearest library view is the same object, class: the same class)"
+    )
     return head + "\n" + table.to_string(index=False)
 
 
@@ -308,6 +422,7 @@ def cmd_import_sh3f(args: argparse.Namespace) -> None:
 
 def _number(low: float | None = None, *, positive: bool = False, whole: bool = False):
     """An argparse type: a finite number (above ``low``; > 0 with ``positive``; an integer with ``whole``)."""
+
     def parse(text: str):
         try:
             value = int(text) if whole else float(text)
@@ -317,129 +432,220 @@ def _number(low: float | None = None, *, positive: bool = False, whole: bool = F
             need = "a positive" if positive else "a finite" if low is None else f"a number >= {low:g}:"
             raise argparse.ArgumentTypeError(f"{text!r}: need {need} number")
         return value
+
     return parse
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="heatdata", description="Heat-diffusion descriptors of partial 3D views.",
+        prog="heatdata",
+        description="Heat-diffusion descriptors of partial 3D views.",
         epilog="Exit codes: 0 success; 1 bad input (the message names the file or view); 2 wrong usage. "
-               "The full experiment with a report is the Snakemake workflow: snakemake --cores 2")
+        "The full experiment with a report is the Snakemake workflow: snakemake --cores 2",
+    )
     parser.add_argument("--version", action="version", version=f"heatdata {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
     sub = parser.add_subparsers(dest="command", required=True)
 
-    demo = sub.add_parser("demo", help="render, describe and classify the embedded objects without Snakemake",
-                          description=cmd_demo.__doc__)
+    demo = sub.add_parser(
+        "demo",
+        help="render, describe and classify the embedded objects without Snakemake",
+        description=cmd_demo.__doc__,
+    )
     demo.add_argument("--catalog", type=Path, help="catalogue CSV (default: the embedded models)")
     demo.add_argument("--objects", help="comma-separated object ids (default: all in the catalogue)")
     demo.add_argument("--out", default="results/demo", help="output folder (default: results/demo)")
     demo.add_argument("--train", type=_number(1, whole=True), default=40, help="library views per object (default 40)")
     demo.add_argument("--test", type=_number(1, whole=True), default=120, help="test views per object (default 120)")
     demo.add_argument("--elevation", type=_number(), default=30.0, help="view elevation, degrees (default 30)")
-    demo.add_argument("--distance", type=_number(positive=True), default=1.0,
-                      help="camera distance, metres (default 1)")
+    demo.add_argument(
+        "--distance", type=_number(positive=True), default=1.0, help="camera distance, metres (default 1)"
+    )
     demo.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
     demo.add_argument("--no-noise", action="store_true", help="render without sensor noise")
-    demo.add_argument("--jobs", type=_number(1, whole=True), default=os.cpu_count() or 1,
-                      help="processes (default: all cores)")
+    demo.add_argument(
+        "--jobs", type=_number(1, whole=True), default=os.cpu_count() or 1, help="processes (default: all cores)"
+    )
     demo.set_defaults(func=cmd_demo)
 
     render = sub.add_parser("render", help="render one partial view of a model", description=cmd_render.__doc__)
     render.add_argument("model", type=Path, help="OBJ, PLY, STL, OFF or GLB file")
     render.add_argument("--out", type=Path, required=True, help="output .npz view (its folder is created)")
-    render.add_argument("--azimuth", type=_number(), default=0.0,
-                        help="camera azimuth about the model's +y axis, degrees (default 0)")
+    render.add_argument(
+        "--azimuth", type=_number(), default=0.0, help="camera azimuth about the model's +y axis, degrees (default 0)"
+    )
     render.add_argument("--elevation", type=_number(), default=30.0, help="camera elevation, degrees (default 30)")
-    render.add_argument("--distance", type=_number(positive=True), default=1.0,
-                        help="camera distance from the model's centre, metres (default 1)")
-    render.add_argument("--size", type=_number(0.0), nargs=3, metavar=("W", "H", "D"),
-                        help="real size in metres (width x, height y, depth z)")
+    render.add_argument(
+        "--distance",
+        type=_number(positive=True),
+        default=1.0,
+        help="camera distance from the model's centre, metres (default 1)",
+    )
+    render.add_argument(
+        "--size",
+        type=_number(0.0),
+        nargs=3,
+        metavar=("W", "H", "D"),
+        help="real size in metres (width x, height y, depth z)",
+    )
     render.add_argument("--scale", type=_number(positive=True), default=1.0, help="file units to metres (default 1)")
     render.add_argument("--seed", type=_number(0, whole=True), default=0, help="seed of the sensor noise (default 0)")
     render.add_argument("--no-noise", action="store_true", help="render without the Kinect noise of thesis 2.6.1")
     render.set_defaults(func=cmd_render)
 
-    depth = sub.add_parser("view-from-depth", help="a view from a depth image or an organized point cloud",
-                           description=cmd_view_from_depth.__doc__)
+    depth = sub.add_parser(
+        "view-from-depth",
+        help="a view from a depth image or an organized point cloud",
+        description=cmd_view_from_depth.__doc__,
+    )
     depth.add_argument("input", type=Path, help="depth image (.png 16-bit mm, .npy float m) or cloud (.pcd, .ply)")
-    depth.add_argument("-o", "--out", type=Path, required=True, action="append",
-                       help="output .npz view and/or .ply mesh with colours (repeatable)")
+    depth.add_argument(
+        "-o",
+        "--out",
+        type=Path,
+        required=True,
+        action="append",
+        help="output .npz view and/or .ply mesh with colours (repeatable)",
+    )
     depth.add_argument("--intrinsics", type=Path, help="JSON or YAML: fx, fy, cx, cy, width, height (depth images)")
     depth.add_argument("--rgb", type=Path, help="colour image registered to the depth image")
     depth.add_argument("--mask", type=Path, help="image whose non-zero pixels are the object's")
-    depth.add_argument("--depth-range", type=_number(0.0), nargs=2, metavar=("NEAR", "FAR"),
-                       help="without a mask: keep the pixels between these depths, metres")
-    depth.add_argument("--scale", type=_number(positive=True), default=1.0,
-                       help="cloud units to metres (default 1; MeshLab range maps are often mm: 0.001)")
-    depth.add_argument("--max-depth-jump", type=_number(positive=True), default=MAX_DEPTH_JUMP,
-                       help=f"relative depth step that cuts the mesh (default {MAX_DEPTH_JUMP})")
+    depth.add_argument(
+        "--depth-range",
+        type=_number(0.0),
+        nargs=2,
+        metavar=("NEAR", "FAR"),
+        help="without a mask: keep the pixels between these depths, metres",
+    )
+    depth.add_argument(
+        "--scale",
+        type=_number(positive=True),
+        default=1.0,
+        help="cloud units to metres (default 1; MeshLab range maps are often mm: 0.001)",
+    )
+    depth.add_argument(
+        "--max-depth-jump",
+        type=_number(positive=True),
+        default=MAX_DEPTH_JUMP,
+        help=f"relative depth step that cuts the mesh (default {MAX_DEPTH_JUMP})",
+    )
     depth.set_defaults(func=cmd_view_from_depth)
 
-    join = sub.add_parser("stitch", help="JASNOM: one model from two non-overlapping meshes (thesis ch. 7)",
-                          description=cmd_stitch.__doc__)
-    join.add_argument("first", type=Path, help="the mesh that stays put: the output is in its frame "
-                                                "(PLY, OBJ, OFF, STL, GLB)")
+    join = sub.add_parser(
+        "stitch",
+        help="JASNOM: one model from two non-overlapping meshes (thesis ch. 7)",
+        description=cmd_stitch.__doc__,
+    )
+    join.add_argument(
+        "first", type=Path, help="the mesh that stays put: the output is in its frame (PLY, OBJ, OFF, STL, GLB)"
+    )
     join.add_argument("second", type=Path, help="the mesh moved onto it")
     join.add_argument("-o", "--out", type=Path, required=True, help="the stitched mesh (.ply keeps vertex colours)")
-    join.add_argument("--alpha", type=_number(positive=True), default=ALPHA,
-                      help=f"steepness of the interpenetration penalty, relative to the sampling (default {ALPHA:g})")
-    join.add_argument("--beta", type=_number(0.0), default=BETA,
-                      help=f"weight of the interpenetration penalty J2, eq. 7.4; 0 to patch a hole (default {BETA:g})")
-    join.add_argument("--gamma", type=_number(0.0), default=GAMMA,
-                      help=f"weight of the crease term J3 (default {GAMMA:g})")
-    join.add_argument("--scans", action="store_true",
-                      help="the meshes are depth scans, each in its camera's frame (camera at the origin), taken from "
-                           "opposite sides (the object flipped): the alignment keeps each on the far side from the "
-                           "other's camera and tolerates the band of surface neither saw")
-    join.add_argument("--along", type=_number(0.0),
-                      help="weight of the gap along the seam's continuation in J1: below 1 tolerates a band of "
-                           f"unseen surface (default {ALONG:g}; with --scans {SCAN_ALONG:g})")
-    join.add_argument("--robust", type=_number(0.0),
-                      help="soft-L1 width of the residuals, in boundary radii (default 0: squares; with --scans "
-                           f"{SCAN_ROBUST:g})")
-    join.add_argument("--samples", type=_number(8, whole=True), default=128,
-                      help="boundary samples for the alignment; the coarse search tries twice as many (default 128)")
+    join.add_argument(
+        "--alpha",
+        type=_number(positive=True),
+        default=ALPHA,
+        help=f"steepness of the interpenetration penalty, relative to the sampling (default {ALPHA:g})",
+    )
+    join.add_argument(
+        "--beta",
+        type=_number(0.0),
+        default=BETA,
+        help=f"weight of the interpenetration penalty J2, eq. 7.4; 0 to patch a hole (default {BETA:g})",
+    )
+    join.add_argument(
+        "--gamma", type=_number(0.0), default=GAMMA, help=f"weight of the crease term J3 (default {GAMMA:g})"
+    )
+    join.add_argument(
+        "--scans",
+        action="store_true",
+        help="the meshes are depth scans, each in its camera's frame (camera at the origin), taken from "
+        "opposite sides (the object flipped): the alignment keeps each on the far side from the "
+        "other's camera and tolerates the band of surface neither saw",
+    )
+    join.add_argument(
+        "--along",
+        type=_number(0.0),
+        help="weight of the gap along the seam's continuation in J1: below 1 tolerates a band of "
+        f"unseen surface (default {ALONG:g}; with --scans {SCAN_ALONG:g})",
+    )
+    join.add_argument(
+        "--robust",
+        type=_number(0.0),
+        help=f"soft-L1 width of the residuals, in boundary radii (default 0: squares; with --scans {SCAN_ROBUST:g})",
+    )
+    join.add_argument(
+        "--samples",
+        type=_number(8, whole=True),
+        default=128,
+        help="boundary samples for the alignment; the coarse search tries twice as many (default 128)",
+    )
     join.add_argument("--scale", type=_number(positive=True), default=1.0, help="file units to metres (default 1)")
-    join.add_argument("--motion", type=Path,
-                      help="a known motion of the second mesh into the first's frame (registered cameras): a text "
-                           "file with a 4x4 matrix, translation in file units; nothing is searched")
+    join.add_argument(
+        "--motion",
+        type=Path,
+        help="a known motion of the second mesh into the first's frame (registered cameras): a text "
+        "file with a 4x4 matrix, translation in file units; nothing is searched",
+    )
     join.set_defaults(func=cmd_stitch)
 
-    desc = sub.add_parser("describe", help="any descriptor of a saved view (PVHK by default)",
-                          description=cmd_describe.__doc__)
+    desc = sub.add_parser(
+        "describe", help="any descriptor of a saved view (PVHK by default)", description=cmd_describe.__doc__
+    )
     desc.add_argument("view", type=Path, help=".npz view written by 'heatdata render'")
     desc.add_argument("--samples", type=int, help="boundary samples (default 64); 0: one per boundary vertex")
     desc.add_argument("--source", help="closest (default), center, interior or a vertex index")
     desc.add_argument("--sampling", choices=["arclength", "polar"], help="boundary sampling (default arclength)")
     desc.add_argument("--color-map", default=None, help=f"c1, c2, c3, c4, hue or sat-hue: compute a {COLOR_KIND}")
-    desc.add_argument("--kind", choices=list(KINDS), help=f"default {DEFAULT_KIND}, or {COLOR_KIND} with "
-                      "--color-map; 'heatdata kinds' lists every kind and its options")
-    desc.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
-                      help="any other option of the kind, e.g. --option seed=3 for an esf (repeatable)")
+    desc.add_argument(
+        "--kind",
+        choices=list(KINDS),
+        help=f"default {DEFAULT_KIND}, or {COLOR_KIND} with "
+        "--color-map; 'heatdata kinds' lists every kind and its options",
+    )
+    desc.add_argument(
+        "--option",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="any other option of the kind, e.g. --option seed=3 for an esf (repeatable)",
+    )
     desc.add_argument("--time", type=float, help="the fixed time of an ft-pvhk (the object's time scale, Alg. 5.1)")
     desc.add_argument("--threshold", type=float, help="the pvst's threshold T_a (default 0.75 of equilibrium)")
     desc.set_defaults(func=cmd_describe)
 
-    cls = sub.add_parser("classify", help="nearest-neighbour precision of a descriptor table",
-                         description=cmd_classify.__doc__)
+    cls = sub.add_parser(
+        "classify", help="nearest-neighbour precision of a descriptor table", description=cmd_classify.__doc__
+    )
     cls.add_argument("descriptors", type=Path, help="descriptors.parquet")
     cls.add_argument("--descriptor", help="descriptor name (default: every one in the table)")
-    cls.add_argument("--library-size", type=_number(1, whole=True), action="append", metavar="N",
-                     help="library views per object, evenly spaced in azimuth among the train views "
-                     "(repeatable; default: every train view)")
-    cls.add_argument("--time-rule", choices=TIME_RULES, default=TIME_RULES[0],
-                     help="which objects an ft-pvhk test view is compared with, each at its time scale: plausible "
-                     "(default: those whose time scale is at most the view's own 1/lambda_2) or every")
+    cls.add_argument(
+        "--library-size",
+        type=_number(1, whole=True),
+        action="append",
+        metavar="N",
+        help="library views per object, evenly spaced in azimuth among the train views "
+        "(repeatable; default: every train view)",
+    )
+    cls.add_argument(
+        "--time-rule",
+        choices=TIME_RULES,
+        default=TIME_RULES[0],
+        help="which objects an ft-pvhk test view is compared with, each at its time scale: plausible "
+        "(default: those whose time scale is at most the view's own 1/lambda_2) or every",
+    )
     cls.add_argument("--out", type=Path, help="write predictions.parquet here")
     cls.set_defaults(func=cmd_classify)
 
     kinds = sub.add_parser("kinds", help="list the descriptor kinds and their options", description=cmd_kinds.__doc__)
     kinds.set_defaults(func=cmd_kinds)
 
-    imp = sub.add_parser("import-sh3f", help="import a Sweet Home 3D furniture library",
-                         description=cmd_import_sh3f.__doc__ + " E.g. after 'apt-get install sweethome3d-furniture': "
-                         "heatdata import-sh3f /usr/share/sweethome3d/furniture/Scopia.sh3f models/ --names chair")
+    imp = sub.add_parser(
+        "import-sh3f",
+        help="import a Sweet Home 3D furniture library",
+        description=f"{cmd_import_sh3f.__doc__} E.g. after 'apt-get install sweethome3d-furniture': "
+        "heatdata import-sh3f /usr/share/sweethome3d/furniture/Scopia.sh3f models/ --names chair",
+    )
     imp.add_argument("sh3f", type=Path)
     imp.add_argument("out", type=Path)
     imp.add_argument("--names", help="regular expression on the furniture names")

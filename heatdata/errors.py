@@ -23,3 +23,15 @@ class ViewError(HeatdataError):
 
 class SpectrumError(HeatdataError):
     """The Laplace-Beltrami spectrum could not be computed to the requested accuracy."""
+
+
+class StitchError(HeatdataError):
+    """Two meshes cannot be stitched (no boundary, too short, not a 2-manifold)."""
+
+
+class RumpError(HeatdataError):
+    """Landmarks or a rump surface HBRD cannot use."""
+
+
+class ConfigError(HeatdataError):
+    """The workflow's config asks for something the run cannot do (the message names the key)."""

@@ -17,9 +17,15 @@ def setup_logging(verbose: bool = False, path: str | None = None) -> None:
     With a ``path``, an uncaught error is written to that log too, so a failed job's
     log names the file or view that failed.
     """
-    logging.basicConfig(level=logging.DEBUG if verbose else logging.INFO, filename=path, force=path is not None,
-                        format="%(asctime)s %(levelname)s %(name)s: %(message)s", datefmt="%H:%M:%S")
+    logging.basicConfig(
+        level=logging.DEBUG if verbose else logging.INFO,
+        filename=path,
+        force=path is not None,
+        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
+        datefmt="%H:%M:%S",
+    )
     if path is not None:
+
         def log_and_raise(kind, value, traceback):
             log.critical("%s: %s", kind.__name__, value, exc_info=(kind, value, traceback))
             sys.__excepthook__(kind, value, traceback)
@@ -27,7 +33,7 @@ def setup_logging(verbose: bool = False, path: str | None = None) -> None:
         sys.excepthook = log_and_raise
     logging.getLogger("trimesh").setLevel(logging.WARNING)
     if not verbose:  # per-view repairs are summarized per object and recorded in the tables
-        logging.getLogger("heatdata.view").setLevel(logging.WARNING)
+        logging.getLogger("heatdata.views.view").setLevel(logging.WARNING)
 
 
 def progress(items: Iterable, *, total: int | None = None, desc: str, unit: str) -> Iterable:

@@ -24,7 +24,7 @@ Choices the thesis leaves open, decided here:
   sensor noise z > 0 alone cuts it into specks.
 - Beyond the thesis, ``extent`` keeps only the surface near the bones (their bounding
   box, scaled): a goat's body falls away beyond its hip and pin bones, so z > 0 bounds its
-  rump, but a human's buttocks do not (the proxy of ``heatdata.bodies``).
+  rump, but a human's buttocks do not (the proxy of ``heatdata.io.bodies``).
 - The thesis does not say in which unit its times are; here metres (the canonical
   positions are in metres), so that heat spreads sqrt(4t) = 7.6 cm at 1/700 and 63 cm at
   1/10 over a rump some 20 cm long.
@@ -45,19 +45,15 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 from scipy.spatial import cKDTree
 
-from .errors import HeatdataError
-from .mesh import component_labels, mesh_edges
-from .spectrum import HeatOperator, eigen_spectrum, laplacian
+from heatdata.core.mesh import component_labels, mesh_edges
+from heatdata.core.spectrum import HeatOperator, eigen_spectrum, laplacian
+from heatdata.errors import HeatdataError, RumpError
 
 T_FIRST, T_LAST = 1.0 / 700.0, 1.0 / 10.0  # the time window of 8.3.2 (m^2, as L is in 1/m^2)
 COPLANAR = 0.25  # landmarks farther than this fraction of the quadrilateral's size from their plane: an error
 OFF_MESH = 0.1  # a landmark farther than this fraction of the quadrilateral's size from every vertex: an error
 BELOW = 0.05  # the rump reaches this fraction of the landmarks' spread below their plane (sensor noise, thin rumps)
 FIRST_MODES, TRUNCATION = 200, 1e-8  # eigenpairs first computed; doubled until exp(-lambda_k t_1) <= TRUNCATION
-
-
-class RumpError(HeatdataError):
-    """Landmarks or a rump surface HBRD cannot use."""
 
 
 @dataclass(frozen=True)
@@ -108,8 +104,10 @@ def landmark_frame(landmarks: np.ndarray, toward: np.ndarray | None = None) -> t
     """
     p = np.asarray(landmarks, dtype=np.float64)
     if p.shape != (4, 3) or not np.isfinite(p).all():
-        raise RumpError(f"landmarks must be four finite 3D points (hip left, hip right, pin left, pin right), got "
-                        f"shape {p.shape}" + ("" if p.shape != (4, 3) else " with NaN"))
+        raise RumpError(
+            f"landmarks must be four finite 3D points (hip left, hip right, pin left, pin right), got "
+            f"shape {p.shape}" + ("" if p.shape != (4, 3) else " with NaN")
+        )
     origin = p.mean(axis=0)
     size = float(np.mean(np.linalg.norm(p - origin, axis=1)))
     if size <= 0:
@@ -120,8 +118,10 @@ def landmark_frame(landmarks: np.ndarray, toward: np.ndarray | None = None) -> t
         raise RumpError("the four landmarks lie on one line: they span no plane")
     off = float(np.max(np.abs((p - origin) @ normal)))
     if off > COPLANAR * size:
-        raise RumpError(f"the landmarks are far from coplanar: one lies {off:.3g} from their plane, "
-                        f"{off / size:.0%} of their spread (at most {COPLANAR:.0%})")
+        raise RumpError(
+            f"the landmarks are far from coplanar: one lies {off:.3g} from their plane, "
+            f"{off / size:.0%} of their spread (at most {COPLANAR:.0%})"
+        )
     toward = -origin if toward is None else np.asarray(toward, dtype=np.float64)
     if normal @ toward < 0:
         normal = -normal
@@ -132,8 +132,9 @@ def landmark_frame(landmarks: np.ndarray, toward: np.ndarray | None = None) -> t
     x /= np.linalg.norm(x)
     y = np.cross(normal, x)
     if (0.5 * (p[0] + p[1]) - 0.5 * (p[2] + p[3])) @ y < 0:
-        raise RumpError("the landmarks are out of order: give hip left, hip right, pin left, pin right, as seen "
-                        "from the sensor")
+        raise RumpError(
+            "the landmarks are out of order: give hip left, hip right, pin left, pin right, as seen from the sensor"
+        )
     return origin, np.vstack([x, y, normal])
 
 
@@ -173,9 +174,16 @@ def symmetric_trapezoid(planar_landmarks: np.ndarray) -> np.ndarray:
     return np.array([[-hip, y_hip], [hip, y_hip], [-pin, y_pin], [pin, y_pin]])
 
 
-def rump_heat(vertices: np.ndarray, faces: np.ndarray, landmarks: np.ndarray, *, canonical: np.ndarray | None = None,
-              times: np.ndarray | None = None, toward: np.ndarray | None = None, extent: float | None = None
-              ) -> RumpHeat:
+def rump_heat(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    landmarks: np.ndarray,
+    *,
+    canonical: np.ndarray | None = None,
+    times: np.ndarray | None = None,
+    toward: np.ndarray | None = None,
+    extent: float | None = None,
+) -> RumpHeat:
     """Algorithm 8.1 on a surface with its four landmarks; :func:`hbrd` returns its descriptor.
 
     Parameters
@@ -213,9 +221,11 @@ def rump_heat(vertices: np.ndarray, faces: np.ndarray, landmarks: np.ndarray, *,
     gap, _ = cKDTree(v).query(p)
     if gap.max() > OFF_MESH * size:
         which = int(np.argmax(gap))
-        raise RumpError(f"landmark {which} ({('hip left', 'hip right', 'pin left', 'pin right')[which]}) is "
-                        f"{gap[which]:.3g} from the nearest vertex, off the mesh (at most {OFF_MESH:.0%} of the "
-                        f"landmarks' spread, {OFF_MESH * size:.3g})")
+        raise RumpError(
+            f"landmark {which} ({('hip left', 'hip right', 'pin left', 'pin right')[which]}) is "
+            f"{gap[which]:.3g} from the nearest vertex, off the mesh (at most {OFF_MESH:.0%} of the "
+            f"landmarks' spread, {OFF_MESH * size:.3g})"
+        )
     local = (v - origin) @ rotation.T
     planar_landmarks = ((p - origin) @ rotation.T)[:, :2]
     target = symmetric_trapezoid(planar_landmarks) if canonical is None else np.asarray(canonical, np.float64)
@@ -240,21 +250,32 @@ def rump_heat(vertices: np.ndarray, faces: np.ndarray, landmarks: np.ndarray, *,
     if times.ndim != 1 or not len(times) or times[0] <= 0:
         raise RumpError(f"times must be positive, got {times}")
     difference = _heat(rump_v, edges, center, times) - _heat(plane, edges, center, times)
-    return RumpHeat(vertices=rump_v, faces=rump_f, landmarks=target, center=center, path=path, times=times,
-                    difference=difference, descriptor=difference[:, path].max(axis=1))
+    return RumpHeat(
+        vertices=rump_v,
+        faces=rump_f,
+        landmarks=target,
+        center=center,
+        path=path,
+        times=times,
+        difference=difference,
+        descriptor=difference[:, path].max(axis=1),
+    )
 
 
-def population_hbrd(scans: list[tuple], *, extent: float | None = None, times: np.ndarray | None = None
-                    ) -> list[RumpHeat]:
+def population_hbrd(
+    scans: list[tuple], *, extent: float | None = None, times: np.ndarray | None = None
+) -> list[RumpHeat]:
     """:func:`rump_heat` of every ``(view, landmarks)`` with one canonical frame: the population's mean trapezoid."""
-    from .log import progress
+    from heatdata.log import progress
 
     canonical = np.mean([landmark_trapezoid(landmarks) for _, landmarks in scans], axis=0)
-    return [rump_heat(view.vertices, view.faces, landmarks, canonical=canonical, extent=extent, times=times)
-            for view, landmarks in progress(scans, desc="HBRD", unit="rump")]
+    return [
+        rump_heat(view.vertices, view.faces, landmarks, canonical=canonical, extent=extent, times=times)
+        for view, landmarks in progress(scans, desc="HBRD", unit="rump")
+    ]
 
 
-def condition_measures(descriptors: np.ndarray, condition: np.ndarray, *, neighbours: int = 6) -> dict:
+def condition_measures(descriptors: np.ndarray, condition: np.ndarray, *, n_neighbors: int = 6) -> dict:
     """How well HBRDs order a population by its condition and tell the thinnest third apart (8.4, Fig. 8.8).
 
     Returns
@@ -276,18 +297,23 @@ def condition_measures(descriptors: np.ndarray, condition: np.ndarray, *, neighb
     from sklearn.preprocessing import StandardScaler
 
     descriptors, condition = np.asarray(descriptors, np.float64), np.asarray(condition, np.float64)
-    if len(descriptors) != len(condition) or len(descriptors) < max(6, neighbours + 1):
-        raise RumpError(f"need one condition per descriptor and more than {max(5, neighbours)} of them, got "
-                        f"{len(descriptors)} and {len(condition)}")
-    embedding = Isomap(n_neighbors=neighbours, n_components=3).fit_transform(descriptors)
+    if len(descriptors) != len(condition) or len(descriptors) < max(6, n_neighbors + 1):
+        raise RumpError(
+            f"need one condition per descriptor and more than {max(5, n_neighbors)} of them, got "
+            f"{len(descriptors)} and {len(condition)}"
+        )
+    embedding = Isomap(n_neighbors=n_neighbors, n_components=3).fit_transform(descriptors)
     thin = condition <= np.quantile(condition, 1 / 3)
     classifier = make_pipeline(StandardScaler(), LogisticRegression(max_iter=2000))
     features = np.log(np.maximum(descriptors, 0.0) + 1e-6)
-    return {"embedding": embedding, "thin": thin,
-            "spearman_isomap": float(abs(spearmanr(condition, embedding[:, 0])[0])),
-            "spearman_sum": float(spearmanr(condition, descriptors.sum(axis=1))[0]),
-            "silhouette_thin": float(silhouette_score(embedding, thin)),
-            "loo_accuracy_thin": float(cross_val_score(classifier, features, thin, cv=LeaveOneOut()).mean())}
+    return {
+        "embedding": embedding,
+        "thin": thin,
+        "spearman_isomap": float(abs(spearmanr(condition, embedding[:, 0])[0])),
+        "spearman_sum": float(spearmanr(condition, descriptors.sum(axis=1))[0]),
+        "silhouette_thin": float(silhouette_score(embedding, thin)),
+        "loo_accuracy_thin": float(cross_val_score(classifier, features, thin, cv=LeaveOneOut()).mean()),
+    }
 
 
 def hbrd(vertices: np.ndarray, faces: np.ndarray, landmarks: np.ndarray, **kwargs) -> np.ndarray:
@@ -306,13 +332,15 @@ def _inside(points: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
     return (cross >= 0).all(axis=1) | (cross <= 0).all(axis=1)
 
 
-def _rump(normalized: np.ndarray, faces: np.ndarray, target: np.ndarray, keep: np.ndarray
-          ) -> tuple[np.ndarray, np.ndarray]:
+def _rump(
+    normalized: np.ndarray, faces: np.ndarray, target: np.ndarray, keep: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """The connected part of the kept vertices (above the plane) that holds the kept vertex nearest the centre."""
     kept = faces[keep[faces].all(axis=1)]
     if not len(kept):
-        raise RumpError("no face of the surface lies above the landmarks' plane (z > 0): is ``toward`` the "
-                        "sensor's side?")
+        raise RumpError(
+            "no face of the surface lies above the landmarks' plane (z > 0): is ``toward`` the sensor's side?"
+        )
     n = len(normalized)
     label = component_labels(mesh_edges(kept, n), n)
     used = np.unique(kept)
@@ -345,8 +373,9 @@ def _heat(vertices: np.ndarray, edges: np.ndarray, source: int, times: np.ndarra
     try:
         op = HeatOperator(laplacian(vertices, edges, "rump"), name="rump")
     except HeatdataError as error:
-        raise RumpError(f"the rump's planar twin has coincident vertices (the surface folds over the landmarks' "
-                        f"plane): {error}") from error
+        raise RumpError(
+            f"the rump's planar twin has coincident vertices (the surface folds over the landmarks' plane): {error}"
+        ) from error
     k = min(FIRST_MODES, op.n - 2)
     while True:
         spectrum = eigen_spectrum(op, k)

@@ -20,10 +20,10 @@ import argparse
 import numpy as np
 import pandas as pd
 
+from heatdata.core.distances import chi_square_matrix
 from heatdata.descriptors.hgd import HUES
-from heatdata.distance import chi_square_matrix
-from heatdata.library import library_subset
-from heatdata.tables import read_table
+from heatdata.io.tables import read_table
+from heatdata.recognition.evaluate import library_subset
 
 NAMES = ("esf", "hgd", "hgd/color=hue-saturation")
 COLOUR_BINS = 2 * HUES + 1
@@ -32,8 +32,11 @@ CHUNK = 256  # queries per distance matrix (memory)
 
 def variants(path: str) -> tuple[pd.DataFrame, dict[str, np.ndarray]]:
     """The views (one row each) and each variant's (views, bins) histograms, in the views' order."""
-    table, _ = read_table(path, columns=["descriptor", "object", "view_id", "split", "azimuth", "values"],
-                          filters=[("descriptor", "in", list(NAMES))])
+    table, _ = read_table(
+        path,
+        columns=["descriptor", "object", "view_id", "split", "azimuth", "values"],
+        filters=[("descriptor", "in", list(NAMES))],
+    )
     missing = sorted(set(NAMES) - set(table["descriptor"]))
     if missing:
         raise SystemExit(f"colour_share: {path} has no descriptor {', '.join(missing)} (config/chairs.yaml has them)")
@@ -45,8 +48,13 @@ def variants(path: str) -> tuple[pd.DataFrame, dict[str, np.ndarray]]:
 
     colour = stacked(NAMES[2])[:, -COLOUR_BINS:]  # weight 1/2 of each row
     esf, hgd = stacked("esf"), stacked("hgd")
-    return views, {"colour alone": 2 * colour, "ESF": esf, "HGD": hgd,
-                   "ESF + colour": np.hstack([0.5 * esf, colour]), "HGD + colour": np.hstack([0.5 * hgd, colour])}
+    return views, {
+        "colour alone": 2 * colour,
+        "ESF": esf,
+        "HGD": hgd,
+        "ESF + colour": np.hstack([0.5 * esf, colour]),
+        "HGD + colour": np.hstack([0.5 * hgd, colour]),
+    }
 
 
 def precision(views: pd.DataFrame, values: np.ndarray, size: int) -> float:
@@ -54,8 +62,12 @@ def precision(views: pd.DataFrame, values: np.ndarray, size: int) -> float:
     index = pd.Index(views["view_id"])
     lib, query = values[index.get_indexer(library["view_id"])], values[index.get_indexer(tests["view_id"])]
     usable = np.isfinite(lib).all(axis=1)  # a view the kind could not describe is never nearest
-    nearest = np.concatenate([np.flatnonzero(usable)[chi_square_matrix(query[k:k + CHUNK], lib[usable]).argmin(axis=1)]
-                              for k in range(0, len(query), CHUNK)])
+    nearest = np.concatenate(
+        [
+            np.flatnonzero(usable)[chi_square_matrix(query[k : k + CHUNK], lib[usable]).argmin(axis=1)]
+            for k in range(0, len(query), CHUNK)
+        ]
+    )
     return float(np.mean(library["object"].to_numpy()[nearest] == tests["object"].to_numpy()))
 
 
@@ -66,8 +78,11 @@ def main() -> None:
     parser.add_argument("--out", required=True, help="CSV to write")
     args = parser.parse_args()
     views, features = variants(args.descriptors)
-    rows = [dict(variant=name, library_size=size, precision=round(100 * precision(views, values, size), 1))
-            for name, values in features.items() for size in args.sizes]
+    rows = [
+        dict(variant=name, library_size=size, precision=round(100 * precision(views, values, size), 1))
+        for name, values in features.items()
+        for size in args.sizes
+    ]
     frame = pd.DataFrame(rows).assign(test_views=int((views["split"] == "test").sum()))
     frame.to_csv(args.out, index=False)
     print(frame.pivot(index="variant", columns="library_size", values="precision").to_string())

@@ -16,11 +16,11 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
 
-from heatdata.tables import read_table  # noqa: E402
+from heatdata.io.tables import read_table
 
 
 def twin_table(results: Path) -> pd.DataFrame:
@@ -40,9 +40,17 @@ def summary(predictions: pd.DataFrame) -> pd.DataFrame:
     for (name, size), group in predictions.groupby(["descriptor", "library_size"]):
         paired = group[group["pair"] != ""]
         shape = paired[paired["predicted_pair"] == paired["pair"]]
-        rows.append({"descriptor": name, "library_size": size, "all": group["correct"].mean(),
-                     "pairs": paired["correct"].mean(), "shape": len(shape) / len(paired),
-                     "colour": shape["correct"].mean(), "test_views": len(group)})
+        rows.append(
+            {
+                "descriptor": name,
+                "library_size": size,
+                "all": group["correct"].mean(),
+                "pairs": paired["correct"].mean(),
+                "shape": len(shape) / len(paired),
+                "colour": shape["correct"].mean(),
+                "test_views": len(group),
+            }
+        )
     return pd.DataFrame(rows).round(4)
 
 
@@ -59,8 +67,11 @@ def figure(predictions: pd.DataFrame, path: Path) -> None:
         ax.text(j, i, f"{value:.0f}", ha="center", va="center", fontsize=8)
     ax.set_xticks(range(len(table.columns)), table.columns, rotation=20)
     ax.set_yticks(range(len(table)), [name.replace("/polar/center/64", "") for name in table.index])
-    ax.set_title(f"Colour twins: % of views that pick the right one of an object and its hue-turned twin "
-                 f"(shape right; chance 50)\n{size} library views; rendered views, not real sensor data", fontsize=10)
+    ax.set_title(
+        f"Colour twins: % of views that pick the right one of an object and its hue-turned twin "
+        f"(shape right; chance 50)\n{size} library views; rendered views, not real sensor data",
+        fontsize=10,
+    )
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)

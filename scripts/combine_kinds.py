@@ -27,10 +27,9 @@ import numpy as np
 import pandas as pd
 
 from heatdata.descriptors import kind_of
-from heatdata.evaluate import CLASSIFY_COLUMNS
-from heatdata.library import library_subset
+from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
-from heatdata.tables import read_table
+from heatdata.recognition.evaluate import CLASSIFY_COLUMNS, library_subset
 
 STEP = 0.1  # of the weight grid
 
@@ -43,8 +42,10 @@ def described_views(path: str, names: list[str]) -> pd.DataFrame:
         raise SystemExit(f"combine_kinds: {path} has no descriptor {', '.join(missing)}")
     for name, rows in table.groupby("descriptor"):
         if kind_of(rows["kind"].iloc[0]).time_scaled:
-            raise SystemExit(f"combine_kinds: {name} is time-scaled (a test view has a row per object); "
-                             "combine kinds with one row per view")
+            raise SystemExit(
+                f"combine_kinds: {name} is time-scaled (a test view has a row per object); "
+                "combine kinds with one row per view"
+            )
     finite = table["values"].map(lambda v: bool(np.all(np.isfinite(v))))
     counts = table[finite].groupby("view_id")["descriptor"].nunique()
     return table[table["view_id"].isin(counts[counts == len(names)].index)]
@@ -56,8 +57,9 @@ def distance_matrices(table: pd.DataFrame, names: list[str], rows: np.ndarray, c
     for name in names:
         values = table[table["descriptor"] == name].set_index("view_id")
         impl = kind_of(values["kind"].iloc[0])
-        out[name] = impl.distance_matrix(np.stack(values.loc[rows, "values"].to_numpy()),
-                                         np.stack(values.loc[columns, "values"].to_numpy()))
+        out[name] = impl.distance_matrix(
+            np.stack(values.loc[rows, "values"].to_numpy()), np.stack(values.loc[columns, "values"].to_numpy())
+        )
     return out
 
 
@@ -76,21 +78,36 @@ def combine(table: pd.DataFrame, names: list[str], size: int) -> list[dict]:
     for d in among.values():
         np.fill_diagonal(d, np.nan)  # a library view is not its own neighbour
     scale = {n: float(np.median(np.nanmin(among[n], axis=1))) for n in names}
-    rows = [dict(method=n, precision=precision(queries[n], library_objects, query_objects), weights="")
-            for n in names]
-    grid = [w for w in itertools.product(np.arange(0.0, 1.0 + STEP / 2, STEP), repeat=len(names))
-            if abs(sum(w) - 1.0) < 1e-9]
-    loo = [precision(sum(wk * among[n] / scale[n] for wk, n in zip(w, names, strict=True)), library_objects,
-                     library_objects) for w in grid]
+    rows = [dict(method=n, precision=precision(queries[n], library_objects, query_objects), weights="") for n in names]
+    grid = [
+        w
+        for w in itertools.product(np.arange(0.0, 1.0 + STEP / 2, STEP), repeat=len(names))
+        if abs(sum(w) - 1.0) < 1e-9
+    ]
+    loo = [
+        precision(
+            sum(wk * among[n] / scale[n] for wk, n in zip(w, names, strict=True)), library_objects, library_objects
+        )
+        for w in grid
+    ]
     best = grid[int(np.argmax(loo))]
     for method, weights in (("sum", [1.0] * len(names)), ("learned", best)):
         d = sum(wk * queries[n] / scale[n] for wk, n in zip(weights, names, strict=True))
-        rows.append(dict(method=method, precision=precision(d, library_objects, query_objects),
-                         weights=" ".join(f"{w:.1f}" for w in weights)))
+        rows.append(
+            dict(
+                method=method,
+                precision=precision(d, library_objects, query_objects),
+                weights=" ".join(f"{w:.1f}" for w in weights),
+            )
+        )
     ranks = sum(np.argsort(np.argsort(queries[n], axis=1), axis=1) for n in names)
     rows.append(dict(method="rank", precision=precision(ranks, library_objects, query_objects), weights=""))
-    return [dict(r, library_size=size, test_views=len(tests), leave_one_out=max(loo) if r["method"] == "learned"
-                 else np.nan) for r in rows]
+    return [
+        dict(
+            r, library_size=size, test_views=len(tests), leave_one_out=max(loo) if r["method"] == "learned" else np.nan
+        )
+        for r in rows
+    ]
 
 
 def main() -> None:

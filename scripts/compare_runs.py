@@ -16,15 +16,19 @@ from pathlib import Path
 import numpy as np
 import pyarrow.parquet as pq
 
-TABLES = {"descriptors.parquet": ["view_id", "descriptor", "time_object"],
-          "evaluation/predictions.parquet": ["descriptor", "library_size", "view_id"]}
+TABLES = {
+    "descriptors.parquet": ["view_id", "descriptor", "time_object"],
+    "evaluation/predictions.parquet": ["descriptor", "library_size", "view_id"],
+}
 
 
 def same_column(a, b) -> bool:
     if len(a) and isinstance(a.iloc[0], (np.ndarray, list, type(None))):
-        return all((u is None) == (v is None) and (u is None or np.array_equal(
-            np.asarray(u), np.asarray(v), equal_nan=np.asarray(u).dtype.kind == "f"))
-            for u, v in zip(a, b, strict=True))
+        return all(
+            (u is None) == (v is None)
+            and (u is None or np.array_equal(np.asarray(u), np.asarray(v), equal_nan=np.asarray(u).dtype.kind == "f"))
+            for u, v in zip(a, b, strict=True)
+        )
     return np.array_equal(a.to_numpy(), b.to_numpy(), equal_nan=a.dtype.kind == "f")
 
 
@@ -35,11 +39,19 @@ def main() -> int:
     args = parser.parse_args()
     identical = True
     for name, key in TABLES.items():
-        x, y = (pq.read_table(folder / name).to_pandas().drop(columns=["seconds"], errors="ignore")
-                .sort_values(key).reset_index(drop=True) for folder in (args.first, args.second))
+        x, y = (
+            pq.read_table(folder / name)
+            .to_pandas()
+            .drop(columns=["seconds"], errors="ignore")
+            .sort_values(key)
+            .reset_index(drop=True)
+            for folder in (args.first, args.second)
+        )
         differ = [c for c in x.columns if c not in y.columns or len(x) != len(y) or not same_column(x[c], y[c])]
-        print(f"{name}: {len(x)} and {len(y)} rows; " + (f"columns differ: {differ}" if differ else
-                                                         "identical in every column but seconds"))
+        print(
+            f"{name}: {len(x)} and {len(y)} rows; "
+            + (f"columns differ: {differ}" if differ else "identical in every column but seconds")
+        )
         identical &= not differ
     same = filecmp.cmp(args.first / "evaluation/precision.csv", args.second / "evaluation/precision.csv", shallow=False)
     print(f"evaluation/precision.csv: {'byte-identical' if same else 'differs'}")

@@ -5,7 +5,7 @@ views carry the information; this script measures which step of the heat descrip
 Each variant keeps everything but one step as the workflow has it (the view's largest component, the
 PVHK's image-centre source, polar sampling, 64 samples, t_s = 1/lambda_2, the MHD of eq. 3.1), and is
 scored by the workflow's protocol: the nearest library view among ``n`` per object evenly spaced in azimuth
-(:func:`heatdata.library.library_subset`), over the run's test views (every ``--test-every``-th):
+(:func:`heatdata.recognition.evaluate.library_subset`), over the run's test views (every ``--test-every``-th):
 
 - **the view**: how much "keep the largest component" drops (vertices, components), read from each
   view's ``repairs``; the whole views are measured by the workflow itself (``views.components: all``);
@@ -22,7 +22,7 @@ scored by the workflow's protocol: the nearest library view among ``n`` per obje
     .venv/bin/python scripts/complex_ablation.py --plot docs/results/chairs_12_steps.csv \
         docs/results/household_steps.csv --figure docs/images/complex_steps.png   # the figure, from the tables
 
-Heat is exact (the shift-invert Krylov model of :func:`heatdata.spectrum.heat_model`). One row per
+Heat is exact (the shift-invert Krylov model of :func:`heatdata.core.spectrum.heat_model`). One row per
 variant and library size; the run's views stay as rendered (not real sensor data).
 """
 
@@ -38,15 +38,16 @@ import numpy as np
 import pandas as pd
 from threadpoolctl import threadpool_limits
 
+from heatdata.core.distances import chi_square_matrix, mhd_matrix
+from heatdata.core.mesh import boundary_loops
+from heatdata.core.spectrum import heat_model
 from heatdata.descriptors import ViewWork, sample_boundary, source_vertex
 from heatdata.descriptors.esf import esf_histogram
-from heatdata.distance import chi_square_matrix, mhd_matrix
 from heatdata.errors import HeatdataError
-from heatdata.library import library_subset
+from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
-from heatdata.mesh import boundary_loops
-from heatdata.spectrum import heat_model
-from heatdata.tables import frame_to_views, read_table
+from heatdata.recognition.evaluate import library_subset
+from heatdata.views.frames import frame_to_views
 
 SAMPLES = 64
 CURVE_TIMES = (0.5, 1.0, 2.0)  # x 1/lambda_2: the PVHK's t_s and one octave either side
@@ -81,8 +82,9 @@ VARIANTS = [
 
 def vertex_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(n,) a third of the area of each vertex's triangles, summing to 1."""
-    area = 0.5 * np.linalg.norm(np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]],
-                                         vertices[faces[:, 2]] - vertices[faces[:, 0]]), axis=1)
+    area = 0.5 * np.linalg.norm(
+        np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]], vertices[faces[:, 2]] - vertices[faces[:, 0]]), axis=1
+    )
     per_vertex = np.bincount(faces.ravel(), np.repeat(area / 3.0, 3), len(vertices))
     return per_vertex / per_vertex.sum()
 
@@ -107,9 +109,12 @@ def features(view, samples: int = SAMPLES, triplets: int = 20000) -> dict:
     t_s = 1.0 / work.lambda2(op)
     x, outer = view.vertices, view.boundary
     loops = np.concatenate([loop for loop in boundary_loops(view.faces, view.planar) if len(loop) >= 3])
-    out = {"esf": esf_histogram(x, triplets=triplets), "esf_outer": esf_histogram(x[outer], triplets=triplets),
-           "esf_loops": esf_histogram(x[loops], triplets=triplets),
-           "loops": len(loops) / len(outer)}
+    out = {
+        "esf": esf_histogram(x, triplets=triplets),
+        "esf_outer": esf_histogram(x[outer], triplets=triplets),
+        "esf_loops": esf_histogram(x[loops], triplets=triplets),
+        "loops": len(loops) / len(outer),
+    }
     centre = source_vertex(view, "center")
     curve_times = np.array(CURVE_TIMES) * t_s
     temps = heat_model(op, centre, curve_times, check_every=8)(curve_times)  # (3, n)
@@ -124,17 +129,25 @@ def features(view, samples: int = SAMPLES, triplets: int = 20000) -> dict:
     area = vertex_areas(x, view.faces)
     sources = farthest_points(x, SOURCES, source_vertex(view, "interior"))
     field_times = np.array(FIELD_TIMES) * t_s
-    field = np.stack([np.log10(np.clip(heat_model(op, int(s), field_times, check_every=8)(field_times), 1e-4, None))
-                      for s in sources])  # (sources, times, n)
+    field = np.stack(
+        [
+            np.log10(np.clip(heat_model(op, int(s), field_times, check_every=8)(field_times), 1e-4, None))
+            for s in sources
+        ]
+    )  # (sources, times, n)
     radii = np.linalg.norm(x[None, :, :] - x[sources][:, None, :], axis=2)
     radii /= radii.max()
     weights = np.broadcast_to(area, radii.shape).ravel()
     out["field_1"] = np.concatenate([histogram(field[0, k], LOG_T, area) for k in range(len(FIELD_TIMES))])
-    out["field_many"] = np.concatenate([histogram(field[:, k].ravel(), LOG_T, weights)
-                                        for k in range(len(FIELD_TIMES))])
-    out["joint_many"] = np.concatenate([
-        np.histogram2d(radii.ravel(), np.clip(field[:, k].ravel(), -4.0, 2.0), JOINT, weights=weights)[0].ravel()
-        for k in range(len(FIELD_TIMES))])
+    out["field_many"] = np.concatenate(
+        [histogram(field[:, k].ravel(), LOG_T, weights) for k in range(len(FIELD_TIMES))]
+    )
+    out["joint_many"] = np.concatenate(
+        [
+            np.histogram2d(radii.ravel(), np.clip(field[:, k].ravel(), -4.0, 2.0), JOINT, weights=weights)[0].ravel()
+            for k in range(len(FIELD_TIMES))
+        ]
+    )
     out["radii_many"] = histogram(radii.ravel(), RADII, weights)
     return out
 
@@ -150,8 +163,17 @@ def object_features(args: tuple[Path, int, int, int]) -> list[dict]:
         for view, split, repairs in zip(frame_to_views(frame), frame["split"], frame["repairs"], strict=True):
             kept = next(filter(None, map(KEPT.search, repairs)), None)
             components, share = (int(kept[1]), int(kept[2]) / int(kept[3])) if kept else (1, 1.0)
-            rows.append(dict(object=view.object_id, view_id=view.view_id, split=split, azimuth=view.azimuth,
-                             components=components, vertex_share=share, **features(view, samples, triplets)))
+            rows.append(
+                dict(
+                    object=view.object_id,
+                    view_id=view.view_id,
+                    split=split,
+                    azimuth=view.azimuth,
+                    components=components,
+                    vertex_share=share,
+                    **features(view, samples, triplets),
+                )
+            )
     return rows
 
 
@@ -161,8 +183,10 @@ def distances(queries: np.ndarray, library: np.ndarray, how: str, samples: int) 
     if how == "l1":
         return np.abs(queries[:, None, :] - library[None, :, :]).sum(axis=2)
     if queries.shape[1] > samples:  # several curves of ``samples`` each: eq. 3.1 per curve, summed
-        return sum(mhd_matrix(queries[:, k:k + samples], library[:, k:k + samples])
-                   for k in range(0, queries.shape[1], samples))
+        return sum(
+            mhd_matrix(queries[:, k : k + samples], library[:, k : k + samples])
+            for k in range(0, queries.shape[1], samples)
+        )
     return mhd_matrix(queries, library)
 
 
@@ -229,18 +253,27 @@ def main() -> None:
         table = pd.DataFrame([row for rows in pool.imap(object_features, jobs) for row in rows])
     seconds = time.perf_counter() - start
     print(f"{len(table)} views of {len(paths)} objects described in {seconds:.0f} s")
-    summary = (f"largest component: median {table['vertex_share'].median():.1%} of the vertices kept "
-               f"(least {table['vertex_share'].min():.1%}), median {table['components'].median():g} components; "
-               f"all loops are {table['loops'].median():.2f}x the outer loop's vertices")
+    summary = (
+        f"largest component: median {table['vertex_share'].median():.1%} of the vertices kept "
+        f"(least {table['vertex_share'].min():.1%}), median {table['components'].median():g} components; "
+        f"all loops are {table['loops'].median():.2f}x the outer loop's vertices"
+    )
     rows = [dict(step="view", variant=summary, library_size=0, precision=np.nan)]
     for step, variant, feature, how in VARIANTS:
         for size in args.sizes:
             try:
-                rows.append(dict(step=step, variant=variant, distance=how, library_size=size,
-                                 precision=round(100 * precision(table, feature, how, size, args.samples), 1)))
+                rows.append(
+                    dict(
+                        step=step,
+                        variant=variant,
+                        distance=how,
+                        library_size=size,
+                        precision=round(100 * precision(table, feature, how, size, args.samples), 1),
+                    )
+                )
             except HeatdataError as exc:
                 raise SystemExit(f"complex_ablation: {exc}") from None
-        print(f"{step:9s} {variant:60s} " + " ".join(f"{r['precision']:5.1f}" for r in rows[-len(args.sizes):]))
+        print(f"{step:9s} {variant:60s} " + " ".join(f"{r['precision']:5.1f}" for r in rows[-len(args.sizes) :]))
     pd.DataFrame(rows).assign(views=len(table), seconds=round(seconds)).to_csv(args.out, index=False)
     print(summary)
 

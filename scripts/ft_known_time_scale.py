@@ -13,9 +13,9 @@ import argparse
 
 import numpy as np
 
-from heatdata.library import library_subset
-from heatdata.recognition import nearest_neighbours
-from heatdata.tables import read_table
+from heatdata.io.tables import read_table
+from heatdata.recognition.evaluate import library_subset
+from heatdata.recognition.nearest import nearest_neighbors
 
 
 def main() -> None:
@@ -24,17 +24,22 @@ def main() -> None:
     parser.add_argument("descriptor", help="an ft-pvhk descriptor name")
     parser.add_argument("--sizes", type=int, nargs="+", default=[5, 8, 12, 40])
     args = parser.parse_args()
-    rows, _ = read_table(args.descriptors, filters=[("descriptor", "==", args.descriptor)],
-                         columns=["object", "split", "view_id", "azimuth", "time_object", "values", "weights"])
+    rows, _ = read_table(
+        args.descriptors,
+        filters=[("descriptor", "==", args.descriptor)],
+        columns=["object", "split", "view_id", "azimuth", "time_object", "values", "weights"],
+    )
     tests = rows[(rows["split"] == "test") & (rows["time_object"] == rows["object"])]
     queries, query_weights = np.stack(tests["values"].to_numpy()), np.stack(tests["weights"].to_numpy())
     print(f"{args.descriptor}: {len(tests)} test views at their own object's time scale")
     for size in args.sizes:
         library = library_subset(rows, size)
         values, weights = np.stack(library["values"].to_numpy()), np.stack(library["weights"].to_numpy())
-        for name, kwargs in (("weighted", {"query_weights": query_weights, "library_weights": weights}),
-                             ("unweighted", {})):
-            nn = nearest_neighbours(queries, values, **kwargs)
+        for name, kwargs in (
+            ("weighted", {"query_weights": query_weights, "library_weights": weights}),
+            ("unweighted", {}),
+        ):
+            nn = nearest_neighbors(queries, values, **kwargs)
             precision = np.mean(library["object"].to_numpy()[nn.index] == tests["object"].to_numpy())
             print(f"  {size:3d} library views, {name:10s}: {precision:.1%}")
 

@@ -14,7 +14,7 @@ without the part weights of eq. 5.14:
 * ``plausible``: ``nearest`` among the objects whose time scale (Alg. 5.1: the smallest 1/lambda_2 of their
   library views) is at most the test view's own 1/lambda_2, which its own object's nearly always is (all
   objects when none is); label-free, and the workflow's default (``time_scale_rule: plausible``, computed there by
-  :func:`heatdata.evaluate.classify`: the same predictions);
+  :func:`heatdata.recognition.evaluate.classify`: the same predictions);
 * ``known``: the test view at its true object's time scale against every library view (each at its own
   object's): the thesis's Alg. 5.2 read literally, which uses the test view's label.
 
@@ -29,12 +29,11 @@ import numpy as np
 import pandas as pd
 
 from heatdata.descriptors import kind_of
-from heatdata.library import library_subset
+from heatdata.io.tables import iter_table, read_table
 from heatdata.log import setup_logging
-from heatdata.tables import iter_table, read_table
+from heatdata.recognition.evaluate import library_subset
 
-COLUMNS = ["object", "view_id", "split", "azimuth", "kind", "time_object", "time", "t_global", "values",
-           "weights"]
+COLUMNS = ["object", "view_id", "split", "azimuth", "kind", "time_object", "time", "t_global", "values", "weights"]
 
 
 def stack(frame: pd.DataFrame, column: str) -> np.ndarray:
@@ -69,8 +68,9 @@ def main() -> None:
     results = []
     for size, library in libraries.items():
         for weighted in (True, False):
-            lib = {o: (stack(g, "values"), stack(g, "weights") if weighted else None)
-                   for o, g in library.groupby("object")}
+            lib = {
+                o: (stack(g, "values"), stack(g, "weights") if weighted else None) for o, g in library.groupby("object")
+            }
             every = np.concatenate([lib[o][0] for o in objects])
             every_weights = np.concatenate([lib[o][1] for o in objects]) if weighted else None
             owner = np.repeat(objects, [len(lib[o][0]) for o in objects])
@@ -81,13 +81,19 @@ def main() -> None:
                 d = np.empty((len(views), len(objects)))
                 for k, o in enumerate(objects):
                     at = group[group["time_object"] == o].set_index("view_id").loc[views]
-                    d[:, k] = kind.nearest(stack(at, "values"), lib[o][0],
-                                           query_weights=stack(at, "weights") if weighted else None,
-                                           library_weights=lib[o][1])[1]
+                    d[:, k] = kind.nearest(
+                        stack(at, "values"),
+                        lib[o][0],
+                        query_weights=stack(at, "weights") if weighted else None,
+                        library_weights=lib[o][1],
+                    ).distance
                 own = group[group["time_object"] == group["object"]].set_index("view_id").loc[views]
-                nearest = kind.nearest(stack(own, "values"), every,
-                                       query_weights=stack(own, "weights") if weighted else None,
-                                       library_weights=every_weights)[0]
+                nearest = kind.nearest(
+                    stack(own, "values"),
+                    every,
+                    query_weights=stack(own, "weights") if weighted else None,
+                    library_weights=every_weights,
+                ).index
                 truth.extend(own["object"])
                 distances.append(d)
                 known.extend(owner[nearest])
@@ -95,19 +101,33 @@ def main() -> None:
             truth, d = np.array(truth), np.concatenate(distances)
             mask = time_scale[None, :] <= np.array(own_scale)[:, None]
             plausible = np.where(mask | ~mask.any(axis=1, keepdims=True), d, np.inf)  # none plausible: all
-            for rule, predicted in (("nearest", np.array(objects)[d.argmin(axis=1)]),
-                                    ("normalized", np.array(objects)[(d / scale).argmin(axis=1)]),
-                                    ("plausible", np.array(objects)[plausible.argmin(axis=1)]),
-                                    ("known", np.array(known))):
-                results.append({"library_size": size, "weights": "weighted" if weighted else "unweighted",
-                                "rule": rule, "test_views": len(truth),
-                                "precision": round(float(np.mean(predicted == truth)), 4)})
+            for rule, predicted in (
+                ("nearest", np.array(objects)[d.argmin(axis=1)]),
+                ("normalized", np.array(objects)[(d / scale).argmin(axis=1)]),
+                ("plausible", np.array(objects)[plausible.argmin(axis=1)]),
+                ("known", np.array(known)),
+            ):
+                results.append(
+                    {
+                        "library_size": size,
+                        "weights": "weighted" if weighted else "unweighted",
+                        "rule": rule,
+                        "test_views": len(truth),
+                        "precision": round(float(np.mean(predicted == truth)), 4),
+                    }
+                )
             inside = np.mean(time_scale[np.searchsorted(objects, truth)] <= np.array(own_scale))
-            print(f"{size} views, {'weighted' if weighted else 'unweighted'}: {time.perf_counter() - start:.0f} s; "
-                  f"own object plausible for {inside:.1%} of the test views", flush=True)
+            print(
+                f"{size} views, {'weighted' if weighted else 'unweighted'}: {time.perf_counter() - start:.0f} s; "
+                f"own object plausible for {inside:.1%} of the test views",
+                flush=True,
+            )
     table = pd.DataFrame(results)
-    print(table.pivot_table(index=["weights", "rule"], columns="library_size", values="precision")
-          .map(lambda p: f"{p:.1%}").to_string())
+    print(
+        table.pivot_table(index=["weights", "rule"], columns="library_size", values="precision")
+        .map(lambda p: f"{p:.1%}")
+        .to_string()
+    )
     if args.out:
         table.to_csv(args.out, index=False)
 

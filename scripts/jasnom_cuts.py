@@ -1,6 +1,6 @@
 """JASNOM against ground truth (thesis ch. 7, issues 14, 29): closed models cut in two, one half moved, stitched back.
 
-Every model whose largest piece is a closed 2-manifold (``heatdata.stitch.closed_part``)
+Every model whose largest piece is a closed 2-manifold (``heatdata.jasnom.cuts.closed_part``)
 from the embedded set and from Sweet Home 3D libraries (imported into a temporary
 folder, never committed), and six smooth analytic shapes with a little asymmetry, is
 cut by a plane and by a wavy surface (``split_model``) in a seeded random direction, at
@@ -38,12 +38,16 @@ import pandas as pd
 import trimesh
 from scipy.spatial.transform import Rotation
 
-from heatdata.catalog import embedded_catalog, import_sh3f, load_catalog_model, read_catalog
+from heatdata.core.mesh import surface_distances
 from heatdata.errors import HeatdataError
+from heatdata.io.catalog import embedded_catalog, load_catalog_model, read_catalog
+from heatdata.io.models import Model, save_model, transformed
+from heatdata.io.sh3f import import_sh3f
+from heatdata.jasnom.align import align, alignment_at
+from heatdata.jasnom.boundary import boundaries
+from heatdata.jasnom.cuts import closed_part, split_model
+from heatdata.jasnom.seam import stitch
 from heatdata.log import progress
-from heatdata.mesh import surface_distances
-from heatdata.models import Model, save_model
-from heatdata.stitch import align, alignment_at, boundaries, closed_part, split_model, stitch, transformed
 
 LIBRARIES = ["BlendSwap-CC-0", "BlendSwap-CC-BY", "KatorLegaz", "Scopia", "Contributions", "eTeks"]
 FURNITURE = Path("/usr/share/sweethome3d/furniture")
@@ -83,12 +87,19 @@ def hole_row(model, rng, samples: int) -> dict:
     except HeatdataError as error:
         return {**row, "error": str(error)}
     jasnom = trimesh.Trimesh(result.model.vertices, result.model.faces, process=False)
-    row.update(jasnom_seconds=time.perf_counter() - start, jasnom_watertight=bool(jasnom.is_watertight),
-               jasnom_hausdorff=hausdorff(original, jasnom) / size)
+    row.update(
+        jasnom_seconds=time.perf_counter() - start,
+        jasnom_watertight=bool(jasnom.is_watertight),
+        jasnom_hausdorff=hausdorff(original, jasnom) / size,
+    )
     start = time.perf_counter()
     meshlab = close_with_pymeshlab(body)
-    row.update(meshlab_seconds=time.perf_counter() - start, meshlab_watertight=bool(meshlab.is_watertight),
-               meshlab_hausdorff=hausdorff(original, meshlab) / size, error="")
+    row.update(
+        meshlab_seconds=time.perf_counter() - start,
+        meshlab_watertight=bool(meshlab.is_watertight),
+        meshlab_hausdorff=hausdorff(original, meshlab) / size,
+        error="",
+    )
     return row
 
 
@@ -106,11 +117,18 @@ def analytic_shapes() -> list[Model]:
     torus.vertices *= [1.0, 0.85, 1.0]
     cylinder = trimesh.creation.cylinder(radius=0.05, height=0.12, sections=64).subdivide().subdivide()
     cylinder.vertices[:, 0] *= 1.0 + 0.1 * (cylinder.vertices[:, 0] > 0)
-    shapes = {"egg": (egg, sphere.faces), "bumpy-ellipsoid": (bumpy, sphere.faces),
-              "tilted-ellipsoid": (tilted, sphere.faces), "capsule": (capsule.vertices, capsule.faces),
-              "oval-torus": (torus.vertices, torus.faces), "lopsided-cylinder": (cylinder.vertices, cylinder.faces)}
-    return [closed_part(Model.untextured(name, vertices, faces, (0.6, 0.6, 0.6), label="analytic"))
-            for name, (vertices, faces) in shapes.items()]
+    shapes = {
+        "egg": (egg, sphere.faces),
+        "bumpy-ellipsoid": (bumpy, sphere.faces),
+        "tilted-ellipsoid": (tilted, sphere.faces),
+        "capsule": (capsule.vertices, capsule.faces),
+        "oval-torus": (torus.vertices, torus.faces),
+        "lopsided-cylinder": (cylinder.vertices, cylinder.faces),
+    }
+    return [
+        closed_part(Model.untextured(name, vertices, faces, (0.6, 0.6, 0.6), label="analytic"))
+        for name, (vertices, faces) in shapes.items()
+    ]
 
 
 def candidates(folder: Path, limit: int, min_faces: int, max_faces: int) -> list:
@@ -143,8 +161,14 @@ def cut_row(model: Model, rng, args) -> list[dict]:
     translation = 0.5 * size * rng.normal(size=3)
     rows = []
     for cut, amplitude in (("plane", 0.0), ("wavy", 0.03)):
-        row = {"object": model.name, "kind": model.label or "model", "faces": len(model.faces), "size": size,
-               "cut": cut, "offset": offset}
+        row = {
+            "object": model.name,
+            "kind": model.label or "model",
+            "faces": len(model.faces),
+            "size": size,
+            "cut": cut,
+            "offset": offset,
+        }
         try:
             a, b = split_model(model, normal, offset=offset, amplitude=amplitude)
             b = transformed(b, rotation.as_matrix(), translation)
@@ -162,23 +186,40 @@ def cut_row(model: Model, rng, args) -> list[dict]:
         truth_r, truth_t = rotation.inv().as_matrix(), -rotation.inv().apply(translation)
         truth = alignment_at(b1, b2, truth_r, truth_t, samples=args.samples).cost
         centre = b.vertices.mean(axis=0)  # the moved half's centroid: errors that do not depend on the origin
-        wrong = [j for r, t, j in visited if np.degrees(Rotation.from_matrix(r @ truth_r.T).magnitude()) > 2
-                 or np.linalg.norm(r @ centre + t - truth_r @ centre - truth_t) > 0.01 * size]
+        wrong = [
+            j
+            for r, t, j in visited
+            if np.degrees(Rotation.from_matrix(r @ truth_r.T).magnitude()) > 2
+            or np.linalg.norm(r @ centre + t - truth_r @ centre - truth_t) > 0.01 * size
+        ]
         mesh = trimesh.Trimesh(result.model.vertices, result.model.faces, process=False)
         with tempfile.TemporaryDirectory() as folder:  # as a user reads the file: trimesh merges vertices
             save_model(result.model, Path(folder) / "out.ply")
             reread = trimesh.load(Path(folder) / "out.ply")
-        rows.append({**row, "boundary": len(b1[0].loop), "loops": len(b1), "loop_pairs": result.loop_pairs,
-                     "open_loops": result.open_loops,
-                     "rotation_error_deg": float(np.degrees((Rotation.from_matrix(found.rotation) * rotation)
-                                                            .magnitude())),
-                     "translation_error": float(np.linalg.norm(found.rotation @ centre + found.translation
-                                                               - truth_r @ centre - truth_t)) / size,
-                     "watertight": bool(mesh.is_watertight and reread.is_watertight),
-                     "winding_consistent": bool(mesh.is_winding_consistent and reread.is_winding_consistent),
-                     "hausdorff": hausdorff(original, mesh) / size, "cost": found.cost, "cost_at_truth": truth,
-                     "cheapest_wrong": min(wrong, default=np.nan), "runner_up": found.runner_up,
-                     "ambiguous": found.ambiguous, "seconds": seconds, "error": ""})
+        rows.append(
+            {
+                **row,
+                "boundary": len(b1[0].loop),
+                "loops": len(b1),
+                "loop_pairs": result.loop_pairs,
+                "open_loops": result.open_loops,
+                "rotation_error_deg": float(np.degrees((Rotation.from_matrix(found.rotation) * rotation).magnitude())),
+                "translation_error": float(
+                    np.linalg.norm(found.rotation @ centre + found.translation - truth_r @ centre - truth_t)
+                )
+                / size,
+                "watertight": bool(mesh.is_watertight and reread.is_watertight),
+                "winding_consistent": bool(mesh.is_winding_consistent and reread.is_winding_consistent),
+                "hausdorff": hausdorff(original, mesh) / size,
+                "cost": found.cost,
+                "cost_at_truth": truth,
+                "cheapest_wrong": min(wrong, default=np.nan),
+                "runner_up": found.runner_up,
+                "ambiguous": found.ambiguous,
+                "seconds": seconds,
+                "error": "",
+            }
+        )
     return rows
 
 
@@ -203,23 +244,28 @@ def main() -> None:
     good = (ok["rotation_error_deg"] <= 2) & (ok["translation_error"] <= 0.01)
     prefers = (ok["cost_at_truth"] <= ok["cheapest_wrong"]) | ok["cheapest_wrong"].isna()
     print(table.drop(columns=["error"]).round(4).to_string(index=False))
-    print(f"{len(ok)} of {len(table)} cuts stitched; rotation <= 2 deg and translation <= 1%: {good.mean():.1%} "
-          f"({good.sum()}); watertight and consistently wound: "
-          f"{(ok['watertight'] & ok['winding_consistent']).mean():.1%}; "
-          f"Hausdorff <= 1%: {(ok['hausdorff'] <= 0.01).mean():.1%}; J at the truth at or below every wrong pose "
-          f"visited: {prefers.mean():.1%}; ambiguous: {ok['ambiguous'].mean():.1%}; median "
-          f"{ok['seconds'].median():.2f} "
-          f"s a cut; {time.perf_counter() - begin:.0f} s in all")
+    print(
+        f"{len(ok)} of {len(table)} cuts stitched; rotation <= 2 deg and translation <= 1%: {good.mean():.1%} "
+        f"({good.sum()}); watertight and consistently wound: "
+        f"{(ok['watertight'] & ok['winding_consistent']).mean():.1%}; "
+        f"Hausdorff <= 1%: {(ok['hausdorff'] <= 0.01).mean():.1%}; J at the truth at or below every wrong pose "
+        f"visited: {prefers.mean():.1%}; ambiguous: {ok['ambiguous'].mean():.1%}; median "
+        f"{ok['seconds'].median():.2f} "
+        f"s a cut; {time.perf_counter() - begin:.0f} s in all"
+    )
     if args.out:
         table.round(6).to_csv(args.out, index=False)
     if args.holes_out:
-        holes = pd.DataFrame([hole_row(model, rng, args.samples)
-                              for model in progress(models, desc="holes", unit="model")])
+        holes = pd.DataFrame(
+            [hole_row(model, rng, args.samples) for model in progress(models, desc="holes", unit="model")]
+        )
         done = holes[holes["error"] == ""]
         print(holes.drop(columns=["error"]).round(4).to_string(index=False))
-        print(f"{len(done)} of {len(holes)} holes patched; watertight: JASNOM {done['jasnom_watertight'].mean():.1%}, "
-              f"pymeshlab {done['meshlab_watertight'].mean():.1%}; median Hausdorff to the original: JASNOM "
-              f"{done['jasnom_hausdorff'].median():.2%}, pymeshlab {done['meshlab_hausdorff'].median():.2%}")
+        print(
+            f"{len(done)} of {len(holes)} holes patched; watertight: JASNOM {done['jasnom_watertight'].mean():.1%}, "
+            f"pymeshlab {done['meshlab_watertight'].mean():.1%}; median Hausdorff to the original: JASNOM "
+            f"{done['jasnom_hausdorff'].median():.2%}, pymeshlab {done['meshlab_hausdorff'].median():.2%}"
+        )
         holes.round(6).to_csv(args.holes_out, index=False)
 
 

@@ -5,7 +5,7 @@ Each embedded model is rendered by the virtual Kinect standing (azimuth 0, eleva
 acquisition of 7.5, each view in its own camera frame; the camera poses give the true
 motion. Per object:
 
-- **Alignment** with no motion given: ``heatdata.stitch.stitch(..., scans=True)`` (the
+- **Alignment** with no motion given: ``heatdata.jasnom.seam.stitch(..., scans=True)`` (the
   scan constraint and the scans' ``along`` and ``robust``), and, as a baseline on the
   same pair, open3d's global registration (FPFH features matched by RANSAC, seeded).
   Rotation error; translation error as the distance between where the found and the
@@ -39,18 +39,20 @@ import pandas as pd
 import trimesh
 from scipy.spatial.transform import Rotation
 
-from heatdata.catalog import embedded_catalog, load_catalog_model, read_catalog
-from heatdata.dataset import render_views, view_plan
+from heatdata.core.mesh import surface_distances
 from heatdata.descriptors import DescriptorSpec, describe
 from heatdata.errors import HeatdataError
-from heatdata.figures import plot_stitch
+from heatdata.experiments.views import render_views, view_plan
+from heatdata.io.catalog import embedded_catalog, load_catalog_model, read_catalog
+from heatdata.io.models import Model, transformed
+from heatdata.jasnom.align import align, alignment_at
+from heatdata.jasnom.boundary import boundaries
+from heatdata.jasnom.cost import SCAN_ALONG, SCAN_ROBUST, ScanSurface
+from heatdata.jasnom.seam import stitch
 from heatdata.log import progress
-from heatdata.mesh import surface_distances
-from heatdata.models import Model
-from heatdata.recognition import nearest_neighbours
-from heatdata.render import render_view
-from heatdata.stitch import (SCAN_ALONG, SCAN_ROBUST, ScanSurface, align, alignment_at, boundaries, stitch,
-                             transformed)
+from heatdata.recognition.nearest import nearest_neighbors
+from heatdata.reporting.figures.jasnom import plot_stitch
+from heatdata.views.render import render_view
 
 SPEC = DescriptorSpec("pvhk", 64, "center", "polar")  # the default run's primary descriptor
 
@@ -66,15 +68,22 @@ def rotation_error(found: np.ndarray, truth: np.ndarray) -> float:
 def stitched_row(model: Model, original: Model, size: float, prefix: str) -> dict:
     mesh = trimesh.Trimesh(model.vertices, model.faces, process=False)
     there, back = surface_distances((model.vertices, model.faces), (original.vertices, original.faces))
-    return {f"{prefix}_watertight": bool(mesh.is_watertight), f"{prefix}_winding": bool(mesh.is_winding_consistent),
-            f"{prefix}_mean_distance": float(there.mean()) / size,
-            f"{prefix}_hausdorff": float(max(there.max(), back.max())) / size}
+    return {
+        f"{prefix}_watertight": bool(mesh.is_watertight),
+        f"{prefix}_winding": bool(mesh.is_winding_consistent),
+        f"{prefix}_mean_distance": float(there.mean()) / size,
+        f"{prefix}_hausdorff": float(max(there.max(), back.max())) / size,
+    }
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--azimuth", type=float, default=0.0,
-                        help="of the standing scan; the flipped one is 180 degrees round (default 0)")
+    parser.add_argument(
+        "--azimuth",
+        type=float,
+        default=0.0,
+        help="of the standing scan; the flipped one is 180 degrees round (default 0)",
+    )
     parser.add_argument("--elevation", type=float, default=45.0)
     parser.add_argument("--distance", type=float, default=3.0, help="scan camera distance in object sizes")
     parser.add_argument("--samples", type=int, default=128)
@@ -107,16 +116,26 @@ def main() -> None:
         except HeatdataError as error:
             rows.append({"object": obj, "error": str(error)})
             continue
-        at_truth = alignment_at(loops1, loops2, truth[:3, :3], truth[:3, 3], along=SCAN_ALONG, robust=SCAN_ROBUST,
-                                samples=args.samples)
+        at_truth = alignment_at(
+            loops1, loops2, truth[:3, :3], truth[:3, 3], along=SCAN_ALONG, robust=SCAN_ROBUST, samples=args.samples
+        )
         centre = second.vertices.mean(axis=0)
         ray = truth[:3, :3] @ centre + truth[:3, 3]
-        result = {"object": obj, "size": size, "loops": f"{len(loops1)}/{len(loops2)}",
-                  "boundary_ratio": max(loops1[0].length, loops2[0].length) / min(loops1[0].length, loops2[0].length),
-                  "gap_at_truth": at_truth.gap / size, "cost_at_truth": at_truth.cost, "cost_found": found.cost,
-                  "ambiguous": found.ambiguous, "error": ""}
-        for prefix, motion in (("jasnom", (found.rotation, found.translation)), ("fpfh", fpfh_ransac(first, second,
-                                                                                                     size))):
+        result = {
+            "object": obj,
+            "size": size,
+            "loops": f"{len(loops1)}/{len(loops2)}",
+            "boundary_ratio": max(loops1[0].length, loops2[0].length) / min(loops1[0].length, loops2[0].length),
+            "gap_at_truth": at_truth.gap / size,
+            "cost_at_truth": at_truth.cost,
+            "cost_found": found.cost,
+            "ambiguous": found.ambiguous,
+            "error": "",
+        }
+        for prefix, motion in (
+            ("jasnom", (found.rotation, found.translation)),
+            ("fpfh", fpfh_ransac(first, second, size)),
+        ):
             moved = motion[0] @ centre + motion[1] - ray
             result[f"{prefix}_rotation_error_deg"] = rotation_error(motion[0], truth[:3, :3])
             result[f"{prefix}_translation_error"] = float(np.linalg.norm(moved)) / size
@@ -131,10 +150,16 @@ def main() -> None:
                 result[f"{prefix}_error"] = str(error)
                 continue
             if args.figure and prefix == "jasnom" and obj == args.figure_object:
-                plot_stitch(first, second, stitched.model, stitched.strip_faces, args.figure,
-                            f"JASNOM on two rendered scans of the {obj} (standing, then flipped; no motion given): "
-                            f"rotation {result['jasnom_rotation_error_deg']:.1f} deg off, the flipped scan "
-                            f"{result['jasnom_depth_error']:.1%} of the size too near along the camera ray")
+                plot_stitch(
+                    first,
+                    second,
+                    stitched.model,
+                    stitched.strip_faces,
+                    args.figure,
+                    f"JASNOM on two rendered scans of the {obj} (standing, then flipped; no motion given): "
+                    f"rotation {result['jasnom_rotation_error_deg']:.1f} deg off, the flipped scan "
+                    f"{result['jasnom_depth_error']:.1%} of the size too near along the camera ray",
+                )
             joined = transformed(stitched.model, to_world[:3, :3], to_world[:3, 3])
             result.update(stitched_row(joined, model, size, prefix))
             try:
@@ -143,8 +168,10 @@ def main() -> None:
                 result[f"{prefix}_error"] = f"rendering: {error}"
         rows.append(result)
         if args.tried_out:
-            tried += [{"object": obj, **setting_row(name, settings, first, second, truth, size, args.samples)}
-                      for name, settings in TRIED.items()]
+            tried += [
+                {"object": obj, **setting_row(name, settings, first, second, truth, size, args.samples)}
+                for name, settings in TRIED.items()
+            ]
     table = pd.DataFrame(rows)
     precision = recognition(library, queries)
     ok = table[table["error"] == ""]
@@ -152,17 +179,21 @@ def main() -> None:
     for prefix in ("jasnom", "fpfh"):
         aligned = (ok[f"{prefix}_rotation_error_deg"] <= 5) & (ok[f"{prefix}_translation_error"] <= 0.02)
         turned = ok[f"{prefix}_rotation_error_deg"] <= 5
-        print(f"{prefix}: {aligned.sum()} of {len(ok)} pairs within 5 deg and 2%; rotation within 5 deg in "
-              f"{turned.sum()}; median translation error {ok[f'{prefix}_translation_error'].median():.1%} of the size, "
-              f"of which along the camera ray {ok[f'{prefix}_depth_error'].median():.1%}")
+        print(
+            f"{prefix}: {aligned.sum()} of {len(ok)} pairs within 5 deg and 2%; rotation within 5 deg in "
+            f"{turned.sum()}; median translation error {ok[f'{prefix}_translation_error'].median():.1%} of the size, "
+            f"of which along the camera ray {ok[f'{prefix}_depth_error'].median():.1%}"
+        )
     print(f"J at the truth at or below J found in {(ok['cost_at_truth'] <= ok['cost_found']).sum()} of {len(ok)}")
     print(f"median gap at the true motion {ok['gap_at_truth'].median():.1%} of the size")
     for prefix in ("registered", "jasnom"):
         done = ok.dropna(subset=[f"{prefix}_watertight"])
         closed = (done[f"{prefix}_watertight"] & done[f"{prefix}_winding"]).mean()
-        print(f"{prefix}: {len(done)} of {len(ok)} stitched, watertight and consistently wound {closed:.1%}, median "
-              f"mean distance {done[f'{prefix}_mean_distance'].median():.2%}, median Hausdorff "
-              f"{done[f'{prefix}_hausdorff'].median():.1%}")
+        print(
+            f"{prefix}: {len(done)} of {len(ok)} stitched, watertight and consistently wound {closed:.1%}, median "
+            f"mean distance {done[f'{prefix}_mean_distance'].median():.2%}, median Hausdorff "
+            f"{done[f'{prefix}_hausdorff'].median():.1%}"
+        )
     print(precision.round(3).to_string())
     print(f"{time.perf_counter() - begin:.0f} s in all")
     if args.out:
@@ -183,14 +214,19 @@ TRIED = {
     "scan constraint, along 0.1, robust 0.05 (the scans' defaults)": {"scans": True},
     "scan constraint, along 0, robust 0.05": {"scans": True, "along": 0.0},
     "scan constraint, along 0.1, robust 0.05, longest loop only": {"scans": True, "loops": 1},
-    "scan constraint, beta 0, along 0, robust 0.05, longest loop only": {"scans": True, "loops": 1, "beta": 0.0,
-                                                                          "along": 0.0},
+    "scan constraint, beta 0, along 0, robust 0.05, longest loop only": {
+        "scans": True,
+        "loops": 1,
+        "beta": 0.0,
+        "along": 0.0,
+    },
 }
 """The JASNOM settings ``--tried-out`` measures on every pair (issue 29: what was tried for opposite scans)."""
 
 
-def setting_row(name: str, settings: dict, first: Model, second: Model, truth: np.ndarray, size: float,
-                samples: int) -> dict:
+def setting_row(
+    name: str, settings: dict, first: Model, second: Model, truth: np.ndarray, size: float, samples: int
+) -> dict:
     """One JASNOM setting on one scan pair: errors as in the main table, and J at the truth against J found."""
     settings = dict(settings)
     loops = settings.pop("loops", None)
@@ -207,26 +243,38 @@ def setting_row(name: str, settings: dict, first: Model, second: Model, truth: n
     centre = second.vertices.mean(axis=0)
     ray = truth[:3, :3] @ centre + truth[:3, 3]
     moved = found.rotation @ centre + found.translation - ray
-    return {"setting": name, "rotation_error_deg": rotation_error(found.rotation, truth[:3, :3]),
-            "translation_error": float(np.linalg.norm(moved)) / size,
-            "depth_error": float(abs(moved @ ray) / np.linalg.norm(ray)) / size,
-            "truth_preferred": bool(at_truth.cost <= found.cost), "error": ""}
+    return {
+        "setting": name,
+        "rotation_error_deg": rotation_error(found.rotation, truth[:3, :3]),
+        "translation_error": float(np.linalg.norm(moved)) / size,
+        "depth_error": float(abs(moved @ ray) / np.linalg.norm(ray)) / size,
+        "truth_preferred": bool(at_truth.cost <= found.cost),
+        "error": "",
+    }
 
 
 def summarize_tried(tried: pd.DataFrame) -> pd.DataFrame:
     """Per setting: pairs within 5 deg and 2%, within 5 deg, median errors, pairs where J prefers the truth."""
     done = tried[tried["error"] == ""]
     groups = done.groupby("setting", sort=False)
-    return pd.DataFrame({
-        "pairs": tried.groupby("setting", sort=False).size(),
-        "errors": tried[tried["error"] != ""].groupby("setting", sort=False).size(),
-        "within_5deg_2pct": groups.apply(lambda g: int(((g["rotation_error_deg"] <= 5)
-                                                        & (g["translation_error"] <= 0.02)).sum())),
-        "within_5deg": groups.apply(lambda g: int((g["rotation_error_deg"] <= 5).sum())),
-        "median_translation_error": groups["translation_error"].median(),
-        "median_depth_error": groups["depth_error"].median(),
-        "truth_preferred": groups["truth_preferred"].sum().astype(int),
-    }).fillna({"errors": 0}).astype({"errors": int}).round(4)
+    return (
+        pd.DataFrame(
+            {
+                "pairs": tried.groupby("setting", sort=False).size(),
+                "errors": tried[tried["error"] != ""].groupby("setting", sort=False).size(),
+                "within_5deg_2pct": groups.apply(
+                    lambda g: int(((g["rotation_error_deg"] <= 5) & (g["translation_error"] <= 0.02)).sum())
+                ),
+                "within_5deg": groups.apply(lambda g: int((g["rotation_error_deg"] <= 5).sum())),
+                "median_translation_error": groups["translation_error"].median(),
+                "median_depth_error": groups["depth_error"].median(),
+                "truth_preferred": groups["truth_preferred"].sum().astype(int),
+            }
+        )
+        .fillna({"errors": 0})
+        .astype({"errors": int})
+        .round(4)
+    )
 
 
 def fpfh_ransac(first: Model, second: Model, size: float) -> tuple[np.ndarray, np.ndarray]:
@@ -240,16 +288,28 @@ def fpfh_ransac(first: Model, second: Model, size: float) -> tuple[np.ndarray, n
     for model in (first, second):
         cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(model.vertices)).voxel_down_sample(voxel)
         cloud.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=2 * voxel, max_nn=30))
-        features.append(o3d.pipelines.registration.compute_fpfh_feature(
-            cloud, o3d.geometry.KDTreeSearchParamHybrid(radius=5 * voxel, max_nn=100)))
+        features.append(
+            o3d.pipelines.registration.compute_fpfh_feature(
+                cloud, o3d.geometry.KDTreeSearchParamHybrid(radius=5 * voxel, max_nn=100)
+            )
+        )
         clouds.append(cloud)
     registration = o3d.pipelines.registration
     found = registration.registration_ransac_based_on_feature_matching(
-        clouds[1], clouds[0], features[1], features[0], True, 1.5 * voxel,
-        registration.TransformationEstimationPointToPoint(False), 3,
-        [registration.CorrespondenceCheckerBasedOnEdgeLength(0.9),
-         registration.CorrespondenceCheckerBasedOnDistance(1.5 * voxel)],
-        registration.RANSACConvergenceCriteria(100000, 0.999))
+        clouds[1],
+        clouds[0],
+        features[1],
+        features[0],
+        True,
+        1.5 * voxel,
+        registration.TransformationEstimationPointToPoint(False),
+        3,
+        [
+            registration.CorrespondenceCheckerBasedOnEdgeLength(0.9),
+            registration.CorrespondenceCheckerBasedOnDistance(1.5 * voxel),
+        ],
+        registration.RANSACConvergenceCriteria(100000, 0.999),
+    )
     return np.asarray(found.transformation[:3, :3]), np.asarray(found.transformation[:3, 3])
 
 
@@ -261,7 +321,7 @@ def recognition(library: list, queries: list) -> pd.DataFrame:
     """Object precision per object (rows) of the test views of each source (columns), and over all objects."""
     labels = np.array([obj for obj, _ in library])
     frame = pd.DataFrame([{"source": source, "object": obj} for source, obj, _ in queries])
-    nearest = nearest_neighbours([d for _, _, d in queries], [d for _, d in library])
+    nearest = nearest_neighbors([d for _, _, d in queries], [d for _, d in library])
     frame["correct"] = labels[nearest.index] == frame["object"].to_numpy()
     table = frame.pivot_table(index="object", columns="source", values="correct", aggfunc="mean")
     table.loc["all objects"] = frame.groupby("source")["correct"].mean()

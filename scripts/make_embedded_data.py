@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from heatdata.catalog import sh3f_entries
+from heatdata.io.sh3f import sh3f_entries
 
 SH3F = Path("/usr/share/sweethome3d/furniture/BlendSwap-CC-0.sh3f")
 OUT = Path(__file__).resolve().parents[1] / "data" / "models"
@@ -55,13 +55,20 @@ def main() -> None:
                 target = OUT / object_id / Path(member).name
                 target.parent.mkdir(exist_ok=True)
                 target.write_bytes(archive.read(member))
-            rows.append({
-                "object": object_id, "label": label, "file": f"{object_id}/{Path(entry.model).name}",
-                "width": round(entry.width * scale, 4), "height": round(entry.height * scale, 4),
-                "depth": round(entry.depth * scale, 4), "rotation": entry.rotation,
-                "name": entry["name"] + (f" ({note})" if note else ""),
-                "source": f"Sweet Home 3D BlendSwap-CC-0 library, {entry.creator}", "licence": "CC0-1.0",
-            })
+            rows.append(
+                {
+                    "object": object_id,
+                    "label": label,
+                    "file": f"{object_id}/{Path(entry.model).name}",
+                    "width": round(entry.width * scale, 4),
+                    "height": round(entry.height * scale, 4),
+                    "depth": round(entry.depth * scale, 4),
+                    "rotation": entry.rotation,
+                    "name": entry["name"] + (f" ({note})" if note else ""),
+                    "source": f"Sweet Home 3D BlendSwap-CC-0 library, {entry.creator}",
+                    "licence": "CC0-1.0",
+                }
+            )
     pd.DataFrame(rows).to_csv(OUT / "catalog.csv", index=False)
     print(f"wrote {len(rows)} models to {OUT}")
 

@@ -19,9 +19,10 @@ import time
 
 import pandas as pd
 
-from heatdata.library import library_subset
-from heatdata.multiview import ambiguous_starts, learn_similarity, multiview_trials, split_tests, trial_summary
-from heatdata.tables import read_table
+from heatdata.experiments.multiview import ambiguous_starts, multiview_trials, split_tests, trial_summary
+from heatdata.io.tables import read_table
+from heatdata.recognition.evaluate import library_subset
+from heatdata.recognition.multiview.appearance import learn_similarity
 
 
 def main() -> None:
@@ -33,12 +34,26 @@ def main() -> None:
     parser.add_argument("--particles", type=int, nargs="+", default=[10, 100])
     parser.add_argument("--sigma", type=float, nargs="+", default=[0.05, 0.2, 0.5], help="sigma_min values")
     parser.add_argument("--tau", type=float, nargs="+", default=[0.1, 0.5, 0.9], help="tau_boot values")
-    parser.add_argument("--alpha", nargs="+", default=["learned"],
-                        help="alpha values; learned: per view, from the similarity views (the default)")
-    parser.add_argument("--newcomer", nargs="+", default=["mean"], choices=["mean", "least"],
-                        help="the weight re-populated particles start at")
-    parser.add_argument("--repopulate", nargs="+", default=["cell"], choices=["cell", "view"],
-                        help="where in its label a re-populated particle starts")
+    parser.add_argument(
+        "--alpha",
+        nargs="+",
+        default=["learned"],
+        help="alpha values; learned: per view, from the similarity views (the default)",
+    )
+    parser.add_argument(
+        "--newcomer",
+        nargs="+",
+        default=["mean"],
+        choices=["mean", "least"],
+        help="the weight re-populated particles start at",
+    )
+    parser.add_argument(
+        "--repopulate",
+        nargs="+",
+        default=["cell"],
+        choices=["cell", "view"],
+        help="where in its label a re-populated particle starts",
+    )
     parser.add_argument("--policies", nargs="+", default=["fixed", "active"], choices=["fixed", "active"])
     parser.add_argument("--starts", type=int, default=3)
     parser.add_argument("--max-degrees", type=float, default=720.0)
@@ -54,18 +69,56 @@ def main() -> None:
         starts = ambiguous_starts(library, tests, args.starts)
         for sigma, tau, newcomer, place in itertools.product(args.sigma, args.tau, args.newcomer, args.repopulate):
             start = time.perf_counter()
-            trials = multiview_trials(library, similarity, tests, starts, particles=args.particles,
-                                      bootstraps=("similarity",), policies=tuple(args.policies), exhaustive=False,
-                                      repetitions=args.repetitions, sigma_min=sigma, tau_boot=tau, alpha=alpha,
-                                      newcomer=newcomer, repopulate=place, max_degrees=args.max_degrees)
+            trials = multiview_trials(
+                library,
+                similarity,
+                tests,
+                starts,
+                particles=args.particles,
+                bootstraps=("similarity",),
+                policies=tuple(args.policies),
+                exhaustive=False,
+                repetitions=args.repetitions,
+                max_degrees=args.max_degrees,
+                filter_options={
+                    "sigma_min": sigma,
+                    "tau_boot": tau,
+                    "alpha": alpha,
+                    "newcomer": newcomer,
+                    "repopulate": place,
+                },
+            )
             summary = trial_summary(trials.assign(library_views=size))
-            tables.append(summary.assign(alpha="learned" if alpha is None else alpha, sigma_min=sigma, tau_boot=tau,
-                                         newcomer=newcomer, repopulate=place))
-            print(f"{size} views, alpha {alpha}, sigma_min {sigma}, tau_boot {tau}, newcomer {newcomer} at the "
-                  f"{place}: {len(trials)} runs in {time.perf_counter() - start:.0f} s")
+            tables.append(
+                summary.assign(
+                    alpha="learned" if alpha is None else alpha,
+                    sigma_min=sigma,
+                    tau_boot=tau,
+                    newcomer=newcomer,
+                    repopulate=place,
+                )
+            )
+            print(
+                f"{size} views, alpha {alpha}, sigma_min {sigma}, tau_boot {tau}, newcomer {newcomer} at the "
+                f"{place}: {len(trials)} runs in {time.perf_counter() - start:.0f} s"
+            )
     table = pd.concat(tables, ignore_index=True)
-    shown = table[["library_views", "alpha", "sigma_min", "tau_boot", "newcomer", "repopulate", "policy", "particles",
-                   "accuracy", "identified", "degrees", "stops"]].round(3)
+    shown = table[
+        [
+            "library_views",
+            "alpha",
+            "sigma_min",
+            "tau_boot",
+            "newcomer",
+            "repopulate",
+            "policy",
+            "particles",
+            "accuracy",
+            "identified",
+            "degrees",
+            "stops",
+        ]
+    ].round(3)
     print(shown.to_string(index=False))
     if args.out:
         shown.to_csv(args.out, index=False)

@@ -15,8 +15,8 @@ import time
 import pandas as pd
 import pyarrow.parquet as pq
 
-from heatdata.evaluate import evaluate_table
 from heatdata.log import setup_logging
+from heatdata.recognition.evaluate import evaluate_table
 
 PROTOCOLS = {"separate": "train", "thesis": "test"}
 
@@ -29,20 +29,31 @@ def main() -> None:
     parser.add_argument("--out", help="CSV to write")
     args = parser.parse_args()
     setup_logging()
-    names = args.descriptor or sorted(pq.read_table(args.descriptors, columns=["descriptor"])
-                                      .column("descriptor").unique().to_pylist())
+    names = args.descriptor or sorted(
+        pq.read_table(args.descriptors, columns=["descriptor"]).column("descriptor").unique().to_pylist()
+    )
     rows = []
     for name in names:
         for protocol, split in PROTOCOLS.items():
             start = time.perf_counter()
             predictions = evaluate_table(args.descriptors, name, args.sizes, library_split=split)
             for size, group in predictions.groupby("library_size"):
-                rows.append({"descriptor": name, "library_size": size, "protocol": protocol,
-                             "test_views": len(group), "precision": round(float(group["correct"].mean()), 4)})
+                rows.append(
+                    {
+                        "descriptor": name,
+                        "library_size": size,
+                        "protocol": protocol,
+                        "test_views": len(group),
+                        "precision": round(float(group["correct"].mean()), 4),
+                    }
+                )
             print(f"{name} {protocol}: {time.perf_counter() - start:.0f} s", flush=True)
     table = pd.DataFrame(rows)
-    print(table.pivot_table(index=["descriptor", "protocol"], columns="library_size", values="precision")
-          .map(lambda p: f"{p:.1%}").to_string())
+    print(
+        table.pivot_table(index=["descriptor", "protocol"], columns="library_size", values="precision")
+        .map(lambda p: f"{p:.1%}")
+        .to_string()
+    )
     if args.out:
         table.to_csv(args.out, index=False)
 

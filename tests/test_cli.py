@@ -18,14 +18,27 @@ import trimesh
 
 import heatdata as hd
 from heatdata.cli import main
-from heatdata.tables import DESCRIPTOR_SCHEMA, read_table
+from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table
 
 
 @pytest.fixture(scope="module")
 def demo_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("demo")
-    code = main(["demo", "--objects", "plastic-cup,milk-carton", "--train", "6", "--test", "6",
-                 "--jobs", "2", "--out", str(out)])
+    code = main(
+        [
+            "demo",
+            "--objects",
+            "plastic-cup,milk-carton",
+            "--train",
+            "6",
+            "--test",
+            "6",
+            "--jobs",
+            "2",
+            "--out",
+            str(out),
+        ]
+    )
     return code, out
 
 
@@ -41,8 +54,13 @@ def test_demo_writes_tables_figures_and_summary(demo_run):
     predictions, _ = read_table(out / "predictions.parquet")
     assert len(predictions) == 5 * 2 * 6
     assert predictions["correct"].mean() > 0.8
-    for name in ("summary.md", "precision.csv", "views.png",
-                 "confusion_objects_pvhk_arclength_closest_64.png", "confusion_views_pvhk_polar_center_64.png"):
+    for name in (
+        "summary.md",
+        "precision.csv",
+        "views.png",
+        "confusion_objects_pvhk_arclength_closest_64.png",
+        "confusion_views_pvhk_polar_center_64.png",
+    ):
         assert (out / name).stat().st_size > 0
     summary = (out / "summary.md").read_text()
     assert "not real sensor data" in summary and "accuracy" not in summary.lower()
@@ -50,8 +68,10 @@ def test_demo_writes_tables_figures_and_summary(demo_run):
 
 def test_demo_is_reproducible(demo_run, tmp_path):
     _, out = demo_run
-    assert main(["demo", "--objects", "plastic-cup", "--train", "6", "--test", "6", "--jobs", "1",
-                 "--out", str(tmp_path)]) == 0
+    assert (
+        main(["demo", "--objects", "plastic-cup", "--train", "6", "--test", "6", "--jobs", "1", "--out", str(tmp_path)])
+        == 0
+    )
     first, _ = read_table(out / "descriptors.parquet")
     again, _ = read_table(tmp_path / "descriptors.parquet")
     first = first[first["object"] == "plastic-cup"].reset_index(drop=True)
@@ -96,8 +116,23 @@ def test_render_describe_classify(demo_run, tmp_path, capsys):
 def test_classify_library_sizes(demo_run, tmp_path, capsys):
     _, out = demo_run
     table = str(out / "descriptors.parquet")
-    assert main(["classify", table, "--descriptor", "pvhk/polar/center/64", "--library-size", "2",
-                 "--library-size", "6", "--out", str(tmp_path / "p.parquet")]) == 0
+    assert (
+        main(
+            [
+                "classify",
+                table,
+                "--descriptor",
+                "pvhk/polar/center/64",
+                "--library-size",
+                "2",
+                "--library-size",
+                "6",
+                "--out",
+                str(tmp_path / "p.parquet"),
+            ]
+        )
+        == 0
+    )
     printed = capsys.readouterr().out
     assert re.search(r"pvhk/polar/center/64 +2 ", printed) and re.search(r"pvhk/polar/center/64 +6 ", printed)
     predictions, _ = read_table(tmp_path / "p.parquet")
@@ -143,22 +178,25 @@ def write_sh3f(path, props):
     return path
 
 
-@pytest.mark.parametrize("args, code, message", [
-    (["render", "{model}", "--scale", "nan", "--out", "{tmp}/a.npz"], 2, "need a positive number"),
-    (["render", "{model}", "--azimuth", "nan", "--out", "{tmp}/a.npz"], 2, "need a finite number"),
-    (["render", "{model}", "--size", "-0.154", "0.165", "0.102", "--out", "{tmp}/a.npz"], 2, "need a number >= 0"),
-    (["render", "{model}", "--out", "{tmp}/a.txt"], 1, "ending in .npz"),
-    (["render", "{model}", "--out", "{tmp}"], 1, "ending in .npz"),
-    (["describe", "{tmp}/truncated.npz"], 1, "not a zip archive: truncated"),
-    (["describe", "{model}"], 1, "not a readable .npz view file"),
-    (["import-sh3f", "{tmp}/nowidth.sh3f", "{tmp}/out"], 1, "missing or non-numeric size"),
-    (["import-sh3f", "{tmp}/badwidth.sh3f", "{tmp}/out"], 1, "missing or non-numeric size"),
-    (["import-sh3f", "{tmp}/good.sh3f", "{tmp}/out", "--names", "("], 1, "is not a regular expression"),
-    (["import-sh3f", "{tmp}/good.sh3f", "{tmp}/afile"], 1, "the output folder is a file"),
-    (["demo", "--jobs", "0"], 2, "need a number >= 1"),
-    (["classify", "{tmp}/nolabel.parquet"], 1, "lacks column(s) label"),
-    (["describe", "{tmp}/v.npz", "--time", "0.01"], 1, "--time is the fixed time of a time-scaled kind"),
-])
+@pytest.mark.parametrize(
+    "args, code, message",
+    [
+        (["render", "{model}", "--scale", "nan", "--out", "{tmp}/a.npz"], 2, "need a positive number"),
+        (["render", "{model}", "--azimuth", "nan", "--out", "{tmp}/a.npz"], 2, "need a finite number"),
+        (["render", "{model}", "--size", "-0.154", "0.165", "0.102", "--out", "{tmp}/a.npz"], 2, "need a number >= 0"),
+        (["render", "{model}", "--out", "{tmp}/a.txt"], 1, "ending in .npz"),
+        (["render", "{model}", "--out", "{tmp}"], 1, "ending in .npz"),
+        (["describe", "{tmp}/truncated.npz"], 1, "not a zip archive: truncated"),
+        (["describe", "{model}"], 1, "not a readable .npz view file"),
+        (["import-sh3f", "{tmp}/nowidth.sh3f", "{tmp}/out"], 1, "missing or non-numeric size"),
+        (["import-sh3f", "{tmp}/badwidth.sh3f", "{tmp}/out"], 1, "missing or non-numeric size"),
+        (["import-sh3f", "{tmp}/good.sh3f", "{tmp}/out", "--names", "("], 1, "is not a regular expression"),
+        (["import-sh3f", "{tmp}/good.sh3f", "{tmp}/afile"], 1, "the output folder is a file"),
+        (["demo", "--jobs", "0"], 2, "need a number >= 1"),
+        (["classify", "{tmp}/nolabel.parquet"], 1, "lacks column(s) label"),
+        (["describe", "{tmp}/v.npz", "--time", "0.01"], 1, "--time is the fixed time of a time-scaled kind"),
+    ],
+)
 def test_bad_command_lines_are_one_clear_line(demo_run, tmp_path, capsys, caplog, args, code, message):
     """Each used to end in a traceback (or, for --size and --out, in a mirrored model or a renamed file)."""
     _, out = demo_run

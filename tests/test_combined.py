@@ -2,9 +2,9 @@
 
 import numpy as np
 import pytest
+from conftest import disc_view, square_view
 
 import heatdata as hd
-from conftest import disc_view, square_view
 from heatdata.descriptors.combined import layout, simplex_grid
 
 PARTS = [{"kind": "hgd", "bins": 8}, {"kind": "pvhk", "samples": 16, "source": "center", "sampling": "polar"}]
@@ -14,8 +14,11 @@ def library() -> list[hd.View]:
     """Two objects that differ in size only (a square plate of 4 and of 6 cm), two noisy views each, and a disc."""
     rng = np.random.default_rng(0)
     views = []
-    for name, make in (("small", lambda: square_view(21, 0.002)), ("large", lambda: square_view(21, 0.003)),
-                       ("disc", lambda: disc_view(10, 0.002))):
+    for name, make in (
+        ("small", lambda: square_view(21, 0.002)),
+        ("large", lambda: square_view(21, 0.003)),
+        ("disc", lambda: disc_view(10, 0.002)),
+    ):
         for k in range(2):
             base = make()
             jitter = base.vertices + rng.normal(0.0, 2e-5, base.vertices.shape)

@@ -6,14 +6,13 @@ import sys
 import numpy as np
 import pytest
 import scipy.linalg
+from conftest import square_view
 from scipy.optimize import brentq
 
 import heatdata as hd
 import heatdata.descriptors.heat as descriptors
+from heatdata.core.spectrum import lambda2
 from heatdata.descriptors import heat_operator
-from heatdata.spectrum import lambda2
-
-from conftest import square_view
 
 
 def lattice_view(mask: np.ndarray, spacing: float = 0.002, name: str = "lattice") -> hd.View:
@@ -144,14 +143,16 @@ def test_pvst_on_a_log_time_axis_is_a_tenth_of_the_decades_and_keeps_their_ratio
     big = hd.View(vertices=2.0 * disc.vertices, faces=disc.faces, colors=disc.colors, view_id="disc x2")
     shifted = hd.pvst(big, samples=64, source="center", sampling="polar", time_axis="log").values - log.values
     np.testing.assert_allclose(shifted, 0.2 * np.log10(2.0), atol=1e-6)
-    assert hd.DescriptorSpec("pvst", 64, "interior", "polar", time_axis="log").name == \
-        "pvst/polar/interior/64/T0.75/log-time"
+    assert (
+        hd.DescriptorSpec("pvst", 64, "interior", "polar", time_axis="log").name
+        == "pvst/polar/interior/64/T0.75/log-time"
+    )
     with pytest.raises(hd.ViewError, match="time_axis"):
         hd.DescriptorSpec("pvst", time_axis="ln")
 
 
 def test_both_time_axes_of_a_source_share_one_search(disc, monkeypatch):
-    pvst_module = sys.modules["heatdata.descriptors.pvst"]
+    pvst_module = sys.modules["heatdata.descriptors.stochastic_time"]
     searches, search = [], pvst_module._pvst_times
     monkeypatch.setattr(pvst_module, "_pvst_times", lambda *a: searches.append(a[3]) or search(*a))
     specs = [hd.DescriptorSpec("pvst", 64, "center", "polar", time_axis=axis) for axis in ("linear", "log")]
@@ -162,8 +163,12 @@ def test_both_time_axes_of_a_source_share_one_search(disc, monkeypatch):
 def test_pvst_grows_with_distance_along_a_strip():
     mask = np.ones((5, 61), bool)
     view = lattice_view(mask)
-    source = int(np.argmin(np.abs(view.vertices[:, 0] - view.vertices[:, 0].min() - 0.004)
-                           + np.abs(view.vertices[:, 1] - np.median(view.vertices[:, 1]))))
+    source = int(
+        np.argmin(
+            np.abs(view.vertices[:, 0] - view.vertices[:, 0].min() - 0.004)
+            + np.abs(view.vertices[:, 1] - np.median(view.vertices[:, 1]))
+        )
+    )
     d = hd.pvst(view, samples=None, source=source)
     bottom = view.vertices[view.boundary, 1] == view.vertices[:, 1].min()
     x = view.vertices[view.boundary, 0][bottom]

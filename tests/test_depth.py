@@ -1,4 +1,4 @@
-"""Views from depth images and organized clouds (heatdata.depth): round trips through files, a real range scan,
+"""Views from depth images and organized clouds (heatdata.views.depth): round trips through files, a real range scan,
 and every kind of bad input."""
 
 import json
@@ -11,8 +11,10 @@ import pytest
 from PIL import Image
 
 import heatdata as hd
-from heatdata.dataset import capture_view_table
-from heatdata.depth import back_project, find_captures, fit_intrinsics, grid_faces
+from heatdata.experiments.captures import find_captures
+from heatdata.experiments.views import capture_view_table
+from heatdata.views.clouds import fit_intrinsics
+from heatdata.views.depth import back_project, grid_faces
 
 FACE = Path(pymeshlab.__file__).parent / "tests/sample_meshes/rangemaps/face000.ply"  # a real range scan
 
@@ -87,11 +89,13 @@ def test_an_organized_pcd_gives_the_grid_back_with_its_intrinsics(rendered, tmp_
     depth[pixels[:, 1], pixels[:, 0]] = rendered.vertices[:, 2]
     rows = np.flatnonzero(np.isfinite(depth).any(axis=1))
     cols = np.flatnonzero(np.isfinite(depth).any(axis=0))
-    window = back_project(depth, k)[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
+    window = back_project(depth, k)[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1]
     packed = np.full(window.shape[:2], (200 << 16) | (100 << 8) | 50, np.uint32)
     h, w = window.shape[:2]
-    header = ("# .PCD v0.7\nVERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\n"
-              f"WIDTH {w}\nHEIGHT {h}\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {w * h}\n")
+    header = (
+        "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\n"
+        f"WIDTH {w}\nHEIGHT {h}\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {w * h}\n"
+    )
     table = np.zeros(w * h, [("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("rgb", "<u4")])
     for axis, name in enumerate("xyz"):
         table[name] = window[..., axis].ravel()
@@ -169,15 +173,33 @@ def test_the_command_writes_a_view_and_a_ply(rendered, tmp_path, capsys, caplog)
     from heatdata.cli import main
 
     hd.write_depth(rendered, tmp_path / "mug.png")
-    assert main(["view-from-depth", str(tmp_path / "mug.png"), "--intrinsics", str(tmp_path / "mug.json"),
-                 "--depth-range", "0.5", "1.5", "-o", str(tmp_path / "v.npz"), "-o", str(tmp_path / "v.ply")]) == 0
+    assert (
+        main(
+            [
+                "view-from-depth",
+                str(tmp_path / "mug.png"),
+                "--intrinsics",
+                str(tmp_path / "mug.json"),
+                "--depth-range",
+                "0.5",
+                "1.5",
+                "-o",
+                str(tmp_path / "v.npz"),
+                "-o",
+                str(tmp_path / "v.ply"),
+            ]
+        )
+        == 0
+    )
     printed = json.loads(capsys.readouterr().out)
     assert printed["vertices"] == hd.View.load(tmp_path / "v.npz").n_vertices
     assert (tmp_path / "v.ply").stat().st_size > 10_000
     assert main(["view-from-depth", str(tmp_path / "mug.png"), "-o", str(tmp_path / "v.npz")]) == 1
     assert "needs --intrinsics" in caplog.text
-    assert main(["view-from-depth", str(FACE), "--intrinsics", str(tmp_path / "mug.json"),
-                 "-o", str(tmp_path / "f.npz")]) == 1
+    assert (
+        main(["view-from-depth", str(FACE), "--intrinsics", str(tmp_path / "mug.json"), "-o", str(tmp_path / "f.npz")])
+        == 1
+    )
     assert "carries its own grid" in caplog.text
 
 

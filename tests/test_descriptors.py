@@ -5,9 +5,9 @@ import logging
 import numpy as np
 import pytest
 import scipy.sparse.linalg as sla
+from conftest import grid_mesh
 
 import heatdata as hd
-from conftest import grid_mesh
 from heatdata.descriptors.boundary import color_rates
 
 
@@ -104,8 +104,9 @@ def test_sat_hue_gives_greys_one_rate_whatever_their_shade():
     shades = np.linspace(0.1, 0.9, len(vertices))[:, None] * np.ones(3)
     view = hd.View.from_arrays(vertices, faces, shades)
     assert np.array_equal(color_rates(view, "sat-hue"), np.ones(len(vertices)))
-    red, blue = (hd.View.from_arrays(vertices, faces, np.tile(c, (len(vertices), 1)))
-                 for c in ([1.0, 0, 0], [0, 0, 1.0]))
+    red, blue = (
+        hd.View.from_arrays(vertices, faces, np.tile(c, (len(vertices), 1))) for c in ([1.0, 0, 0], [0, 0, 1.0])
+    )
     assert color_rates(red, "sat-hue") == pytest.approx(1.0)
     assert color_rates(blue, "sat-hue") == pytest.approx(1.0 + 8.0 * 2.0 / 3.0)
 
@@ -129,7 +130,7 @@ def test_bad_color_maps(square):
 
 
 def test_several_components_keep_the_source_component(caplog):
-    caplog.set_level(logging.INFO, logger="heatdata.view")
+    caplog.set_level(logging.INFO, logger="heatdata.views.view")
     v1, f1 = grid_mesh(12, 12)
     v2, f2 = grid_mesh(8, 8)
     vertices = np.vstack([v1, v2 + [0.1, 0, 0.2]])  # second part farther from the camera

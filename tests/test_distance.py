@@ -48,8 +48,9 @@ def test_matrix_equals_pairwise_and_chunks_do_not_matter():
     assert np.allclose(hd.mhd_matrix(queries, library, dtype=np.float64), pairwise)
     assert np.allclose(hd.mhd_matrix(queries, library, chunk_elements=300), pairwise, atol=1e-5)
     longer = rng.random((5, 24))  # different lengths take the full-tensor path
-    assert np.allclose(hd.mhd_matrix(queries, longer, dtype=np.float64),
-                       [[hd.mhd(q, x) for x in longer] for q in queries])
+    assert np.allclose(
+        hd.mhd_matrix(queries, longer, dtype=np.float64), [[hd.mhd(q, x) for x in longer] for q in queries]
+    )
 
 
 def test_matrix_on_descriptor_like_curves():
@@ -61,10 +62,10 @@ def test_matrix_on_descriptor_like_curves():
     assert np.allclose(hd.mhd_matrix(curves[:8], curves, dtype=np.float64), pairwise, rtol=1e-12)
 
 
-def test_nearest_neighbours_and_confusion():
+def test_nearest_neighbors_and_confusion():
     library = np.array([[0.0] * 8, [1.0] * 8])
     queries = np.array([[0.1] * 8, [0.9] * 8, [0.2] * 8])
-    nn = hd.nearest_neighbours(queries, library)
+    nn = hd.nearest_neighbors(queries, library)
     assert nn.index.tolist() == [0, 1, 0]
     table = hd.confusion_matrix(["a", "b", "b"], ["a", "b", "a"])
     assert table.loc["b", "a"] == 1 and table.loc["a", "a"] == 1
@@ -87,14 +88,16 @@ def test_nearest_pair_over_a_set_of_candidates():
     library = np.cumsum(rng.normal(size=(50, 32)), axis=1) * 0.05
     candidates = np.cumsum(rng.normal(size=(30, 32)), axis=1) * 0.05
     candidates[17] = library[23] + 1e-4
-    query, item, distance = hd.nearest_pair_mhd(candidates, library)
-    assert (query, item) == (17, 23) and distance == pytest.approx(32e-4, rel=1e-3)
+    pair = hd.nearest_pair_mhd(candidates, library)
+    distance = pair.distance
+    assert (pair.query, pair.index, pair.label) == (17, 23, None) and distance == pytest.approx(32e-4, rel=1e-3)
     full = hd.mhd_matrix(candidates, library)
-    assert hd.nearest_pair_mhd(candidates, library, shortlist=None)[2] == pytest.approx(full.min(), rel=1e-6)
+    assert hd.nearest_pair_mhd(candidates, library, shortlist=None).distance == pytest.approx(full.min(), rel=1e-6)
     with pytest.raises(hd.HeatdataError, match="one length"):
         hd.nearest_pair_mhd(candidates, library[:, :16])
-    label, candidate, item, _ = hd.classify_candidates(candidates, library, np.arange(50) // 10)
-    assert (label, candidate, item) == (2, 17, 23)
+    match = hd.classify_candidates(candidates, library, np.arange(50) // 10)
+    assert (match.label, match.query, match.index) == (2, 17, 23)
+    assert isinstance(match, hd.NearestPair) and match.distance == distance
     with pytest.raises(hd.HeatdataError, match="49 labels for 50"):
         hd.classify_candidates(candidates, library, np.arange(49))
     with pytest.raises(hd.HeatdataError, match="NaN"):
@@ -104,11 +107,11 @@ def test_nearest_pair_over_a_set_of_candidates():
 def test_recognition_takes_the_descriptor_lists_the_api_returns(disc, square):
     spec = hd.DescriptorSpec("pvhk", 32, "center", "polar")
     library = hd.describe(disc, [spec]) + hd.describe(square, [spec])
-    nn = hd.nearest_neighbours(hd.describe(square, [spec]), library)
-    assert nn.index.tolist() == [1] and nn.distance[0] == 0.0
+    nn = hd.nearest_neighbors(hd.describe(square, [spec]), library)
+    assert nn.index.tolist() == [1] and nn.distance[0] == 0.0 and isinstance(nn, hd.Nearest)
     candidates = hd.candidate_descriptors(square, hd.candidate_sources(square, 5), spec)
-    label, _, item, _ = hd.classify_candidates(candidates, library, ["disc", "square"])
-    assert (label, item) == ("square", 1)
+    match = hd.classify_candidates(candidates, library, ["disc", "square"])
+    assert (match.label, match.index) == ("square", 1)
     with pytest.raises(hd.HeatdataError, match="several kinds"):
         hd.classify_candidates(candidates, library + hd.describe(disc, [hd.DescriptorSpec("esf")]), ["a"] * 3)
     with pytest.raises(hd.HeatdataError, match="candidates: nothing to stack"):

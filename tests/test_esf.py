@@ -1,10 +1,10 @@
-"""ESF (PCL's algorithm, numpy and numba): invariances, the in/out/mixed split of Fig. 3.15, the compiled kernels, bad input."""
+"""ESF (PCL's algorithm, numpy and numba): invariances, the in/out/mixed split of Fig. 3.15, the kernels, bad input."""
 
 import numpy as np
 import pytest
+from conftest import square_view
 
 import heatdata as hd
-from conftest import square_view
 from heatdata.descriptors import esf
 from heatdata.descriptors.esf import esf_histogram
 

@@ -9,9 +9,10 @@ import pyarrow.parquet as pq
 import pytest
 
 import heatdata as hd
-from heatdata.dataset import candidate_view_table, describe_view_table, render_object_views, view_plan
-from heatdata.evaluate import evaluate_library_sizes, precision_table
-from heatdata.library import library_subset
+from heatdata.experiments.describe import candidate_view_table, describe_view_table
+from heatdata.experiments.views import render_object_views, view_plan
+from heatdata.recognition.evaluate import evaluate_library_sizes, library_subset
+from heatdata.recognition.metrics import precision_table
 
 
 def fake_descriptors(objects=("a", "b"), n_train=8, n_test=4):
@@ -20,9 +21,18 @@ def fake_descriptors(objects=("a", "b"), n_train=8, n_test=4):
     for k, obj in enumerate(objects):
         for split, count in (("train", n_train), ("test", n_test)):
             for i in range(count):
-                rows.append({"object": obj, "label": "box" if obj == "a" else "cup", "split": split,
-                             "view_id": f"{obj}/{split}/{i:03d}", "azimuth": 360.0 * i / count,
-                             "descriptor": "d", "kind": "pvhk", "values": [float(k)] * 8})
+                rows.append(
+                    {
+                        "object": obj,
+                        "label": "box" if obj == "a" else "cup",
+                        "split": split,
+                        "view_id": f"{obj}/{split}/{i:03d}",
+                        "azimuth": 360.0 * i / count,
+                        "descriptor": "d",
+                        "kind": "pvhk",
+                        "values": [float(k)] * 8,
+                    }
+                )
     return pd.DataFrame(rows)
 
 
@@ -59,8 +69,9 @@ def test_render_and_describe_steps(catalog):
 
 def test_candidate_rows_of_rendered_views(catalog, caplog):
     row = catalog[catalog["object"] == "cupcake"].iloc[0].to_dict()
-    frame = render_object_views(row, {"train": 2, "test": 1, "elevation": 30.0, "distance": 1.0, "noise": True,
-                                      "seed": 0})
+    frame = render_object_views(
+        row, {"train": 2, "test": 1, "elevation": 30.0, "distance": 1.0, "noise": True, "seed": 0}
+    )
     spec = hd.DescriptorSpec("pvhk", 16, "center", "polar")
     table = candidate_view_table(frame, spec, library_count=12, test_count=5)
     counts = table.groupby(["split", "descriptor"]).size()
@@ -71,7 +82,7 @@ def test_candidate_rows_of_rendered_views(catalog, caplog):
     own = table[table["source_rule"] == "center"].set_index("view_id")["values"]
     for view_id, values in single.set_index("view_id")["values"].items():  # one spectrum = one solve each
         np.testing.assert_allclose(own[view_id], values, atol=1e-5)
-    with caplog.at_level(logging.WARNING, logger="heatdata.dataset"):
+    with caplog.at_level(logging.WARNING, logger="heatdata.experiments.describe"):
         failed = candidate_view_table(frame, spec, library_count=10**6, test_count=5)
     assert "candidate descriptors failed" in caplog.text
     bad = failed[failed["split"] == "train"]
@@ -93,15 +104,29 @@ def fixed_time_rows():
         ("a", "test", "a/test/000", "b", base + 3.0),  # 2.5 from b's library
     ]
     scale = {"a": 0.1, "b": 0.2}  # the objects' time scales (Alg. 5.1); the test view's 1/lambda_2 reaches both
-    return pd.DataFrame([{
-        "object": obj, "label": obj, "split": split, "view_id": view, "azimuth": 0.0, "descriptor": "ft",
-        "kind": "ft-pvhk", "time_object": time_object, "time": scale[time_object],
-        "t_global": scale[obj] if split == "train" else 0.5, "values": values, "weights": np.ones(8)}
-        for obj, split, view, time_object, values in rows])
+    return pd.DataFrame(
+        [
+            {
+                "object": obj,
+                "label": obj,
+                "split": split,
+                "view_id": view,
+                "azimuth": 0.0,
+                "descriptor": "ft",
+                "kind": "ft-pvhk",
+                "time_object": time_object,
+                "time": scale[time_object],
+                "t_global": scale[obj] if split == "train" else 0.5,
+                "values": values,
+                "weights": np.ones(8),
+            }
+            for obj, split, view, time_object, values in rows
+        ]
+    )
 
 
 def test_fixed_time_classification_compares_each_object_at_its_own_time():
-    from heatdata.evaluate import classify
+    from heatdata.recognition.evaluate import classify
 
     rows = fixed_time_rows()
     predicted = classify(rows, "ft")
@@ -122,7 +147,7 @@ def test_fixed_time_classification_compares_each_object_at_its_own_time():
 def test_the_plausible_rule_skips_objects_whose_time_scale_the_view_does_not_reach(t_global, plausible):
     """b's time scale (0.2) is reached by a view with 1/lambda_2 = 0.5, not by one with 0.15; 0.05 reaches none,
     and then every object is compared, as by the rule ``every``."""
-    from heatdata.evaluate import classify
+    from heatdata.recognition.evaluate import classify
 
     rows = fixed_time_rows()
     rows.at[3, "values"] = rows.at[1, "values"] + 0.01  # at b's time the view is nearest b's library
@@ -144,21 +169,44 @@ def random_table(seed=0, objects=("a", "b", "c"), n_train=6, n_test=4):
     for obj in objects:
         for split, count in (("train", n_train), ("test", n_test)):
             for i in range(count):
-                view = {"object": obj, "label": obj, "split": split, "view_id": f"{obj}/{split}/{i:03d}",
-                        "azimuth": 360.0 * i / count, "t_global": scale[obj] + rng.uniform(0.0, 1.5)}
-                rows.append({**view, "descriptor": "d", "kind": "pvhk", "time_object": "", "time": view["t_global"],
-                             "values": centre[obj] + rng.normal(scale=0.8, size=8), "weights": None})
-                for time_object in (objects if split == "test" else [obj]):
-                    rows.append({**view, "descriptor": "ft", "kind": "ft-pvhk", "time_object": time_object,
-                                 "time": scale[time_object], "values": centre[obj] + rng.normal(scale=0.8, size=8),
-                                 "weights": rng.uniform(0.5, 1.0, size=8)})
+                view = {
+                    "object": obj,
+                    "label": obj,
+                    "split": split,
+                    "view_id": f"{obj}/{split}/{i:03d}",
+                    "azimuth": 360.0 * i / count,
+                    "t_global": scale[obj] + rng.uniform(0.0, 1.5),
+                }
+                rows.append(
+                    {
+                        **view,
+                        "descriptor": "d",
+                        "kind": "pvhk",
+                        "time_object": "",
+                        "time": view["t_global"],
+                        "values": centre[obj] + rng.normal(scale=0.8, size=8),
+                        "weights": None,
+                    }
+                )
+                for time_object in objects if split == "test" else [obj]:
+                    rows.append(
+                        {
+                            **view,
+                            "descriptor": "ft",
+                            "kind": "ft-pvhk",
+                            "time_object": time_object,
+                            "time": scale[time_object],
+                            "values": centre[obj] + rng.normal(scale=0.8, size=8),
+                            "weights": rng.uniform(0.5, 1.0, size=8),
+                        }
+                    )
     return pd.DataFrame(rows)
 
 
 @pytest.mark.parametrize("descriptor", ["d", "ft"])
 def test_a_table_on_disk_is_classified_group_by_group_as_in_memory(tmp_path, descriptor):
     """Row groups of 5 rows cut the FT-PVHK's test views between groups: they wait for their other time scales."""
-    from heatdata.evaluate import evaluate_table
+    from heatdata.recognition.evaluate import evaluate_table
 
     rows = random_table()
     path = tmp_path / "descriptors.parquet"
@@ -166,15 +214,16 @@ def test_a_table_on_disk_is_classified_group_by_group_as_in_memory(tmp_path, des
     expected = evaluate_library_sizes(rows, descriptor, [6, 2])
     found = evaluate_table(path, descriptor, [6, 2])
     key = ["library_size", "view_id"]
-    pd.testing.assert_frame_equal(found.sort_values(key, ignore_index=True),
-                                  expected.sort_values(key, ignore_index=True))
+    pd.testing.assert_frame_equal(
+        found.sort_values(key, ignore_index=True), expected.sort_values(key, ignore_index=True)
+    )
     assert 0.3 < expected["correct"].mean() < 1.0  # neither trivial nor hopeless
 
 
 @pytest.mark.parametrize("descriptor", ["d", "ft"])
 def test_the_thesis_protocol_takes_the_library_among_the_test_views(tmp_path, descriptor):
     """5.5: library views are test views (at their own object's time scale), so each one finds itself."""
-    from heatdata.evaluate import evaluate_table
+    from heatdata.recognition.evaluate import evaluate_table
 
     rows = random_table()
     path = tmp_path / "descriptors.parquet"
@@ -189,7 +238,7 @@ def test_the_thesis_protocol_takes_the_library_among_the_test_views(tmp_path, de
 
 
 def test_a_table_on_disk_with_a_missing_time_scale_or_descriptor_is_refused(tmp_path):
-    from heatdata.evaluate import evaluate_table
+    from heatdata.recognition.evaluate import evaluate_table
 
     rows = random_table()
     path = tmp_path / "descriptors.parquet"
@@ -202,7 +251,7 @@ def test_a_table_on_disk_with_a_missing_time_scale_or_descriptor_is_refused(tmp_
 
 
 def test_views_with_nan_descriptors_are_left_out_or_counted_wrong(caplog):
-    from heatdata.evaluate import classify
+    from heatdata.recognition.evaluate import classify
 
     rows = fake_descriptors(n_train=4, n_test=3).assign(kind="pvst")
     rows.at[0, "values"] = [np.nan] * 8  # a library view of a
@@ -217,13 +266,16 @@ def test_views_with_nan_descriptors_are_left_out_or_counted_wrong(caplog):
 
 
 def test_time_scales_and_fixed_time_rows_of_rendered_views(catalog):
-    from heatdata.dataset import view_table_time_scales
+    from heatdata.experiments.describe import view_table_time_scales
 
     frames = []
     for obj in ("cupcake", "plastic-cup"):
         row = catalog[catalog["object"] == obj].iloc[0].to_dict()
-        frames.append(render_object_views(row, {"train": 3, "test": 1, "elevation": 30.0, "distance": 1.0,
-                                                "noise": True, "seed": 0}))
+        frames.append(
+            render_object_views(
+                row, {"train": 3, "test": 1, "elevation": 30.0, "distance": 1.0, "noise": True, "seed": 0}
+            )
+        )
     specs = [hd.DescriptorSpec("pvhk", 16, "center", "polar"), hd.DescriptorSpec("ft-pvhk", 16, "center", "polar")]
     scales = pd.concat([view_table_time_scales(f, specs) for f in frames])
     assert scales["n_views"].tolist() == [3, 3] and scales["source_rule"].tolist() == ["center", "center"]
@@ -239,7 +291,7 @@ def test_time_scales_and_fixed_time_rows_of_rendered_views(catalog):
 
 
 def test_a_descriptor_failing_on_one_view_gives_nan_and_its_reason(square):
-    from heatdata.dataset import descriptor_rows
+    from heatdata.experiments.describe import descriptor_rows
 
     corner = int(square.boundary[0])
     specs = [hd.DescriptorSpec("pvhk", 8, corner), hd.DescriptorSpec("pvst", 8, corner)]

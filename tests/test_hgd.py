@@ -2,11 +2,11 @@
 
 import numpy as np
 import pytest
+from conftest import grid_mesh, square_view
 
 import heatdata as hd
-from conftest import grid_mesh, square_view
+from heatdata.core.mesh import farthest_points
 from heatdata.descriptors.hgd import RATIO_EDGES, hgd_histogram
-from heatdata.mesh import farthest_points
 
 
 def ratio_shares(view: hd.View, **options) -> np.ndarray:
@@ -18,7 +18,6 @@ def ratio_shares(view: hd.View, **options) -> np.ndarray:
 def folded(n: int = 41, spacing: float = 0.004, gap: float = 0.02) -> hd.View:
     """A U: two parallel plates ``gap`` apart, joined along one edge by a strip (a chair's seat and back, flat)."""
     vertices, faces = grid_mesh(n, n, spacing)
-    y = vertices[:, 1]
     x = vertices[:, 0] - vertices[:, 0].min()
     half = x.max() / 2
     # bend the grid's x into a U: the first half lies at depth 1, the second comes back at depth 1 + gap

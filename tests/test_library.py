@@ -10,9 +10,11 @@ import pandas as pd
 import pytest
 
 import heatdata as hd
-import heatdata.library as library
-from heatdata._minplus_kernel import minplus
-from heatdata.evaluate import evaluate_compact, precision_table
+import heatdata.recognition.compact as library
+from heatdata.experiments.compact import compact_libraries
+from heatdata.recognition._minplus_kernel import minplus
+from heatdata.recognition.evaluate import evaluate_compact
+from heatdata.recognition.metrics import precision_table
 
 
 def random_costs(rng, layers, low, high):
@@ -48,8 +50,10 @@ def test_the_edges_kept_are_those_of_the_cheapest_cycles():
         if trial % 2:  # near-flat costs with ties, as on real descriptors
             costs = [np.round(c * 2) / 2 for c in costs]
         graph = library._Graph(costs)
-        cycles = {choice: library._cycle_cost(costs, np.array(choice))
-                  for choice in itertools.product(*(range(c.shape[0]) for c in costs))}
+        cycles = {
+            choice: library._cycle_cost(costs, np.array(choice))
+            for choice in itertools.product(*(range(c.shape[0]) for c in costs))
+        }
         best = min(cycles.values())
         assert graph.upper == pytest.approx(best, abs=1e-12)
         for i, kept in enumerate(graph.kept):
@@ -75,18 +79,21 @@ def test_minplus_product_against_broadcasting():
 def test_a_fractional_relaxation_is_branched_to_the_exact_cycle(caplog):
     # Winding twice (0 -> 0 -> 1 -> 1 -> 0) costs 0, i.e. 0 per turn; every single turn costs 5.
     costs = [np.array([[0.0, 5.0], [5.0, 0.0]]), np.array([[5.0, 0.0], [0.0, 5.0]])]
-    with caplog.at_level(logging.INFO, logger="heatdata.library"):
+    with caplog.at_level(logging.INFO, logger="heatdata.recognition.compact"):
         choice, cost = hd.select_sources(costs)
     assert "fractional" in caplog.text
     assert cost == 5.0 and library.cyclic_dp(costs)[1] == 5.0
 
 
-@pytest.mark.parametrize("costs, message", [
-    ([np.ones((2, 2))], "at least two views"),
-    ([np.ones((2, 3)), np.ones((2, 2))], "view 0: edge costs of shape"),
-    ([np.ones((2, 0)), np.ones((0, 2))], "non-empty"),
-    ([np.ones((2, 2)), np.full((2, 2), np.nan)], "view 1: edge costs must be finite"),
-])
+@pytest.mark.parametrize(
+    "costs, message",
+    [
+        ([np.ones((2, 2))], "at least two views"),
+        ([np.ones((2, 3)), np.ones((2, 2))], "view 0: edge costs of shape"),
+        ([np.ones((2, 0)), np.ones((0, 2))], "non-empty"),
+        ([np.ones((2, 2)), np.full((2, 2), np.nan)], "view 1: edge costs must be finite"),
+    ],
+)
 def test_bad_graphs_are_named(costs, message):
     with pytest.raises(hd.HeatdataError, match=message):
         hd.select_sources(costs, name="chair-7")
@@ -112,8 +119,9 @@ def candidate_table(rng):
         base, far = curve(k, 2 + k), curve(4 + 3 * k, 5)
         for split, count in (("train", 8), ("test", 2)):
             for i in range(count):
-                view = dict(object=obj, label="thing", split=split, view_id=f"{obj}/{split}/{i}",
-                            azimuth=360.0 * i / count)
+                view = dict(
+                    object=obj, label="thing", split=split, view_id=f"{obj}/{split}/{i}", azimuth=360.0 * i / count
+                )
                 values = [base + 0.01 * rng.standard_normal(16), curve(rng.uniform(0, 2), 7), far + 0.5 * (i % 3)]
                 rows += [dict(view, source_rule="candidates", source=s, values=v) for s, v in enumerate(values)]
                 rows.append(dict(view, source_rule="center", source=99, values=curve(rng.uniform(0, 2), 3)))
@@ -168,7 +176,7 @@ def test_combined_costs_mix_the_two_terms():
 
 def test_compact_libraries_follow_alpha_and_classify_the_test_views():
     table = candidate_table(np.random.default_rng(6))
-    libraries = library.compact_libraries(table, [8, 4], [0.0, 1.0])
+    libraries = compact_libraries(table, [8, 4], [0.0, 1.0])
     assert set(libraries["descriptor"]) == {"initial center", "compact alpha=0", "compact alpha=1"}
     sizes = libraries.groupby(["descriptor", "library_size", "object"]).size()
     assert set(sizes.xs(8, level="library_size")) == {8} and set(sizes.xs(4, level="library_size")) == {4}
@@ -177,13 +185,13 @@ def test_compact_libraries_follow_alpha_and_classify_the_test_views():
     distant = libraries[libraries["descriptor"] == "compact alpha=0"]
     assert (distant["source"] == 2).all()  # eq. 6.3: the candidate farthest from the other object
     assert (libraries.loc[libraries["descriptor"] == "initial center", "source"] == 99).all()
-    by_dp = library.compact_libraries(table, [8, 4], [0.0, 1.0], solver="dp")
+    by_dp = compact_libraries(table, [8, 4], [0.0, 1.0], solver="dp")
     assert np.allclose(by_dp["cost"], libraries["cost"], equal_nan=True)
     with pytest.raises(hd.HeatdataError, match="unknown solver"):
-        library.compact_libraries(table, [8], [1.0], solver="simplex")
+        compact_libraries(table, [8], [1.0], solver="simplex")
     with pytest.raises(hd.HeatdataError, match="unknown distance 'cosine' or norm 'l1'"):
-        library.compact_libraries(table, [8], [1.0], distance="cosine")
-    thesis = library.compact_libraries(table, [8], [0.0, 1.0], distance="mhd", norm="l2")
+        compact_libraries(table, [8], [1.0], distance="cosine")
+    thesis = compact_libraries(table, [8], [0.0, 1.0], distance="mhd", norm="l2")
     for alpha, source in (("1", 0), ("0", 2)):  # the same choices as in L1 on these well-separated candidates
         assert (thesis.loc[thesis["descriptor"] == f"compact alpha={alpha}", "source"] == source).all()
     predictions = evaluate_compact(table, libraries)
@@ -197,14 +205,14 @@ def test_compact_libraries_leave_out_failed_views_and_need_two_views(caplog):
     table = candidate_table(np.random.default_rng(7))
     broken = table["view_id"] == "a/train/3"
     table.loc[broken, "values"] = pd.Series([np.full(16, np.nan)] * int(broken.sum()), index=table.index[broken])
-    with caplog.at_level(logging.WARNING, logger="heatdata.library"):
-        libraries = library.compact_libraries(table, [8], [1.0])
+    with caplog.at_level(logging.WARNING, logger="heatdata.recognition.compact"):
+        libraries = compact_libraries(table, [8], [1.0])
     assert "a/train/3" in caplog.text
     assert len(libraries[(libraries["object"] == "a") & (libraries["descriptor"] == "compact alpha=1")]) == 7
     with pytest.raises(hd.HeatdataError, match=r"b \(1 views\): a compact library needs two or more views"):
-        library.compact_libraries(table[table["object"] == "b"], [1], [1.0])
+        compact_libraries(table[table["object"] == "b"], [1], [1.0])
     with pytest.raises(hd.HeatdataError, match="candidate rows and initial-rule rows"):
-        library.compact_libraries(table[table["source_rule"] == "candidates"], [8], [1.0])
+        compact_libraries(table[table["source_rule"] == "candidates"], [8], [1.0])
 
 
 def test_an_lp_that_ends_infeasible_is_an_error_naming_the_object():
@@ -218,8 +226,10 @@ def test_an_lp_that_ends_infeasible_is_an_error_naming_the_object():
 
 def test_solver_output_goes_to_the_log_not_to_stdout():
     """HiGHS prints a banner from C once per process: a fresh process shows whether it reaches stdout."""
-    code = ("import logging, numpy as np, heatdata as hd; logging.basicConfig(level=logging.DEBUG); "
-            "rng = np.random.default_rng(0); hd.select_sources([rng.random((6, 6)) for _ in range(5)])")
+    code = (
+        "import logging, numpy as np, heatdata as hd; logging.basicConfig(level=logging.DEBUG); "
+        "rng = np.random.default_rng(0); hd.select_sources([rng.random((6, 6)) for _ in range(5)])"
+    )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout == "" and "solver output: Running HiGHS" in done.stderr

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from heatdata.mesh import boundary_loops, consistent_winding, surface_distances, surface_samples
+from heatdata.core.mesh import boundary_loops, consistent_winding, surface_distances, surface_samples
 
 SQUARE = np.array([[0, 1, 2], [0, 2, 3]])  # two counter-clockwise triangles
 TETRAHEDRON = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]])

@@ -19,7 +19,8 @@ def write_textured_quad(folder):
         "mtllib quad.mtl\n"
         "v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0.5 0.5 0\nv -0.5 0.5 0\n"
         "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-        "usemtl skin\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n")
+        "usemtl skin\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n"
+    )
     return folder / "quad.obj"
 
 
@@ -66,12 +67,15 @@ def test_missing_file(tmp_path):
         hd.load_model(tmp_path / "nothing.obj")
 
 
-@pytest.mark.parametrize("name, content, message", [
-    ("model.fbx", b"x", "unsupported"),
-    ("empty.ply", b"", "empty"),
-    ("points.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no triangle faces"),
-    ("nan.obj", b"v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "NaN"),
-])
+@pytest.mark.parametrize(
+    "name, content, message",
+    [
+        ("model.fbx", b"x", "unsupported"),
+        ("empty.ply", b"", "empty"),
+        ("points.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no triangle faces"),
+        ("nan.obj", b"v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "NaN"),
+    ],
+)
 def test_bad_files(tmp_path, name, content, message):
     path = tmp_path / name
     path.write_bytes(content)
@@ -87,10 +91,15 @@ def test_corrupt_file(tmp_path, suffix):
         hd.load_model(path)
 
 
-@pytest.mark.parametrize("texture, note", [("../secret.png", "refused '../secret.png'"),
-                                           ("/etc/passwd", "refused '/etc/passwd'"),
-                                           ("../../../../etc/passwd", "refused '../../../../etc/passwd'"),
-                                           ("nothere.png", "missing 'nothere.png'")])
+@pytest.mark.parametrize(
+    "texture, note",
+    [
+        ("../secret.png", "refused '../secret.png'"),
+        ("/etc/passwd", "refused '/etc/passwd'"),
+        ("../../../../etc/passwd", "refused '../../../../etc/passwd'"),
+        ("nothere.png", "missing 'nothere.png'"),
+    ],
+)
 def test_textures_outside_the_model_folder_are_refused_and_recorded(tmp_path, caplog, texture, note):
     """A model's MTL is untrusted: nothing outside the model's folder is read, and the view says what it lacks."""
     folder = tmp_path / "model"
@@ -106,14 +115,19 @@ def test_textures_outside_the_model_folder_are_refused_and_recorded(tmp_path, ca
 
 
 def test_a_hue_rotated_twin_turns_colours_and_textures_and_keeps_greys_and_the_mesh():
-    from heatdata.models import hue_rotated
+    from heatdata.io.models import hue_rotated
 
     red = np.array([0.8, 0.1, 0.1], np.float32)
     faces = np.array([[0, 1, 2], [0, 2, 3]])
-    model = hd.Model(name="tile", vertices=np.eye(4, 3), faces=faces,
-                     corner_colors=np.stack([np.tile(red, (3, 1)), np.full((3, 3), 0.5, np.float32)]),
-                     corner_uv=np.zeros((2, 3, 2), np.float32), face_texture=np.array([-1, 0], np.int32),
-                     textures=[np.tile(red, (2, 2, 1))])
+    model = hd.Model(
+        name="tile",
+        vertices=np.eye(4, 3),
+        faces=faces,
+        corner_colors=np.stack([np.tile(red, (3, 1)), np.full((3, 3), 0.5, np.float32)]),
+        corner_uv=np.zeros((2, 3, 2), np.float32),
+        face_texture=np.array([-1, 0], np.int32),
+        textures=[np.tile(red, (2, 2, 1))],
+    )
     twin = hue_rotated(model, 120.0)
     np.testing.assert_allclose(twin.corner_colors[0, 0], [0.1, 0.8, 0.1], atol=1e-6)  # red -> green
     np.testing.assert_allclose(twin.corner_colors[1], 0.5)  # grey stays grey

@@ -9,8 +9,16 @@ import pandas as pd
 import pytest
 
 import heatdata as hd
-from heatdata.multiview import (ExhaustiveFilter, appearance_model, learn_similarity, set_distance,
-                                similarity_matrix, stochastic_universal_sampling)
+from heatdata.experiments.multiview import ambiguous_starts, multiview_trials
+from heatdata.recognition.multiview.appearance import (
+    angle_gap,
+    appearance_model,
+    learn_similarity,
+    set_distance,
+    similarity_matrix,
+)
+from heatdata.recognition.multiview.filters import ExhaustiveFilter, _label_cells, stochastic_universal_sampling
+from heatdata.recognition.multiview.robot import TableRobot, recognize, robot_views
 
 ANGLES = np.arange(0.0, 360.0, 30.0)
 SAMPLES = 16
@@ -20,7 +28,7 @@ def curve(obj: str, azimuth: float, noise: float = 0.0, rng=None) -> np.ndarray:
     x = np.arange(SAMPLES) / SAMPLES
     values = 1.0 + 0.1 * np.cos(2 * np.pi * x) + 0.02 * np.cos(np.radians(azimuth))
     if obj == "mug" and 90 <= azimuth % 360 <= 180:
-        values = values + 0.3 * np.exp(-((x - 0.5) / 0.08) ** 2)  # the handle
+        values = values + 0.3 * np.exp(-(((x - 0.5) / 0.08) ** 2))  # the handle
     if noise:
         values = values + rng.normal(0, noise, SAMPLES)
     return values
@@ -28,8 +36,14 @@ def curve(obj: str, azimuth: float, noise: float = 0.0, rng=None) -> np.ndarray:
 
 def table(objects=("cup", "mug"), copies: int = 2, noise: float = 0.002, seed: int = 0) -> pd.DataFrame:
     rng = np.random.default_rng(seed)
-    return pd.DataFrame([{"object": o, "azimuth": a, "kind": "pvhk", "values": curve(o, a, noise, rng)}
-                         for o in objects for a in ANGLES for _ in range(copies)])
+    return pd.DataFrame(
+        [
+            {"object": o, "azimuth": a, "kind": "pvhk", "values": curve(o, a, noise, rng)}
+            for o in objects
+            for a in ANGLES
+            for _ in range(copies)
+        ]
+    )
 
 
 @pytest.fixture(scope="module")
@@ -57,8 +71,11 @@ def test_alpha_is_the_mean_leave_one_out_distance_eq_4_5():
     model = appearance_model(pd.concat([rows, rows.assign(azimuth=90.0)]))
     mhd = hd.mhd(np.zeros(8), np.full(8, 0.1))
     np.testing.assert_allclose(model.alpha, [mhd, mhd])
-    single = appearance_model(pd.DataFrame({"object": "a", "azimuth": [0.0, 90.0, 180.0],
-                                            "values": [np.zeros(8), np.full(8, 0.1), np.full(8, 0.3)]}))
+    single = appearance_model(
+        pd.DataFrame(
+            {"object": "a", "azimuth": [0.0, 90.0, 180.0], "values": [np.zeros(8), np.full(8, 0.1), np.full(8, 0.3)]}
+        )
+    )
     # one view per angle: the distance to the nearest neighbouring angle
     np.testing.assert_allclose(single.alpha, [mhd, mhd, hd.mhd(np.full(8, 0.1), np.full(8, 0.3))])
     assert appearance_model(rows, alpha=0.08).alpha.tolist() == [0.08]
@@ -66,11 +83,14 @@ def test_alpha_is_the_mean_leave_one_out_distance_eq_4_5():
 
 def test_alpha_learned_from_independent_views_is_their_mean_distance_to_the_library_view():
     library = pd.DataFrame({"object": "a", "azimuth": [0.0, 180.0], "values": [np.zeros(8), np.ones(8)]})
-    views = pd.DataFrame({"object": "a", "azimuth": [2.0, 358.0, 181.0],
-                          "values": [np.full(8, 0.1), np.full(8, 0.3), np.full(8, 1.2)]})
+    views = pd.DataFrame(
+        {"object": "a", "azimuth": [2.0, 358.0, 181.0], "values": [np.full(8, 0.1), np.full(8, 0.3), np.full(8, 1.2)]}
+    )
     model = appearance_model(library, views=views)
-    expected = [(hd.mhd(np.zeros(8), np.full(8, 0.1)) + hd.mhd(np.zeros(8), np.full(8, 0.3))) / 2,
-                hd.mhd(np.ones(8), np.full(8, 1.2))]
+    expected = [
+        (hd.mhd(np.zeros(8), np.full(8, 0.1)) + hd.mhd(np.zeros(8), np.full(8, 0.3))) / 2,
+        hd.mhd(np.ones(8), np.full(8, 1.2)),
+    ]
     np.testing.assert_allclose(model.alpha, expected, rtol=1e-6)  # mhd_matrix works in float32 chunks
     two = pd.concat([library, library.assign(object="b")])
     similarity = learn_similarity(two, pd.concat([views, views.assign(object="b")]))
@@ -85,8 +105,14 @@ def test_similarity_is_high_between_look_alike_views(library, similarity):
     at = {(o, a): k for k, (o, a) in enumerate(zip(model.labels["object"], model.labels["azimuth"]))}
     assert mu[at["mug", 0.0], at["cup", 0.0]] > 0.5 * mu[at["mug", 0.0], at["mug", 0.0]]  # handle hidden
     assert mu[at["mug", 120.0], at["cup", 120.0]] < 1e-6 * mu[at["mug", 120.0], at["mug", 120.0]]  # handle seen
-    assert list(similarity.columns) == ["object", "azimuth", "similar_object", "similar_azimuth", "similarity",
-                                        "similar_alpha"]
+    assert list(similarity.columns) == [
+        "object",
+        "azimuth",
+        "similar_object",
+        "similar_azimuth",
+        "similarity",
+        "similar_alpha",
+    ]
 
 
 def test_a_library_of_one_object_converges_at_once():
@@ -150,8 +176,15 @@ def test_bad_observations_and_tables_are_clear_errors(library, similarity):
     f = hd.ParticleFilter(library, similarity, particles=10, seed=0)
     with pytest.raises(hd.HeatdataError, match="observations have 8 values, the library's pvhk descriptors 16"):
         f.step([np.ones(8)], 0.0)
-    esf = hd.Descriptor(kind="esf", values=np.ones(SAMPLES), positions=np.zeros(SAMPLES), source=-1,
-                        time=np.nan, lambda2=np.nan, sampling=None)
+    esf = hd.Descriptor(
+        kind="esf",
+        values=np.ones(SAMPLES),
+        positions=np.zeros(SAMPLES),
+        source=-1,
+        time=np.nan,
+        lambda2=np.nan,
+        sampling=None,
+    )
     with pytest.raises(hd.HeatdataError, match="observations are esf descriptors, the library's pvhk"):
         f.step([esf], 0.0)
     with pytest.raises(hd.HeatdataError, match="does not match the library"):
@@ -180,29 +213,38 @@ def test_stochastic_universal_sampling_is_proportional():
 
 def views_every_3_degrees(objects=("cup", "mug"), seed=4) -> pd.DataFrame:
     rng = np.random.default_rng(seed)
-    return pd.DataFrame([{"object": o, "azimuth": a, "kind": "pvhk", "values": curve(o, a, 0.002, rng)}
-                         for o in objects for a in np.arange(1.5, 360.0, 3.0)])
+    return pd.DataFrame(
+        [
+            {"object": o, "azimuth": a, "kind": "pvhk", "values": curve(o, a, 0.002, rng)}
+            for o in objects
+            for a in np.arange(1.5, 360.0, 3.0)
+        ]
+    )
 
 
 def test_recognize_fixed_steps_and_the_active_policy(library, similarity):
     tests = views_every_3_degrees()
     model = appearance_model(library)
-    robot = hd.multiview.TableRobot(model, tests[tests["object"] == "mug"], per_stop=2)
+    robot = TableRobot(model, tests[tests["object"] == "mug"], per_stop=2)
     assert robot.views(270.0) == robot.views(270.0 + 720.0) and len(robot.views(0.0)) == 2
-    fixed = hd.multiview.recognize(hd.ParticleFilter(model, similarity, particles=60, seed=1), robot, 270.0,
-                                   step=30.0)
+    fixed = recognize(hd.ParticleFilter(model, similarity, particles=60, seed=1), robot, 270.0, step=30.0)
     assert fixed["converged"] and fixed["estimate"] == "mug" and 180.0 <= fixed["degrees"] <= 270.0
-    active = hd.multiview.recognize(hd.ParticleFilter(model, similarity, particles=60, seed=1), robot, 270.0,
-                                    policy="active", candidates=(-90.0, -30.0, 30.0, 90.0))
+    active = recognize(
+        hd.ParticleFilter(model, similarity, particles=60, seed=1),
+        robot,
+        270.0,
+        policy="active",
+        candidates=(-90.0, -30.0, 30.0, 90.0),
+    )
     assert active["converged"] and active["estimate"] == "mug" and active["degrees"] < fixed["degrees"]
     with pytest.raises(hd.HeatdataError, match="policy"):
-        hd.multiview.recognize(hd.ParticleFilter(model, similarity, seed=1), robot, 0.0, policy="greedy")
+        recognize(hd.ParticleFilter(model, similarity, seed=1), robot, 0.0, policy="greedy")
     with pytest.raises(hd.HeatdataError, match="one object"):
-        hd.multiview.TableRobot(model, tests)
+        TableRobot(model, tests)
 
 
 def test_ambiguous_starts_are_the_mugs_hidden_handle_views(library):
-    starts = hd.multiview.ambiguous_starts(library, views_every_3_degrees(), count=3)
+    starts = ambiguous_starts(library, views_every_3_degrees(), count=3)
     mug = starts[starts["object"] == "mug"]
     assert len(starts) == 6 and not mug["azimuth"].between(90, 180).any()
     assert (mug["nearest_other"] == "cup").all()
@@ -210,8 +252,16 @@ def test_ambiguous_starts_are_the_mugs_hidden_handle_views(library):
 
 def test_trials_cover_every_setting(library, similarity):
     starts = pd.DataFrame({"object": ["mug"], "azimuth": [270.0]})
-    trials = hd.multiview.multiview_trials(library, similarity, views_every_3_degrees(), starts, particles=(10, 30),
-                                           policies=("fixed", "active"), repetitions=2, step=30.0)
+    trials = multiview_trials(
+        library,
+        similarity,
+        views_every_3_degrees(),
+        starts,
+        particles=(10, 30),
+        policies=("fixed", "active"),
+        repetitions=2,
+        step=30.0,
+    )
     # 2 particle counts x (2 bootstraps fixed + similarity active) x 2 repetitions, and one exhaustive run
     assert len(trials) == 2 * 3 * 2 + 1
     exact = trials[trials["bootstrap"] == "exhaustive"].iloc[0]
@@ -221,14 +271,22 @@ def test_trials_cover_every_setting(library, similarity):
     assert (particles["comparisons"] == particles["particles"] * particles["stops"]).all()
     assert exact["comparisons"] == exact["exhaustive"]
     assert (trials["exhaustive"] == 24 * trials["stops"]).all()
-    again = hd.multiview.multiview_trials(library, similarity, views_every_3_degrees(), starts, particles=(10, 30),
-                                          policies=("fixed", "active"), repetitions=2, step=30.0)
+    again = multiview_trials(
+        library,
+        similarity,
+        views_every_3_degrees(),
+        starts,
+        particles=(10, 30),
+        policies=("fixed", "active"),
+        repetitions=2,
+        step=30.0,
+    )
     pd.testing.assert_frame_equal(trials.drop(columns="seconds"), again.drop(columns="seconds"))
 
 
 def test_the_robot_renders_noisy_views_along_its_path(mug):
     spec = hd.DescriptorSpec("pvhk", 16, "center", "polar")
-    path = hd.multiview.robot_views(mug, 30.0, [15.0, -45.0], spec, per_stop=2)
+    path = robot_views(mug, 30.0, [15.0, -45.0], spec, per_stop=2)
     assert [move for _, move in path] == [0.0, 15.0, -45.0]
     first, _ = path[0]
     assert len(first) == 2 and all(len(d.values) == 16 for d in first)
@@ -237,8 +295,14 @@ def test_the_robot_renders_noisy_views_along_its_path(mug):
 
 def test_best_move_keeps_circling_when_no_step_can_tell_twins_apart():
     twins = pd.concat([table(objects=("cup",)), table(objects=("cup",)).assign(object="twin")])
-    f = hd.ParticleFilter(twins, learn_similarity(twins, table(objects=("cup",), seed=1).pipe(
-        lambda t: pd.concat([t, t.assign(object="twin")]))), particles=40, seed=0)
+    f = hd.ParticleFilter(
+        twins,
+        learn_similarity(
+            twins, table(objects=("cup",), seed=1).pipe(lambda t: pd.concat([t, t.assign(object="twin")]))
+        ),
+        particles=40,
+        seed=0,
+    )
     half = f.n // 2  # the same angles on both twins: no step can move mass between them
     f.object[:half], f.object[half:] = 0, 1
     f.azimuth[half:] = f.azimuth[:half]
@@ -259,9 +323,9 @@ def test_best_move_does_not_return_to_views_already_seen(library, similarity):
 
 def test_a_run_stops_before_travelling_past_max_degrees(library, similarity):
     twins_tests = views_every_3_degrees()
-    robot = hd.multiview.TableRobot(appearance_model(library), twins_tests[twins_tests["object"] == "cup"])
+    robot = TableRobot(appearance_model(library), twins_tests[twins_tests["object"] == "cup"])
     f = hd.ParticleFilter(library, similarity, particles=30, seed=0)
-    result = hd.multiview.recognize(f, robot, 0.0, step=45.0, max_degrees=100.0)
+    result = recognize(f, robot, 0.0, step=45.0, max_degrees=100.0)
     assert result["degrees"] <= 100.0
 
 
@@ -280,7 +344,7 @@ def test_newcomers_start_at_the_survivors_mean_or_least_weight(library, similari
 
 def test_newcomers_start_anywhere_in_their_labels_cell_or_at_its_view(library, similarity):
     lopsided = pd.DataFrame({"object": "a", "azimuth": [0.0, 90.0, 120.0]})
-    np.testing.assert_allclose(hd.multiview._label_cells(lopsided), [[120, 45], [45, 15], [15, 120]])
+    np.testing.assert_allclose(_label_cells(lopsided), [[120, 45], [45, 15], [15, 120]])
     for rule in ("cell", "view"):
         f = hd.ParticleFilter(library, similarity, particles=60, seed=3, repopulate=rule)
         f.step(observe("mug", 270.0, 10), 0.0)
@@ -288,7 +352,7 @@ def test_newcomers_start_anywhere_in_their_labels_cell_or_at_its_view(library, s
         survivors = int((f.labels() == best).sum())
         f.update(np.where(np.arange(len(f.model.labels)) == best, 0.0, -50.0), 0.0)
         newcomers = f.azimuth[survivors:]
-        offset = hd.multiview._angle_gap(newcomers, f.model.labels["azimuth"].to_numpy()[f.labels()[survivors:]])
+        offset = angle_gap(newcomers, f.model.labels["azimuth"].to_numpy()[f.labels()[survivors:]])
         assert (offset <= 15.0 + 1e-9).all()  # the library is 30 deg apart: a cell is +-15 deg
         assert (offset > 0.5).any() if rule == "cell" else (offset == 0).all()
     with pytest.raises(hd.HeatdataError, match="repopulate is 'cell' or 'view'"):
@@ -305,8 +369,10 @@ def test_the_exhaustive_filter_is_the_exact_bayes_posterior(library):
     # by hand: hypothesis (object, start) sums log p at start, start + 30, start + 210
     labels = model.labels
     index = {(o, a): k for k, (o, a) in enumerate(zip(labels["object"], labels["azimuth"], strict=True))}
-    score = {o: [sum(p[index[(o, (a + off) % 360)]] for p, off in zip(log_p, (0, 30, 210), strict=True))
-                 for a in ANGLES] for o in ("cup", "mug")}
+    score = {
+        o: [sum(p[index[(o, (a + off) % 360)]] for p, off in zip(log_p, (0, 30, 210), strict=True)) for a in ANGLES]
+        for o in ("cup", "mug")
+    }
     mug = np.exp(np.logaddexp.reduce(score["mug"]) - np.logaddexp.reduce(score["cup"] + score["mug"]))
     assert f.posterior()["mug"] == pytest.approx(mug) and f.estimate == "mug" and f.converged
     g = ExhaustiveFilter(model)
@@ -318,6 +384,6 @@ def test_the_exhaustive_filter_is_the_exact_bayes_posterior(library):
         ExhaustiveFilter(model, resolution=0.0)
     with pytest.raises(hd.HeatdataError, match="confidence"):
         ExhaustiveFilter(model, confidence=1.0)
-    robot = hd.multiview.TableRobot(model, views_every_3_degrees().query("object == 'mug'"))
+    robot = TableRobot(model, views_every_3_degrees().query("object == 'mug'"))
     with pytest.raises(hd.HeatdataError, match="active policy needs a ParticleFilter"):
-        hd.multiview.recognize(f, robot, 0.0, policy="active")
+        recognize(f, robot, 0.0, policy="active")

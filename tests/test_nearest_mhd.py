@@ -1,4 +1,4 @@
-"""The exact nearest-descriptor search under eq. 3.1 / 5.14 (heatdata.distance.nearest_mhd)."""
+"""The exact nearest-descriptor search under eq. 3.1 / 5.14 (heatdata.core.distances.nearest_mhd)."""
 
 import importlib
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import heatdata as hd
-from heatdata.distance import nearest_mhd
+from heatdata.core.distances import nearest_mhd
 
 
 def pvhk_like(rng, n, m=64):
@@ -25,7 +25,7 @@ def reference(queries, library, wq=None, wl=None):
 @pytest.mark.parametrize("block", [4096, 7])
 def test_the_search_finds_the_plain_definition_s_nearest_item_and_distance(block, monkeypatch):
     # envelopes held 7 items at a time (the module: hd.distance is the descriptor-level function)
-    monkeypatch.setattr(importlib.import_module("heatdata.distance"), "SEARCH_BLOCK", block)
+    monkeypatch.setattr(importlib.import_module("heatdata.core.distances"), "SEARCH_BLOCK", block)
     rng = np.random.default_rng(0)
     library, queries = pvhk_like(rng, 300), pvhk_like(rng, 12)
     index, distance = nearest_mhd(queries, library)
@@ -62,9 +62,9 @@ def test_the_heat_kinds_and_the_recognizer_search_this_way():
     rng = np.random.default_rng(3)
     library, queries = pvhk_like(rng, 40), pvhk_like(rng, 5)
     index, distance = hd.descriptors.kind_of("pvhk").nearest(queries, library)
-    nn = hd.nearest_neighbours(queries, library)
+    nn = hd.nearest_neighbors(queries, library)
     np.testing.assert_array_equal(nn.index, index)
-    matrix = hd.nearest_neighbours(queries, library, distance=hd.mhd_matrix)  # any distance matrix still works
+    matrix = hd.nearest_neighbors(queries, library, distance=hd.mhd_matrix)  # any distance matrix still works
     np.testing.assert_array_equal(matrix.index, index)
     np.testing.assert_allclose(matrix.distance, distance, rtol=1e-5)
 
@@ -99,7 +99,7 @@ def test_within_seeks_only_items_nearer_than_a_given_distance():
     esf = hd.descriptors.kind_of("esf")  # the base class's matrix search means the same
     hist_l, hist_q = rng.dirichlet(np.ones(8), 20), rng.dirichlet(np.ones(8), 4)
     full = esf.nearest(hist_q, hist_l)
-    j, e = esf.nearest(hist_q, hist_l, within=np.array([np.inf, 0.0, full[1][2], 1.0]))
-    assert j.tolist() == [full[0][0], -1, -1, full[0][3]] and e[1] == 0.0
+    j, e = esf.nearest(hist_q, hist_l, within=np.array([np.inf, 0.0, full.distance[2], 1.0]))
+    assert j.tolist() == [full.index[0], -1, -1, full.index[3]] and e[1] == 0.0
     with pytest.raises(hd.HeatdataError, match="one distance per query"):
         nearest_mhd(queries, library, within=[1.0])

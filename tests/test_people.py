@@ -1,4 +1,4 @@
-"""People (heatdata.people, thesis 3.5): pose sequences, pose grouping measures and colour twins."""
+"""People (heatdata.experiments.people, thesis 3.5): pose sequences, pose grouping measures and colour twins."""
 
 from pathlib import Path
 
@@ -8,9 +8,20 @@ import pytest
 
 from heatdata.descriptors import DescriptorSpec, describe
 from heatdata.errors import HeatdataError
-from heatdata.people import (CLOTHES, GROUPS, POSE_RANGES, pose_measures, pose_sequence, reallusion_experiment,
-                             reallusion_people, reallusion_pose, sequence_views, twin_experiment, twin_predictions)
-from heatdata.view import kinect_intrinsics
+from heatdata.experiments.people import (
+    CLOTHES,
+    GROUPS,
+    POSE_RANGES,
+    pose_measures,
+    pose_sequence,
+    reallusion_experiment,
+    reallusion_people,
+    reallusion_pose,
+    sequence_views,
+    twin_experiment,
+    twin_predictions,
+)
+from heatdata.views.view import kinect_intrinsics
 
 REALLUSION = Path("/usr/share/sweethome3d/furniture/Reallusion.sh3f")
 SMALL = {"intrinsics": kinect_intrinsics(0.25), "noise": False}
@@ -32,33 +43,40 @@ def test_a_pose_sequence_alternates_its_groups_within_their_ranges_and_is_seeded
 
 def test_reallusion_poses_come_from_the_catalogue_names():
     assert [reallusion_pose(n) for n in ("Holding female", "Sitting boy", "Lying down male", "Girl")] == [
-        "holding", "sitting", "lying", "standing"]
+        "holding",
+        "sitting",
+        "lying",
+        "standing",
+    ]
 
 
 def test_pose_measures_of_two_clusters_and_leaving_each_person_out():
     points = np.concatenate([np.zeros((5, 1)), np.full((5, 1), 10.0)]) + np.arange(10)[:, None] * 0.01
     distances = np.abs(points - points.T)
     groups = np.repeat(["close", "away"], 5)
-    m = pose_measures(distances, groups, neighbours=3)
+    m = pose_measures(distances, groups, n_neighbors=3)
     assert m["nearest_accuracy"] == 1.0 and m["silhouette"] > 0.99 and m["embedding"].shape == (10, 2)
     assert m["within"]["close"] == pytest.approx(0.02) and m["between"] == pytest.approx(10.05)
     # each person shows both poses; the nearest view of another person then has the other pose
     persons = np.array([0, 1, 2, 3, 4, 4, 0, 1, 2, 3])
     near = np.where(persons[:, None] == persons[None], 0.0, np.where(groups[:, None] == groups[None], 5.0, 1.0))
     np.fill_diagonal(near, 0.0)
-    assert pose_measures(near, groups, owners=persons, neighbours=3)["nearest_accuracy"] == 0.0
+    assert pose_measures(near, groups, owners=persons, n_neighbors=3)["nearest_accuracy"] == 0.0
     with pytest.raises(HeatdataError, match="two groups"):
-        pose_measures(distances, np.repeat("close", 10), neighbours=3)
+        pose_measures(distances, np.repeat("close", 10), n_neighbors=3)
     with pytest.raises(HeatdataError, match=r"\(N, N\)"):
-        pose_measures(distances[:5], groups, neighbours=3)
+        pose_measures(distances[:5], groups, n_neighbors=3)
 
 
 def test_twin_predictions_take_the_nearest_library_view_s_person():
     values = np.array([[0.0, 0.0], [1.0, 1.0], [0.1, 0.0], [0.9, 1.0]])
     people = ["A", "B", "A", "B"]
-    table = twin_predictions({"d": values}, people, [True, True, False, False],
-                             searches={"d": lambda q, lib: (np.abs(q[:, None] - lib[None]).sum(axis=2).argmin(axis=1),
-                                                            None)})
+    table = twin_predictions(
+        {"d": values},
+        people,
+        [True, True, False, False],
+        searches={"d": lambda q, lib: (np.abs(q[:, None] - lib[None]).sum(axis=2).argmin(axis=1), None)},
+    )
     assert list(table["predicted"]) == ["A", "B"] and table["correct"].all()
     with pytest.raises(HeatdataError, match="no library view of"):
         twin_predictions({"d": values}, people, [True, False, False, False])
@@ -68,8 +86,9 @@ def test_twin_predictions_take_the_nearest_library_view_s_person():
 
 def test_twins_in_one_pose_have_one_pvhk_and_different_c_pvhks():
     sequence = pose_sequence(2, seed=0)
-    views = {person: sequence_views(sequence, clothes=colours, name=person, **SMALL)
-             for person, colours in CLOTHES.items()}
+    views = {
+        person: sequence_views(sequence, clothes=colours, name=person, **SMALL) for person, colours in CLOTHES.items()
+    }
     a, b = ([describe(v, SPECS) for v in views[p]] for p in CLOTHES)
     for x, y in zip(a, b, strict=True):
         np.testing.assert_allclose(x[0].values, y[0].values, rtol=1e-6)  # colour-blind: the same descriptor
@@ -91,8 +110,9 @@ def test_reallusion_s_people_are_imported_posed_and_one_is_set_against_its_hue_r
     people = reallusion_people(str(REALLUSION), str(tmp_path))
     assert len(people) == 25 and set(people["pose"]) == {"standing", "holding", "sitting", "lying"}
     assert (people["licence"] == "CC-BY-3.0").all()
-    values, views, predictions, examples = reallusion_experiment(SPECS, people, azimuths=[0.0], twin="male01",
-                                                                 twin_views=6, **SMALL)
+    values, views, predictions, examples = reallusion_experiment(
+        SPECS, people, azimuths=[0.0], twin="male01", twin_views=6, **SMALL
+    )
     assert len(views) == 25 and values[SPECS[0].name].shape == (25, 32)
     assert len(predictions) == 2 * 2 * 3 and set(predictions["pair"]) == {"Reallusion male01"}
     colour = predictions[predictions["descriptor"] == SPECS[1].name]

@@ -10,7 +10,7 @@ from conftest import ROOT
 
 def readme_example() -> str:
     text = (ROOT / "README.md").read_text()
-    section = text[text.index("## Using the library"):]
+    section = text[text.index("## Using the library") :]
     return re.search(r"```python\n(.*?)```", section, re.S).group(1)
 
 
@@ -18,8 +18,7 @@ def test_the_using_the_library_example_runs_as_written(tmp_path):
     script = tmp_path / "example.py"
     script.write_text(readme_example())
     env = dict(os.environ, MPLBACKEND="Agg")
-    run = subprocess.run([sys.executable, str(script)], cwd=ROOT, env=env, capture_output=True, text=True,
-                         timeout=300)
+    run = subprocess.run([sys.executable, str(script)], cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr[-3000:]
     assert "recognized as coffee-cup" in run.stdout
     assert "from 20 sources: coffee-cup" in run.stdout

@@ -6,17 +6,20 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from conftest import square_view
 
 import heatdata as hd
-from conftest import square_view
 from heatdata.descriptors import KINDS, kind_of
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_every_kind_is_registered_and_reported():
-    assert set(hd.DESCRIPTORS) == set(KINDS) == {"pvhk", "c-pvhk", "ft-pvhk", "pvst", "si-hks", "fpfh", "vfh", "esf",
-                                                 "hgd", "combined"}
+    assert (
+        set(hd.DESCRIPTORS)
+        == set(KINDS)
+        == {"pvhk", "c-pvhk", "ft-pvhk", "pvst", "si-hks", "fpfh", "vfh", "esf", "hgd", "combined"}
+    )
     for name, kind in KINDS.items():
         assert kind.name == name and kind.summary and kind.distance_name
         assert hd.DESCRIPTORS[name] is None or isinstance(hd.DESCRIPTORS[name], str)
@@ -27,8 +30,12 @@ def test_each_kind_describes_a_view_through_describe(kind, mug):
     if hd.DESCRIPTORS[kind] is not None:
         pytest.skip(hd.DESCRIPTORS[kind])
     view = hd.render_view(mug, 30.0, 30.0, 1.0, seed=0)
-    options = {"c-pvhk": {"color_map": "c3"}, "si-hks": {"words": 8, "modes": 30},
-               "pvst": {"source": "interior"}, "combined": {"parts": [{"kind": "hgd"}, {"kind": "esf"}]}}.get(kind, {})
+    options = {
+        "c-pvhk": {"color_map": "c3"},
+        "si-hks": {"words": 8, "modes": 30},
+        "pvst": {"source": "interior"},
+        "combined": {"parts": [{"kind": "hgd"}, {"kind": "esf"}]},
+    }.get(kind, {})
     spec = hd.fit_spec(hd.DescriptorSpec(kind, **options), [view, hd.render_view(mug, 120.0, 30.0, 1.0, seed=1)])
     (d,) = hd.describe(view, [spec], times=[0.01])
     assert d.kind == kind and d.values.shape == (spec.impl.size(spec, view),) and np.all(np.isfinite(d.values))
@@ -81,6 +88,8 @@ def test_histogram_kinds_have_no_heat_source():
 def test_config_schema_leaves_kinds_to_the_registry():
     """No kind list in the schema to fall out of step: the workflow checks kinds against the registry."""
     schema = yaml.safe_load((ROOT / "workflow" / "schemas" / "config.schema.yaml").read_text())
-    for kind in (schema["properties"]["descriptors"]["items"]["properties"]["kind"],
-                 schema["properties"]["compact"]["properties"]["descriptor"]["properties"]["kind"]):
+    for kind in (
+        schema["properties"]["descriptors"]["items"]["properties"]["kind"],
+        schema["properties"]["compact"]["properties"]["descriptor"]["properties"]["kind"],
+    ):
         assert kind == {"type": "string", "description": kind["description"]}

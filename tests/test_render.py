@@ -4,9 +4,9 @@ import logging
 
 import numpy as np
 import pytest
+from test_models import colored_box, write_textured_quad
 
 import heatdata as hd
-from test_models import colored_box, write_textured_quad
 
 TAU = 1.42e-3
 
@@ -31,7 +31,7 @@ def test_unit_cube_front_face_depth_is_analytic(cube):
 def test_noise_follows_the_kinect_model(cube):
     view = hd.render_view(cube, 0.0, 0.0, 1.0, noise=True, seed=1)
     residual = view.vertices[:, 2] - 0.9
-    sigma = 0.9 ** 2 * TAU  # z = z0 + z0^2 eps, eps ~ N(0, tau^2)
+    sigma = 0.9**2 * TAU  # z = z0 + z0^2 eps, eps ~ N(0, tau^2)
     assert np.std(residual) == pytest.approx(sigma, rel=0.05)
     assert abs(np.mean(residual)) < 5 * sigma / np.sqrt(len(residual))
 
@@ -74,7 +74,7 @@ def test_view_metadata(cube):
 
 
 def test_depth_jumps_split_the_mesh_and_the_largest_part_is_kept(tmp_path, caplog):
-    caplog.set_level(logging.INFO, logger="heatdata.view")
+    caplog.set_level(logging.INFO, logger="heatdata.views.view")
     import trimesh
 
     near = trimesh.creation.box(extents=(0.1, 0.1, 0.02))
@@ -110,7 +110,7 @@ def test_a_tiny_object_gives_a_clear_error(tmp_path):
 
 
 def test_half_scale_image_has_a_quarter_of_the_vertices(cube):
-    from heatdata.view import kinect_intrinsics
+    from heatdata.views.view import kinect_intrinsics
 
     assert kinect_intrinsics(1.0) == hd.render_view(cube, 0.0, 0.0).intrinsics
     half = kinect_intrinsics(0.5)

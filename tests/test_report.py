@@ -2,10 +2,11 @@
 
 import pandas as pd
 import pytest
+from conftest import ROOT
 
 import heatdata as hd
-from conftest import ROOT
-from heatdata.report import ABLATION_COLUMNS, ablation_page, read_ablation
+from heatdata.io.tables import ABLATION_COLUMNS, read_ablation
+from heatdata.reporting.pages import ablation_page
 
 
 def readme_ablation_rows() -> list[list[str]]:
@@ -27,8 +28,9 @@ def test_the_readme_and_the_report_show_the_same_ablation():
 
 
 def test_the_ablation_page_keeps_code_and_bold_and_escapes_the_rest():
-    table = pd.DataFrame([["a <b> factor", "**+3** points", "x", "`snakemake --configfile a.yaml`"]],
-                         columns=list(ABLATION_COLUMNS))
+    table = pd.DataFrame(
+        [["a <b> factor", "**+3** points", "x", "`snakemake --configfile a.yaml`"]], columns=list(ABLATION_COLUMNS)
+    )
     page = ablation_page(table, "docs/results/x.csv")
     assert "a &lt;b&gt; factor" in page and "<b>+3</b> points" in page
     assert "<code>snakemake --configfile a.yaml</code>" in page and "docs/results/x.csv" in page

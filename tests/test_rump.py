@@ -7,9 +7,9 @@ from scipy.spatial import Delaunay
 from scipy.spatial.transform import Rotation
 
 import heatdata as hd
-from heatdata.rump import (RumpError, _heat, apply_homography, hbrd_times, homography, landmark_frame,
-                           landmark_trapezoid, rump_heat)
-from heatdata.spectrum import laplacian
+from heatdata.core.spectrum import laplacian
+from heatdata.errors import RumpError
+from heatdata.rump import _heat, apply_homography, hbrd_times, homography, landmark_frame, landmark_trapezoid, rump_heat
 
 # hip left, hip right, pin left, pin right as a camera sees them (image y down: the hips above the pins)
 LANDMARKS_2D = np.array([[-0.05, -0.07], [0.05, -0.07], [-0.07, 0.07], [0.07, 0.07]])
@@ -21,7 +21,7 @@ def rump(height: float, *, step: float = 0.006, seed: int = 0) -> tuple[np.ndarr
     rng = np.random.default_rng(seed)
     x, y = np.meshgrid(np.arange(-0.12, 0.12 + 1e-9, step), np.arange(-0.12, 0.12 + 1e-9, step))
     xy = np.column_stack([x.ravel(), y.ravel()]) + rng.uniform(-0.1, 0.1, (x.size, 2)) * step
-    bump = height * np.exp(-np.sum(xy ** 2, axis=1) / (2 * 0.05 ** 2))
+    bump = height * np.exp(-np.sum(xy**2, axis=1) / (2 * 0.05**2))
     vertices = np.column_stack([xy, 1.0 - bump])  # the camera at the origin looks along +z
     faces = Delaunay(xy).simplices
     nearest = [int(np.argmin(np.linalg.norm(xy - p, axis=1))) for p in LANDMARKS_2D]
@@ -56,8 +56,9 @@ def test_a_hollow_rump_keeps_the_surface_between_its_bones():
 def test_the_descriptor_does_not_depend_on_where_the_rump_is_or_how_it_is_turned():
     vertices, faces, landmarks = rump(0.02)
     turn, shift = Rotation.from_rotvec([0.4, -0.3, 1.1]), np.array([0.2, -0.5, 0.3])
-    moved = hd.hbrd(turn.apply(vertices) + shift, faces, turn.apply(landmarks) + shift,
-                    toward=turn.apply(-landmarks.mean(axis=0)))
+    moved = hd.hbrd(
+        turn.apply(vertices) + shift, faces, turn.apply(landmarks) + shift, toward=turn.apply(-landmarks.mean(axis=0))
+    )
     np.testing.assert_allclose(moved, hd.hbrd(vertices, faces, landmarks), rtol=1e-6, atol=1e-9)
 
 
@@ -75,8 +76,7 @@ def test_the_normalization_sends_the_landmarks_to_the_canonical_trapezoid():
 
 def test_the_heat_is_exact_against_expm_multiply():
     vertices, faces, _ = rump(0.03, step=0.012)
-    edges = np.unique(np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1),
-                      axis=0)
+    edges = np.unique(np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1), axis=0)
     times = hbrd_times(5)
     ours = _heat(vertices, edges, 100, times)
     L = laplacian(vertices, edges)

@@ -2,9 +2,9 @@
 
 import numpy as np
 import pytest
+from conftest import square_view
 
 import heatdata as hd
-from conftest import square_view
 from heatdata.descriptors.sihks import signatures
 from heatdata.descriptors.work import ViewWork
 

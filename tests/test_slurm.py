@@ -14,9 +14,9 @@ import time
 from pathlib import Path
 
 import pytest
-
-from heatdata.tables import read_table
 from test_workflow import SNAKEFILE, SNAKEMAKE, tiny_config, yaml
+
+from heatdata.io.tables import read_table
 
 ROOT = Path(__file__).resolve().parents[1]
 SLURM_CONF = Path("/etc/slurm/slurm.conf")
@@ -25,19 +25,35 @@ BINARIES = ("munged", "slurmctld", "slurmd", "sbatch", "squeue", "sinfo")
 
 def slurm_conf(state: Path) -> str:
     host = socket.gethostname().split(".")[0]
-    return "\n".join([
-        "# written by heatdata's tests/test_slurm.py; removed when the test ends",
-        "ClusterName=heatdata", f"SlurmctldHost={host}(127.0.0.1)", "SlurmUser=root", "AuthType=auth/munge",
-        f"StateSaveLocation={state}/state", f"SlurmdSpoolDir={state}/spool",
-        f"SlurmctldPidFile={state}/slurmctld.pid", f"SlurmdPidFile={state}/slurmd.pid",
-        f"SlurmctldLogFile={state}/slurmctld.log", f"SlurmdLogFile={state}/slurmd.log",
-        "ProctrackType=proctrack/linuxproc", "TaskPlugin=task/none", "SelectType=select/cons_tres",
-        "SelectTypeParameters=CR_Core_Memory", "DefMemPerCPU=2000",
-        "AccountingStorageType=accounting_storage/none", "JobAcctGatherType=jobacct_gather/none",
-        "JobCompType=jobcomp/none", "MinJobAge=300", "MpiDefault=none", "ReturnToService=2",
-        f"NodeName={host} NodeAddr=127.0.0.1 CPUs={os.cpu_count()} RealMemory=8000 State=UNKNOWN",
-        "PartitionName=debug Nodes=ALL Default=YES MaxTime=INFINITE State=UP", "",
-    ])
+    return "\n".join(
+        [
+            "# written by heatdata's tests/test_slurm.py; removed when the test ends",
+            "ClusterName=heatdata",
+            f"SlurmctldHost={host}(127.0.0.1)",
+            "SlurmUser=root",
+            "AuthType=auth/munge",
+            f"StateSaveLocation={state}/state",
+            f"SlurmdSpoolDir={state}/spool",
+            f"SlurmctldPidFile={state}/slurmctld.pid",
+            f"SlurmdPidFile={state}/slurmd.pid",
+            f"SlurmctldLogFile={state}/slurmctld.log",
+            f"SlurmdLogFile={state}/slurmd.log",
+            "ProctrackType=proctrack/linuxproc",
+            "TaskPlugin=task/none",
+            "SelectType=select/cons_tres",
+            "SelectTypeParameters=CR_Core_Memory",
+            "DefMemPerCPU=2000",
+            "AccountingStorageType=accounting_storage/none",
+            "JobAcctGatherType=jobacct_gather/none",
+            "JobCompType=jobcomp/none",
+            "MinJobAge=300",
+            "MpiDefault=none",
+            "ReturnToService=2",
+            f"NodeName={host} NodeAddr=127.0.0.1 CPUs={os.cpu_count()} RealMemory=8000 State=UNKNOWN",
+            "PartitionName=debug Nodes=ALL Default=YES MaxTime=INFINITE State=UP",
+            "",
+        ]
+    )
 
 
 def stop(pid_file: Path) -> None:
@@ -77,8 +93,9 @@ def slurm(tmp_path_factory):
                 break
             time.sleep(1)
         else:
-            logs = "".join((state / f).read_text()[-800:] for f in ("slurmctld.log", "slurmd.log")
-                           if (state / f).exists())
+            logs = "".join(
+                (state / f).read_text()[-800:] for f in ("slurmctld.log", "slurmd.log") if (state / f).exists()
+            )
             pytest.skip(f"Slurm did not become idle in 30 s: {logs}")
         yield state
     finally:
@@ -94,9 +111,20 @@ def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
     config["descriptors"] = config["descriptors"][:2]  # the PVHKs: no time-scale jobs
     (workdir / "config" / "config.yaml").write_text(yaml.safe_dump(config))
     result = subprocess.run(
-        [str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(workdir),
-         "--workflow-profile", str(ROOT / "profiles" / "slurm"), "--slurm-no-account"],  # no accounting here
-        capture_output=True, text=True, timeout=900)
+        [
+            str(SNAKEMAKE),
+            "-s",
+            str(SNAKEFILE),
+            "--directory",
+            str(workdir),
+            "--workflow-profile",
+            str(ROOT / "profiles" / "slurm"),
+            "--slurm-no-account",
+        ],  # no accounting here
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert result.returncode == 0, (result.stdout + result.stderr)[-4000:]
     submitted = (result.stdout + result.stderr).count("has been submitted with SLURM jobid")
     # every job but `all`: catalog, 2 render, 2 describe, collect, 4 classify (2 descriptors x 2 sizes),

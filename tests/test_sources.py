@@ -19,8 +19,12 @@ def test_candidates_are_distinct_interior_and_spread_over_the_view(mug):
     sources = hd.candidate_sources(view, 250)
     assert len(sources) == 250 and len(np.unique(sources)) == 250
     assert not set(sources) & set(view.boundary)
-    area = 0.5 * np.linalg.norm(np.cross(*(view.vertices[view.faces[:, k]] - view.vertices[view.faces[:, 0]]
-                                          for k in (1, 2))), axis=1).sum()
+    area = (
+        0.5
+        * np.linalg.norm(
+            np.cross(*(view.vertices[view.faces[:, k]] - view.vertices[view.faces[:, 0]] for k in (1, 2))), axis=1
+        ).sum()
+    )
     spacing = np.sqrt(area / 250)  # the side of one candidate's share of the surface
     assert coverage(view, sources) < 3 * spacing
     assert np.array_equal(sources, hd.candidate_sources(view, 250))  # deterministic
@@ -43,7 +47,7 @@ def test_all_interior_vertices_and_too_many_asked(square):
     assert len(hd.candidate_sources(square, len(interior))) == len(interior)
 
 
-@pytest.mark.parametrize("kind, clock", [("pvhk", None), ("c-pvhk", "colour"), ("c-pvhk", "shape"), ("ft-pvhk", None)])
+@pytest.mark.parametrize("kind, clock", [("pvhk", None), ("c-pvhk", "color"), ("c-pvhk", "shape"), ("ft-pvhk", None)])
 def test_candidate_descriptors_from_one_spectrum_match_one_solve_per_source(mug, kind, clock):
     view = hd.render_view(mug, 30.0, 30.0, 1.15, seed=0)
     sources = hd.candidate_sources(view, 20)
@@ -52,9 +56,16 @@ def test_candidate_descriptors_from_one_spectrum_match_one_solve_per_source(mug,
     many = hd.candidate_descriptors(view, sources, spec, times=times)
     assert len(many) == len(sources) * (2 if times else 1)
     for k in (0, 7, 19):  # against the Krylov solve of describe(), source by source
-        single = hd.describe(view, [hd.DescriptorSpec(kind=kind, sampling="polar", source=int(sources[k]),
-                                                      color_map=spec.get("color_map"), clock=clock)],
-                             times=times, part_weights=False)
+        single = hd.describe(
+            view,
+            [
+                hd.DescriptorSpec(
+                    kind=kind, sampling="polar", source=int(sources[k]), color_map=spec.get("color_map"), clock=clock
+                )
+            ],
+            times=times,
+            part_weights=False,
+        )
         for j, one in enumerate(single):
             d = many[k * len(single) + j]
             assert d.source == sources[k] and d.time == pytest.approx(one.time, rel=1e-9)
@@ -62,9 +73,12 @@ def test_candidate_descriptors_from_one_spectrum_match_one_solve_per_source(mug,
 
 
 def test_candidate_descriptors_on_a_view_of_two_parts(square):
-    two = hd.View(vertices=np.vstack([square.vertices, square.vertices + [0.1, 0, 0]]),
-                  colors=np.vstack([square.colors] * 2),
-                  faces=np.vstack([square.faces, square.faces + square.n_vertices]), view_id="two squares")
+    two = hd.View(
+        vertices=np.vstack([square.vertices, square.vertices + [0.1, 0, 0]]),
+        colors=np.vstack([square.colors] * 2),
+        faces=np.vstack([square.faces, square.faces + square.n_vertices]),
+        view_id="two squares",
+    )
     sources = np.array([square.n_vertices + 220, 220])  # the centre of each square, second part first
     a, b = hd.candidate_descriptors(two, sources, hd.DescriptorSpec(kind="pvhk"))
     assert (a.source, b.source) == (square.n_vertices + 220, 220)
@@ -73,7 +87,7 @@ def test_candidate_descriptors_on_a_view_of_two_parts(square):
 
 def test_candidate_pvsts_share_the_view_work_and_match_one_at_a_time(square, monkeypatch):
     spec = hd.DescriptorSpec(kind="pvst", sampling="polar")
-    pvst_module = sys.modules["heatdata.descriptors.pvst"]
+    pvst_module = sys.modules["heatdata.descriptors.stochastic_time"]
     shifts, models = [], []
     shifted, heat_model = hd.HeatOperator.shifted, pvst_module.heat_model
     monkeypatch.setattr(hd.HeatOperator, "shifted", lambda op, sigma: shifts.append(sigma) or shifted(op, sigma))

@@ -5,9 +5,9 @@ import pytest
 import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
+from conftest import grid_mesh, square_view
 
 import heatdata as hd
-from conftest import grid_mesh, square_view
 
 
 def test_laplacian_rows_sum_to_zero_and_symmetric(square):

@@ -7,9 +7,13 @@ import pytest
 import trimesh
 from scipy.spatial.transform import Rotation
 
-from heatdata.models import Model
-from heatdata.stitch import (ScanSurface, StitchError, align, alignment_at, boundaries, boundary, closed_part,
-                             nearest_targets, resample_loop, split_model, stitch, strip_faces, transformed)
+from heatdata.errors import StitchError
+from heatdata.io.models import Model, transformed
+from heatdata.jasnom.align import align, alignment_at
+from heatdata.jasnom.boundary import boundaries, boundary, resample_loop
+from heatdata.jasnom.cost import ScanSurface
+from heatdata.jasnom.cuts import closed_part, split_model
+from heatdata.jasnom.seam import nearest_targets, stitch, strip_faces
 
 MOTION = Rotation.from_rotvec([0.5, -1.0, 0.3]), np.array([0.3, 0.1, -0.2])
 
@@ -46,7 +50,7 @@ def moved_half(model: Model, normal, amplitude: float = 0.0, offset: float = 0.0
 
 @pytest.mark.parametrize("amplitude", [0.0, 0.05])
 def test_two_halves_moved_apart_are_aligned_and_welded_closed(ellipsoid, amplitude, tmp_path):
-    from heatdata.models import save_model
+    from heatdata.io.models import save_model
 
     a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2], amplitude)
     result = stitch(a, b, samples=64)
@@ -57,15 +61,17 @@ def test_two_halves_moved_apart_are_aligned_and_welded_closed(ellipsoid, amplitu
     # the halves share their boundary: its vertices are welded and no strip is left, in the first half's frame
     assert result.welded == len(result.first.loop) and result.strip_faces == 0
     assert len(result.model.faces) == len(ellipsoid.faces) and len(result.model.vertices) == len(ellipsoid.vertices)
-    np.testing.assert_array_equal(result.model.vertices[:len(a.vertices)], a.vertices)
+    np.testing.assert_array_equal(result.model.vertices[: len(a.vertices)], a.vertices)
     save_model(result.model, tmp_path / "whole.ply")
     for mesh in (as_trimesh(result.model), trimesh.load(tmp_path / "whole.ply")):  # as a user reads it: merged
         assert mesh.is_watertight and mesh.is_winding_consistent
         assert mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=1e-6)  # PLY stores float32
     assert result.alignment.facing < -0.9
     # both halves' colours are kept
-    assert np.isclose(result.model.corner_colors[..., 2], 0.9).any() and np.isclose(
-        result.model.corner_colors[..., 0], 0.8).any()
+    assert (
+        np.isclose(result.model.corner_colors[..., 2], 0.9).any()
+        and np.isclose(result.model.corner_colors[..., 0], 0.8).any()
+    )
 
 
 @pytest.mark.parametrize("amplitude, offset", [(0.0, 0.0), (0.05, 0.1), (0.0, -0.15)])
@@ -88,16 +94,20 @@ def test_the_cost_is_continuous_and_grows_with_misalignment(ellipsoid):
     costs = np.array([alignment_at(b1, b2, np.eye(3), [d, 0.0, 0.0], samples=32).cost for d in steps])
     assert costs[0] == pytest.approx(0.0, abs=1e-20) and np.all(np.diff(costs) > 0)
     assert np.max(np.abs(np.diff(costs, 2))) < 0.2 * costs[-1] / len(steps)  # smooth: no jumps between samples
-    turns = [alignment_at(b1, b2, Rotation.from_rotvec([0.0, angle, 0.0]).as_matrix(), np.zeros(3), samples=32).cost
-             for angle in np.radians([0.0, 0.5, 1.0, 2.0])]
+    turns = [
+        alignment_at(b1, b2, Rotation.from_rotvec([0.0, angle, 0.0]).as_matrix(), np.zeros(3), samples=32).cost
+        for angle in np.radians([0.0, 0.5, 1.0, 2.0])
+    ]
     assert turns[0] < turns[1] < turns[2] < turns[3]
 
 
 def test_interpenetration_costs_nothing_at_the_seam_and_grows_with_depth(ellipsoid):
     a, b = split_model(ellipsoid, [0.0, 1.0, 0.0])  # a: the upper half, its boundary normals point down
     b1, b2 = boundary(a), boundary(b)
-    crossing = [alignment_at(b1, b2, np.eye(3), [0.0, d, 0.0], samples=32).crossing_cost
-                for d in (-0.01, 0.0, 0.002, 0.005, 0.01)]
+    crossing = [
+        alignment_at(b1, b2, np.eye(3), [0.0, d, 0.0], samples=32).crossing_cost
+        for d in (-0.01, 0.0, 0.002, 0.005, 0.01)
+    ]
     # lowering the lower half opens a gap (nothing crosses); raising it pushes it into the upper one
     assert crossing[0] < 0.2 * crossing[-1] and crossing[1] < 1e-20
     assert crossing[1] < crossing[2] < crossing[3] < crossing[4]
@@ -108,8 +118,12 @@ def test_the_cost_does_not_depend_on_the_object_size(ellipsoid):
     offset = truth(*MOTION)
     offset[:3, 3] += [0.004, 0.0, 0.002]  # a few percent of the size off
     small = alignment_at(boundaries(a), boundaries(b), offset[:3, :3], offset[:3, 3])
-    big = alignment_at(boundaries(transformed(a, 10 * np.eye(3), np.zeros(3))),
-                       boundaries(transformed(b, 10 * np.eye(3), np.zeros(3))), offset[:3, :3], 10 * offset[:3, 3])
+    big = alignment_at(
+        boundaries(transformed(a, 10 * np.eye(3), np.zeros(3))),
+        boundaries(transformed(b, 10 * np.eye(3), np.zeros(3))),
+        offset[:3, :3],
+        10 * offset[:3, 3],
+    )
     assert big.cost == pytest.approx(small.cost, rel=1e-9) and small.cost > 0
 
 
@@ -141,7 +155,7 @@ def test_a_known_motion_is_used_as_given(ellipsoid, caplog):
     assert bridged.strip_faces > 0 and bridged.welded == 0 and bridged.alignment.edge_cost > 1e-4
     assert as_trimesh(bridged.model).is_watertight and as_trimesh(bridged.model).is_winding_consistent
     # at a given motion, boundaries that do not face each other are a gap to span: a warning, not an error
-    caplog.set_level(logging.WARNING, logger="heatdata.stitch")
+    caplog.set_level(logging.WARNING, logger="heatdata.jasnom.seam")
     above = transformed(a, np.eye(3), [0.0, 0.05, 0.0])  # a copy of the half, above it: both normals point down
     assert stitch(a, above, motion=np.eye(4), samples=32).alignment.facing > 0.5
     assert "do not face each other across their boundaries at the given motion" in caplog.text
@@ -179,8 +193,9 @@ def test_the_strip_uses_every_boundary_edge_once_against_its_face(ellipsoid):
 
 
 def test_a_boundary_that_pinches_is_split_into_loops_that_visit_each_vertex_once():
-    bowtie = Model.untextured("bowtie", [[0, 0, 0], [1, 0, 0], [1, 1, 0], [-1, 0, 0], [-1, -1, 0]],
-                              [[0, 1, 2], [0, 3, 4]], (0.5, 0.5, 0.5))  # two triangles that share a corner
+    bowtie = Model.untextured(
+        "bowtie", [[0, 0, 0], [1, 0, 0], [1, 1, 0], [-1, 0, 0], [-1, -1, 0]], [[0, 1, 2], [0, 3, 4]], (0.5, 0.5, 0.5)
+    )  # two triangles that share a corner
     loops = boundaries(bowtie)
     assert sorted(sorted(b.loop.tolist()) for b in loops) == [[0, 1, 2], [0, 3, 4]]
     assert all(b.loops == 2 for b in loops)
@@ -202,16 +217,19 @@ def test_bad_meshes_are_clear_errors(ellipsoid, caplog):
     assert len(boundary(triangle).loop) == 3
     with pytest.raises(StitchError, match="a boundary of 3 vertices cannot fix a motion"):
         stitch(a, triangle)
-    fin = Model(name="fin", vertices=np.vstack([a.vertices, [[0.0, 0.5, 0.0]]]),
-                faces=np.vstack([a.faces, [[a.faces[0, 0], a.faces[0, 1], len(a.vertices)]]]),
-                corner_colors=np.concatenate([a.corner_colors, a.corner_colors[:1]]),
-                corner_uv=np.concatenate([a.corner_uv, a.corner_uv[:1]]),
-                face_texture=np.concatenate([a.face_texture, a.face_texture[:1]]))
+    fin = Model(
+        name="fin",
+        vertices=np.vstack([a.vertices, [[0.0, 0.5, 0.0]]]),
+        faces=np.vstack([a.faces, [[a.faces[0, 0], a.faces[0, 1], len(a.vertices)]]]),
+        corner_colors=np.concatenate([a.corner_colors, a.corner_colors[:1]]),
+        corner_uv=np.concatenate([a.corner_uv, a.corner_uv[:1]]),
+        face_texture=np.concatenate([a.face_texture, a.face_texture[:1]]),
+    )
     with pytest.raises(StitchError, match="more than two faces"):
         boundary(fin)
     with pytest.raises(StitchError, match="the same mesh"):
         stitch(a, a)
-    caplog.set_level(logging.WARNING, logger="heatdata.stitch")
+    caplog.set_level(logging.WARNING, logger="heatdata.jasnom.seam")
     mirrored = transformed(a, np.diag([1.0, -1.0, 1.0]), [0.0, 0.0, 0.0])  # the lower half, wound inwards
     mesh = as_trimesh(stitch(a, mirrored, samples=32).model)  # found by the mirrored candidates, then reversed
     assert "wound the other way round the object" in caplog.text and mesh.is_watertight and mesh.is_winding_consistent
@@ -231,15 +249,27 @@ def test_the_command_writes_a_closed_coloured_mesh_in_the_first_frame(ellipsoid,
     import json
 
     from heatdata.cli import main
-    from heatdata.models import save_model
+    from heatdata.io.models import save_model
 
     a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2], 0.05)
     a = transformed(a, np.eye(3), [1.0, 2.0, 3.0])  # far from the origin: the output must stay there
     b = transformed(b, np.eye(3), [0.0, 0.0, 0.0])
     save_model(a, tmp_path / "a.ply")
     save_model(b, tmp_path / "b.ply")
-    assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
-                 "--samples", "32"]) == 0
+    assert (
+        main(
+            [
+                "stitch",
+                str(tmp_path / "a.ply"),
+                str(tmp_path / "b.ply"),
+                "-o",
+                str(tmp_path / "ab.ply"),
+                "--samples",
+                "32",
+            ]
+        )
+        == 0
+    )
     printed = json.loads(capsys.readouterr().out)
     assert printed["faces"] == len(ellipsoid.faces) and printed["mean_gap_of_size"] < 1e-6
     assert printed["cost"] < 1e-12 and printed["runner_up"] > 1e-4 and not printed["ambiguous"]
@@ -255,14 +285,38 @@ def test_the_command_writes_a_closed_coloured_mesh_in_the_first_frame(ellipsoid,
     inverse = truth(*MOTION)
     inverse[:3, 3] += [1.0, 2.0, 3.0]
     np.savetxt(tmp_path / "motion.txt", inverse)
-    assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
-                 "--motion", str(tmp_path / "motion.txt")]) == 0
+    assert (
+        main(
+            [
+                "stitch",
+                str(tmp_path / "a.ply"),
+                str(tmp_path / "b.ply"),
+                "-o",
+                str(tmp_path / "ab.ply"),
+                "--motion",
+                str(tmp_path / "motion.txt"),
+            ]
+        )
+        == 0
+    )
     np.testing.assert_allclose(json.loads(capsys.readouterr().out)["translation"], inverse[:3, 3], atol=1e-6)
     assert trimesh.load(tmp_path / "ab.ply").is_watertight
     for bad, text in (("letters.txt", "1 2\n3 x\n"), ("small.txt", "1 0 0\n0 1 0\n0 0 1\n")):
         (tmp_path / bad).write_text(text)
-        assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
-                     "--motion", str(tmp_path / bad)]) == 1
+        assert (
+            main(
+                [
+                    "stitch",
+                    str(tmp_path / "a.ply"),
+                    str(tmp_path / "b.ply"),
+                    "-o",
+                    str(tmp_path / "ab.ply"),
+                    "--motion",
+                    str(tmp_path / bad),
+                ]
+            )
+            == 1
+        )
         assert f"{bad}: not a 4x4 matrix" in caplog.text
 
 
@@ -270,22 +324,35 @@ def test_the_command_warns_when_the_answer_is_ambiguous(tmp_path, capsys, caplog
     import json
 
     from heatdata.cli import main
-    from heatdata.models import save_model
+    from heatdata.io.models import save_model
 
     cylinder = closed_part(model_of(trimesh.creation.cylinder(radius=0.05, height=0.12, sections=48), "cylinder"))
     a, b = moved_half(cylinder, [0.0, 0.0, 1.0], offset=0.05)
     save_model(a, tmp_path / "a.ply")
     save_model(b, tmp_path / "b.ply")
     caplog.set_level(logging.WARNING)
-    assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "ab.ply"),
-                 "--samples", "48"]) == 0
+    assert (
+        main(
+            [
+                "stitch",
+                str(tmp_path / "a.ply"),
+                str(tmp_path / "b.ply"),
+                "-o",
+                str(tmp_path / "ab.ply"),
+                "--samples",
+                "48",
+            ]
+        )
+        == 0
+    )
     assert json.loads(capsys.readouterr().out)["ambiguous"] and "ambiguous: another pose" in caplog.text
     assert trimesh.load(tmp_path / "ab.ply").is_watertight  # a turned cylinder is still the cylinder
 
 
 def test_a_cut_leaving_two_loops_is_aligned_by_the_longest_and_closed_at_both():
-    torus = model_of(trimesh.creation.torus(major_radius=0.1, minor_radius=0.03, major_sections=48,
-                                            minor_sections=16), "torus")
+    torus = model_of(
+        trimesh.creation.torus(major_radius=0.1, minor_radius=0.03, major_sections=48, minor_sections=16), "torus"
+    )
     a, b = split_model(torus, [1.0, 0.0, 0.0], offset=0.05)  # through both sides of the tube: two loops
     assert boundary(a).loops == 2
     rotation, translation = MOTION
@@ -324,16 +391,20 @@ def test_a_scan_faces_its_own_camera_and_not_the_opposite_one():
 
 
 def test_two_rendered_scans_from_opposite_sides_are_turned_right():
-    from heatdata.catalog import embedded_catalog, load_catalog_model, read_catalog
-    from heatdata.render import render_view
+    from heatdata.io.catalog import embedded_catalog, load_catalog_model, read_catalog
+    from heatdata.views.render import render_view
 
     catalog = read_catalog(embedded_catalog()).set_index("object", drop=False)
     bottle = load_catalog_model(catalog.loc["yogurt-bottle"])
     size = float(np.linalg.norm(bottle.extents))
-    views = [render_view(bottle, azimuth, elevation, 3 * size, seed=seed)
-             for azimuth, elevation, seed in ((0.0, 45.0, 1), (180.0, -45.0, 2))]  # standing, then flipped (7.5)
-    first, second = (Model.untextured(name, v.vertices, v.faces, v.colors[v.faces]) for name, v in
-                     zip(("standing", "flipped"), views, strict=True))
+    views = [
+        render_view(bottle, azimuth, elevation, 3 * size, seed=seed)
+        for azimuth, elevation, seed in ((0.0, 45.0, 1), (180.0, -45.0, 2))
+    ]  # standing, then flipped (7.5)
+    first, second = (
+        Model.untextured(name, v.vertices, v.faces, v.colors[v.faces])
+        for name, v in zip(("standing", "flipped"), views, strict=True)
+    )
     truth = np.linalg.inv(views[0].pose) @ views[1].pose
     found = stitch(first, second, scans=True, samples=64).alignment
     assert np.degrees(Rotation.from_matrix(found.rotation @ truth[:3, :3].T).magnitude()) < 5
@@ -347,11 +418,9 @@ def test_the_workflow_schema_defaults_are_the_library_defaults():
 
     import yaml
 
-    from heatdata import stitch as module
-
     schema = yaml.safe_load((Path(__file__).parents[1] / "workflow/schemas/config.schema.yaml").read_text())
     keys = schema["properties"]["stitch"]["properties"]
-    signature = inspect.signature(module.stitch).parameters
+    signature = inspect.signature(stitch).parameters
     for name in ("alpha", "beta", "gamma", "samples"):
         assert keys[name]["default"] == signature[name].default, name
     for name in ("along", "robust"):  # unset: the library chooses by the kind of input (cuts or scans)

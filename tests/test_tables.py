@@ -6,15 +6,26 @@ import pyarrow as pa
 import pytest
 
 import heatdata as hd
-from heatdata.tables import PREDICTION_SCHEMA, read_table, write_table
+from heatdata.io.tables import PREDICTION_SCHEMA, read_table, write_table
 
 
 def prediction_rows():
-    return pd.DataFrame({
-        "descriptor": ["pvhk"], "object": ["a"], "label": ["cup"], "view_id": ["a/test/000"], "azimuth": [1.5],
-        "predicted_object": ["a"], "predicted_label": ["cup"], "predicted_view_id": ["a/train/000"],
-        "predicted_azimuth": [0.0], "distance": [0.25], "correct": [True], "library_size": [40],
-    })
+    return pd.DataFrame(
+        {
+            "descriptor": ["pvhk"],
+            "object": ["a"],
+            "label": ["cup"],
+            "view_id": ["a/test/000"],
+            "azimuth": [1.5],
+            "predicted_object": ["a"],
+            "predicted_label": ["cup"],
+            "predicted_view_id": ["a/train/000"],
+            "predicted_azimuth": [0.0],
+            "distance": [0.25],
+            "correct": [True],
+            "library_size": [40],
+        }
+    )
 
 
 def test_round_trip_with_metadata(tmp_path):
@@ -36,8 +47,9 @@ def test_missing_column_and_bad_files(tmp_path):
 
 
 def test_views_round_trip(tmp_path, mug):
-    from heatdata.dataset import view_plan
-    from heatdata.tables import VIEW_SCHEMA, frame_to_views, views_to_frame
+    from heatdata.experiments.views import view_plan
+    from heatdata.io.tables import VIEW_SCHEMA
+    from heatdata.views.frames import frame_to_views, views_to_frame
 
     plan = view_plan(["beer-mug"], 2, 1, distance=1.4)
     views = [hd.render_view(mug, r.azimuth, r.elevation, r.distance, seed=r.seed) for r in plan.itertuples()]
@@ -51,7 +63,7 @@ def test_views_round_trip(tmp_path, mug):
 
 
 def test_concatenate_and_read_part_of_a_table(tmp_path):
-    from heatdata.tables import concat_tables
+    from heatdata.io.tables import concat_tables
 
     parts = []
     for k, name in enumerate(("a", "b")):
@@ -66,8 +78,9 @@ def test_concatenate_and_read_part_of_a_table(tmp_path):
     # row group by row group (two here), as pyarrow's own filtered read; metadata kept, "in" and OR-ed groups too
     both, meta = read_table(tmp_path / "all.parquet", filters=[("object", "in", ["a", "b"])])
     assert both["object"].tolist() == ["a", "b"] and meta["part"] == "a"
-    either, _ = read_table(tmp_path / "all.parquet", columns=["descriptor"],
-                           filters=[[("object", "==", "b")], [("distance", "<", 0.0)]])
+    either, _ = read_table(
+        tmp_path / "all.parquet", columns=["descriptor"], filters=[[("object", "==", "b")], [("distance", "<", 0.0)]]
+    )
     assert either.to_dict("list") == {"descriptor": ["pvst"]}
     none, _ = read_table(tmp_path / "all.parquet", columns=["object"], filters=[("object", "==", "z")])
     assert none.empty and list(none.columns) == ["object"]

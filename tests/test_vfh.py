@@ -5,9 +5,9 @@ import stat
 
 import numpy as np
 import pytest
+from conftest import square_view
 
 import heatdata as hd
-from conftest import square_view
 from heatdata.descriptors import KINDS
 from heatdata.descriptors.vfh import read_vfh, write_pcd
 
@@ -20,8 +20,7 @@ def test_pcd_is_written_as_pcl_reads_it(tmp_path):
     write_pcd(tmp_path / "a.pcd", points)
     raw = (tmp_path / "a.pcd").read_bytes()
     header, data = raw.split(b"DATA binary\n")
-    assert b"POINTS 7" in header and np.array_equal(np.frombuffer(data, "<f4").reshape(7, 3),
-                                                    points.astype(np.float32))
+    assert b"POINTS 7" in header and np.array_equal(np.frombuffer(data, "<f4").reshape(7, 3), points.astype(np.float32))
     (tmp_path / "v.pcd").write_text("VERSION 0.7\nFIELDS vfh\nDATA ascii\n1 2 3\n")
     assert read_vfh(tmp_path / "v.pcd").tolist() == [1, 2, 3]
     (tmp_path / "bad.pcd").write_text("FIELDS x y z\nDATA binary\n")

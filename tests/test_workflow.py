@@ -13,7 +13,7 @@ import trimesh
 import yaml
 
 from heatdata.descriptors import DescriptorSpec, file_name
-from heatdata.tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, TRIAL_SCHEMA, VIEW_SCHEMA, read_table
+from heatdata.io.tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, TRIAL_SCHEMA, VIEW_SCHEMA, read_table
 
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEFILE = ROOT / "Snakefile"
@@ -26,14 +26,21 @@ def tiny_config(**overrides):
         "objects": ["plastic-cup", "beer-mug"],
         "views": {"train": 8, "test": 6},
         "library_sizes": [8, 4],
-        "descriptors": [{"kind": "pvhk", "samples": 32, "source": "center", "sampling": "polar"},
-                        {"kind": "pvhk", "samples": 32, "source": "closest", "sampling": "arclength"},
-                        {"kind": "ft-pvhk", "samples": 32, "source": "center", "sampling": "polar"},
-                        {"kind": "pvst", "samples": 32, "source": "center", "sampling": "polar"},
-                        {"kind": "esf", "triplets": 2000}, {"kind": "si-hks", "words": 8, "modes": 30},
-                        {"kind": "esf"}, {"kind": "hgd"}, {"kind": "hgd", "color": "hue-saturation"},
-                        {"kind": "combined", "parts": [{"kind": "hgd"}, {"kind": "pvhk", "samples": 32,
-                                                                         "source": "center", "sampling": "polar"}]}],
+        "descriptors": [
+            {"kind": "pvhk", "samples": 32, "source": "center", "sampling": "polar"},
+            {"kind": "pvhk", "samples": 32, "source": "closest", "sampling": "arclength"},
+            {"kind": "ft-pvhk", "samples": 32, "source": "center", "sampling": "polar"},
+            {"kind": "pvst", "samples": 32, "source": "center", "sampling": "polar"},
+            {"kind": "esf", "triplets": 2000},
+            {"kind": "si-hks", "words": 8, "modes": 30},
+            {"kind": "esf"},
+            {"kind": "hgd"},
+            {"kind": "hgd", "color": "hue-saturation"},
+            {
+                "kind": "combined",
+                "parts": [{"kind": "hgd"}, {"kind": "pvhk", "samples": 32, "source": "center", "sampling": "polar"}],
+            },
+        ],
         "primary_descriptor": "pvhk/polar/center/32",
     }
     config.update(overrides)
@@ -43,17 +50,36 @@ def tiny_config(**overrides):
 def snakemake(workdir: Path, config: dict, *args: str) -> subprocess.CompletedProcess:
     (workdir / "config").mkdir(parents=True, exist_ok=True)
     (workdir / "config" / "config.yaml").write_text(yaml.safe_dump(config))
-    return subprocess.run([str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(workdir), "--cores", "2",
-                           *args], capture_output=True, text=True, timeout=900)
+    return subprocess.run(
+        [str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(workdir), "--cores", "2", *args],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
 
 
 COMPACT = {"enabled": True, "library_candidates": 12, "test_candidates": 8, "alphas": [0.25, 1.0]}
-COMPARISON = {"enabled": True, "isomap_objects": ["plastic-cup", "beer-mug"], "boxes": [[0.1, 0.15, 0.08]],
-              "azimuths": 3}
-MULTIVIEW = {"enabled": True, "library_views": [8, 4], "particles": [5, 20], "repetitions": 2, "starts": 1,
-             "step": 45, "max_degrees": 360}
-EXPERIMENTS = {"compact": COMPACT, "comparison": COMPARISON, "multiview": MULTIVIEW,
-               "ablation": str(ROOT / "docs" / "results" / "chairs_ablation.csv")}
+COMPARISON = {
+    "enabled": True,
+    "isomap_objects": ["plastic-cup", "beer-mug"],
+    "boxes": [[0.1, 0.15, 0.08]],
+    "azimuths": 3,
+}
+MULTIVIEW = {
+    "enabled": True,
+    "library_views": [8, 4],
+    "particles": [5, 20],
+    "repetitions": 2,
+    "starts": 1,
+    "step": 45,
+    "max_degrees": 360,
+}
+EXPERIMENTS = {
+    "compact": COMPACT,
+    "comparison": COMPARISON,
+    "multiview": MULTIVIEW,
+    "ablation": str(ROOT / "docs" / "results" / "chairs_ablation.csv"),
+}
 
 
 @pytest.fixture(scope="module")
@@ -75,14 +101,24 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     # time scale) and per test view x object (every object's)
     assert len(descriptors) == 2 * (14 * 9 + 8 + 6 * 2)
     lengths = descriptors.groupby("kind")["values"].agg(lambda v: sorted(set(map(len, v))))
-    assert lengths.to_dict() == {"esf": [640], "ft-pvhk": [32], "pvhk": [32], "pvst": [32], "si-hks": [8],
-                                 "hgd": [128, 153], "combined": [1 + 3 * 2 + 128 + 32]}
+    assert lengths.to_dict() == {
+        "esf": [640],
+        "ft-pvhk": [32],
+        "pvhk": [32],
+        "pvst": [32],
+        "si-hks": [8],
+        "hgd": [128, 153],
+        "combined": [1 + 3 * 2 + 128 + 32],
+    }
     histograms = descriptors[descriptors["kind"].isin(["esf", "si-hks", "hgd"])]
     assert histograms[["sampling", "source_rule", "color_map"]].isna().all().all()
     assert np.allclose(histograms["values"].map(sum), 1.0)
     assert (results / "fitted" / "si-hks_words=8_modes=30.npz").is_file()
-    for log in ("logs/classify/pvhk_polar_center_32-8.log", "benchmarks/classify/esf_triplets=2000-4.tsv",
-                "logs/classify/pvst_polar_center_32_T0.75-4.log"):
+    for log in (
+        "logs/classify/pvhk_polar_center_32-8.log",
+        "benchmarks/classify/esf_triplets=2000-4.tsv",
+        "logs/classify/pvst_polar_center_32_T0.75-4.log",
+    ):
         assert (results / log).is_file(), log  # named by descriptor, not by index
     pvhk = descriptors[descriptors["kind"] == "pvhk"]
     assert np.allclose(pvhk["time"] * pvhk["lambda2"], 1.0) and np.allclose(pvhk["time"], pvhk["t_global"])
@@ -103,12 +139,22 @@ def test_dag_writes_tables_with_their_schemas(tiny_run):
     overall = precision[(precision["group"] == "all") & (precision["level"] == "object")]
     assert len(overall) == 20 and overall["precision"].between(0, 1).all()
     assert overall["precision"].max() > 0.8
-    for figure in ("precision.png", "isomap.png", "views.png", "global_derivative.png", "view_angles.png",
-                   "curves.png", "misclassified.png", "confusion/pvhk_polar_center_32/objects_4_views.png",
-                   "confusion/pvhk_polar_center_32/classes_8_views.png",
-                   "confusion/pvst_polar_center_32_T0.75/objects_8_views.png",
-                   "confusion/ft-pvhk_polar_center_32/objects_4_views.png",
-                   "confusion/esf_triplets=2000/classes_8_views.png", "isomap_descriptors.png", "holes.png"):
+    for figure in (
+        "precision.png",
+        "isomap.png",
+        "views.png",
+        "global_derivative.png",
+        "view_angles.png",
+        "curves.png",
+        "misclassified.png",
+        "confusion/pvhk_polar_center_32/objects_4_views.png",
+        "confusion/pvhk_polar_center_32/classes_8_views.png",
+        "confusion/pvst_polar_center_32_T0.75/objects_8_views.png",
+        "confusion/ft-pvhk_polar_center_32/objects_4_views.png",
+        "confusion/esf_triplets=2000/classes_8_views.png",
+        "isomap_descriptors.png",
+        "holes.png",
+    ):
         assert (results / "figures" / figure).stat().st_size > 10_000
     summary = (results / "summary.md").read_text()
     assert "not real sensor data" in summary and "('" not in summary and "{'" not in summary  # no Python reprs
@@ -150,7 +196,7 @@ def test_multiview_trials_and_their_figure(tiny_run):
     assert (trials.loc[trials["bootstrap"] == "exhaustive", "particles"] == 2 * 360).all()
     assert (trials["degrees"] <= 360 + 90).all() and trials["descriptor"].eq("pvhk/polar/center/32").all()
     similarity, _ = read_table(results / "multiview" / "similarity.parquet")
-    assert len(similarity) == 16 ** 2 + 8 ** 2
+    assert len(similarity) == 16**2 + 8**2
     summary = pd.read_csv(results / "multiview" / "summary.csv")
     assert summary["accuracy"].between(0, 1).all() and (results / "figures" / "multiview.png").stat().st_size > 10_000
     assert "<table" in (results / "figures" / "multiview.html").read_text()
@@ -160,9 +206,24 @@ def test_the_protocol_and_time_scale_scripts_read_a_run_s_table(tiny_run, tmp_pa
     """scripts/protocols.py and scripts/ft_time_scales.py (issue 17) on the tiny run's descriptor table."""
     table = tiny_run / "results/descriptors.parquet"
     out = tmp_path / "protocols.csv"
-    result = subprocess.run([sys.executable, ROOT / "scripts/protocols.py", table, "--descriptor",
-                             "pvhk/polar/center/32", "ft-pvhk/polar/center/32", "--sizes", "6", "3", "--out", out],
-                            capture_output=True, text=True, timeout=300)
+    result = subprocess.run(
+        [
+            sys.executable,
+            ROOT / "scripts/protocols.py",
+            table,
+            "--descriptor",
+            "pvhk/polar/center/32",
+            "ft-pvhk/polar/center/32",
+            "--sizes",
+            "6",
+            "3",
+            "--out",
+            out,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert result.returncode == 0, result.stderr[-2000:]
     protocols = pd.read_csv(out).set_index(["descriptor", "protocol", "library_size"])
     assert len(protocols) == 8 and protocols["test_views"].eq(12).all()
@@ -170,16 +231,33 @@ def test_the_protocol_and_time_scale_scripts_read_a_run_s_table(tiny_run, tmp_pa
     assert protocols.loc[("pvhk/polar/center/32", "thesis", 6), "precision"] == 1.0
     assert protocols.loc[("ft-pvhk/polar/center/32", "thesis", 6), "precision"] == 1.0
     out = tmp_path / "time_scales.csv"
-    result = subprocess.run([sys.executable, ROOT / "scripts/ft_time_scales.py", table, "ft-pvhk/polar/center/32",
-                             "--sizes", "8", "4", "--out", out], capture_output=True, text=True, timeout=300)
+    result = subprocess.run(
+        [
+            sys.executable,
+            ROOT / "scripts/ft_time_scales.py",
+            table,
+            "ft-pvhk/polar/center/32",
+            "--sizes",
+            "8",
+            "4",
+            "--out",
+            out,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert result.returncode == 0, result.stderr[-2000:]
     scales = pd.read_csv(out)
     assert len(scales) == 16 and set(scales["rule"]) == {"nearest", "normalized", "plausible", "known"}
     assert scales["test_views"].eq(12).all() and scales["precision"].between(0, 1).all()
     # the workflow's own predictions are the "nearest" rule, weighted
     precision = pd.read_csv(tiny_run / "results/evaluation/precision.csv")
-    workflow = precision[(precision["level"] == "object") & (precision["group"] == "all")
-                         & (precision["descriptor"] == "ft-pvhk/polar/center/32")].set_index("library_size")
+    workflow = precision[
+        (precision["level"] == "object")
+        & (precision["group"] == "all")
+        & (precision["descriptor"] == "ft-pvhk/polar/center/32")
+    ].set_index("library_size")
     nearest = scales[(scales["rule"] == "nearest") & (scales["weights"] == "weighted")].set_index("library_size")
     assert np.allclose(nearest.loc[[8, 4], "precision"], workflow.loc[[8, 4], "precision"], atol=1e-4)
 
@@ -187,31 +265,86 @@ def test_the_protocol_and_time_scale_scripts_read_a_run_s_table(tiny_run, tmp_pa
 def test_the_value_scale_script_reads_a_run_s_table(tiny_run, tmp_path):
     """scripts/value_scales.py (issue 17): x1 is the workflow's MHD; a log scale for the PVST's times."""
     table, out = tiny_run / "results/descriptors.parquet", tmp_path / "scales.csv"
-    result = subprocess.run([sys.executable, ROOT / "scripts/value_scales.py", table, "--descriptor",
-                             "pvhk/polar/center/32", "pvst/polar/center/32/T0.75", "--transform", "x1", "x0.1",
-                             "log10x0.3", "--sizes", "8", "4", "--leave-one-out", "--out", out], capture_output=True,
-                            text=True, timeout=300)
+    result = subprocess.run(
+        [
+            sys.executable,
+            ROOT / "scripts/value_scales.py",
+            table,
+            "--descriptor",
+            "pvhk/polar/center/32",
+            "pvst/polar/center/32/T0.75",
+            "--transform",
+            "x1",
+            "x0.1",
+            "log10x0.3",
+            "--sizes",
+            "8",
+            "4",
+            "--leave-one-out",
+            "--out",
+            out,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert result.returncode == 0, result.stderr[-2000:]
     scales = pd.read_csv(out)
     assert len(scales) == 18 and scales["precision"].between(0, 1).all()
     assert (scales["library_size"] == 0).sum() == 6  # leave-one-out among the library views, per transform
     precision = pd.read_csv(tiny_run / "results/evaluation/precision.csv")
-    workflow = precision[(precision["level"] == "object") & (precision["group"] == "all")
-                         & (precision["descriptor"] == "pvhk/polar/center/32")].set_index("library_size")
+    workflow = precision[
+        (precision["level"] == "object")
+        & (precision["group"] == "all")
+        & (precision["descriptor"] == "pvhk/polar/center/32")
+    ].set_index("library_size")
     thesis = scales[(scales["descriptor"] == "pvhk/polar/center/32") & (scales["transform"] == "x1")]
-    assert np.allclose(thesis.set_index("library_size").loc[[8, 4], "precision"], workflow.loc[[8, 4], "precision"],
-                       atol=1e-4)
-    result = subprocess.run([sys.executable, ROOT / "scripts/value_scales.py", table, "--descriptor",
-                             "pvhk/polar/center/32", "--transform", "sqrt"], capture_output=True, text=True, timeout=300)
+    assert np.allclose(
+        thesis.set_index("library_size").loc[[8, 4], "precision"], workflow.loc[[8, 4], "precision"], atol=1e-4
+    )
+    result = subprocess.run(
+        [
+            sys.executable,
+            ROOT / "scripts/value_scales.py",
+            table,
+            "--descriptor",
+            "pvhk/polar/center/32",
+            "--transform",
+            "sqrt",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert result.returncode != 0 and "unknown transform 'sqrt'" in result.stderr
 
 
 def test_the_complex_ablation_script_reads_a_run_s_views(tiny_run, tmp_path):
     """scripts/complex_ablation.py (issue 28): its PVHK and ESF rows are the workflow's precision on the same views."""
     out = tmp_path / "steps.csv"
-    result = subprocess.run([sys.executable, ROOT / "scripts/complex_ablation.py", tiny_run / "results",
-                             "--test-every", "1", "--sizes", "8", "4", "--samples", "32", "--triplets", "2000",
-                             "--jobs", "1", "--out", out], capture_output=True, text=True, timeout=600)
+    result = subprocess.run(
+        [
+            sys.executable,
+            ROOT / "scripts/complex_ablation.py",
+            tiny_run / "results",
+            "--test-every",
+            "1",
+            "--sizes",
+            "8",
+            "4",
+            "--samples",
+            "32",
+            "--triplets",
+            "2000",
+            "--jobs",
+            "1",
+            "--out",
+            out,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert result.returncode == 0, result.stderr[-2000:]
     steps = pd.read_csv(out)
     assert set(steps["step"]) == {"view", "boundary", "signature", "distance"} and steps["views"].eq(28).all()
@@ -219,17 +352,27 @@ def test_the_complex_ablation_script_reads_a_run_s_views(tiny_run, tmp_path):
     assert len(measured) == 2 * 16 and measured["precision"].between(0, 100).all()
     precision = pd.read_csv(tiny_run / "results/evaluation/precision.csv")
     workflow = precision[(precision["level"] == "object") & (precision["group"] == "all")]
-    for variant, descriptor in (("PVHK at t_s = 1/lambda_2 (the workflow's)", "pvhk/polar/center/32"),
-                                ("largest component, as rendered (ESF)", "esf/triplets=2000")):
+    for variant, descriptor in (
+        ("PVHK at t_s = 1/lambda_2 (the workflow's)", "pvhk/polar/center/32"),
+        ("largest component, as rendered (ESF)", "esf/triplets=2000"),
+    ):
         mine = measured[measured["variant"] == variant].set_index("library_size")["precision"]
         theirs = 100 * workflow[workflow["descriptor"] == descriptor].set_index("library_size")["precision"]
         assert np.allclose(mine.loc[[8, 4]], theirs.loc[[8, 4]], atol=0.051), (variant, mine, theirs)
     figure = tmp_path / "steps.png"
-    drawn = subprocess.run([sys.executable, ROOT / "scripts/complex_ablation.py", "--plot", out, out, "--figure", figure],
-                           capture_output=True, text=True, timeout=300)
+    drawn = subprocess.run(
+        [sys.executable, ROOT / "scripts/complex_ablation.py", "--plot", out, out, "--figure", figure],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert drawn.returncode == 0 and figure.stat().st_size > 10_000, drawn.stderr[-2000:]
-    empty = subprocess.run([sys.executable, ROOT / "scripts/complex_ablation.py", tmp_path, "--out", out],
-                           capture_output=True, text=True, timeout=300)
+    empty = subprocess.run(
+        [sys.executable, ROOT / "scripts/complex_ablation.py", tmp_path, "--out", out],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert empty.returncode != 0 and "no views in" in empty.stderr
 
 
@@ -237,8 +380,23 @@ def test_the_combination_script_scores_kinds_alone_as_the_workflow_does(tiny_run
     """scripts/combine_kinds.py (issue 28): each kind alone is the workflow's precision; weights from the library."""
     table, out = tiny_run / "results/descriptors.parquet", tmp_path / "combined.csv"
     names = ["pvhk/polar/center/32", "esf/triplets=2000"]
-    result = subprocess.run([sys.executable, ROOT / "scripts/combine_kinds.py", table, "--descriptor", *names,
-                             "--sizes", "8", "4", "--out", out], capture_output=True, text=True, timeout=300)
+    result = subprocess.run(
+        [
+            sys.executable,
+            ROOT / "scripts/combine_kinds.py",
+            table,
+            "--descriptor",
+            *names,
+            "--sizes",
+            "8",
+            "4",
+            "--out",
+            out,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert result.returncode == 0, result.stderr[-2000:]
     combined = pd.read_csv(out)
     assert set(combined["method"]) == {*names, "sum", "learned", "rank"} and combined["test_views"].eq(12).all()
@@ -251,8 +409,21 @@ def test_the_combination_script_scores_kinds_alone_as_the_workflow_does(tiny_run
         mine = combined[combined["method"] == name].set_index("library_size")["precision"]
         theirs = workflow[workflow["descriptor"] == name].set_index("library_size")["precision"]
         assert np.allclose(mine.loc[[8, 4]], theirs.loc[[8, 4]])
-    refused = subprocess.run([sys.executable, ROOT / "scripts/combine_kinds.py", table, "--descriptor", names[0],
-                              "ft-pvhk/polar/center/32", "--out", out], capture_output=True, text=True, timeout=300)
+    refused = subprocess.run(
+        [
+            sys.executable,
+            ROOT / "scripts/combine_kinds.py",
+            table,
+            "--descriptor",
+            names[0],
+            "ft-pvhk/polar/center/32",
+            "--out",
+            out,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert refused.returncode != 0 and "time-scaled" in refused.stderr
 
 
@@ -267,8 +438,21 @@ def test_kinds_combined_are_fitted_on_the_library_views_and_classified_like_any_
 def test_colour_share_splits_the_hgd_colour_option_into_its_parts(tiny_run, tmp_path):
     """scripts/colour_share.py (issue 28): the HGD and ESF alone are the workflow's precision."""
     out = tmp_path / "share.csv"
-    result = subprocess.run([sys.executable, ROOT / "scripts/colour_share.py", tiny_run / "results/descriptors.parquet",
-                             "--sizes", "8", "4", "--out", out], capture_output=True, text=True, timeout=300)
+    result = subprocess.run(
+        [
+            sys.executable,
+            ROOT / "scripts/colour_share.py",
+            tiny_run / "results/descriptors.parquet",
+            "--sizes",
+            "8",
+            "4",
+            "--out",
+            out,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert result.returncode == 0, result.stderr[-2000:]
     share = pd.read_csv(out).set_index(["variant", "library_size"])["precision"]
     assert set(share.index.get_level_values(0)) == {"colour alone", "ESF", "HGD", "ESF + colour", "HGD + colour"}
@@ -298,35 +482,60 @@ def test_report_is_self_contained_html(tiny_run):
     assert "<td style='text-align:left'>protocol: the thesis&#x27;s library views" in page
 
 
-@pytest.mark.parametrize("overrides, message", [
-    ({"colour": 1}, "colour"),
-    ({"library_sizes": [8, 50]}, "library_sizes [50] exceed views.train = 8"),
-    ({"objects": ["unicorn"]}, "unicorn"),
-    ({"colour_twins": {"objects": ["bread"]}}, "colour_twins: colour twins of ['bread']: not in the catalogue"),
-    ({"time_scale_rule": "label"}, "time_scale_rule: 'label' is not one of ['plausible', 'every']"),
-    ({"views": {"train": 8, "test": 6, "elevation": 95}}, "95"),
-    ({"primary_descriptor": "pvhk/polar/center/64"}, "primary_descriptor"),
-    ({"compact": {"enabled": True}, "library_sizes": [8, 1]}, "two or more views around the circle"),
-    ({"compact": {"enabled": True}, "objects": ["beer-mug"]}, "give two or more objects"),
-    ({"compact": {"enabled": True, "alphas": [1.5]}}, "1.5"),
-    ({"descriptors": [{"kind": "shot"}]}, "descriptors[0]: unknown descriptor kind 'shot'"),
-    ({"multiview": {"enabled": True, "descriptor": "ft-pvhk/polar/center/32"}}, "a time-scaled kind"),
-    ({"multiview": {"enabled": True, "library_views": [12]}}, "multiview.library_views [12] exceed views.train = 8"),
-    ({"multiview": {"enabled": True, "policies": ["greedy"]}}, "greedy"),
-    ({"descriptors": [{"kind": "esf", "samples": 64}]}, "descriptors[0]: an esf takes no samples"),
-    ({"compact": {"enabled": True, "descriptor": {"kind": "esf"}}}, "compact.descriptor: an esf has no heat source"),
-    ({"comparison": {"enabled": True, "isomap_objects": ["unicorn"]}}, "comparison.isomap_objects: ['unicorn']"),
-    ({"stitch": {"pairs": [{"object": "x", "first": "/no/top.ply", "second": "/no/bottom.ply"}]}},
-     "stitch.pairs[0]: /no/top.ply, /no/bottom.ply do(es) not exist"),
-    ({"stitch": {"pairs": [{"object": "x", "first": "a.ply"}]}}, "'second' is a required property"),
-    ({"captures": {"dir": "/no/captures"}}, "captures.dir: /no/captures: no such folder of captures"),
-    ({"ablation": "/no/ablation.csv"}, "ablation: /no/ablation.csv: not a readable ablation table"),
-    ({"stitch": {"pairs": [{"object": "x", "first": str(ROOT / "README.md"), "second": str(ROOT / "README.md"),
-                            "motion": [[1, 0, 0, 0], [0, -1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}]}},
-     "stitch.pairs[0].motion is not a rigid motion"),
-    ({"stitch": {"pairs": [{"object": "x", "first": "a.ply", "second": "b.ply", "motion": [[1, 0, 0]]}]}},
-     "motion"),
-])
+@pytest.mark.parametrize(
+    "overrides, message",
+    [
+        ({"colour": 1}, "colour"),
+        ({"library_sizes": [8, 50]}, "library_sizes [50] exceed views.train = 8"),
+        ({"objects": ["unicorn"]}, "unicorn"),
+        ({"color_twins": {"objects": ["bread"]}}, "color_twins: colour twins of ['bread']: not in the catalogue"),
+        ({"time_scale_rule": "label"}, "time_scale_rule: 'label' is not one of ['plausible', 'every']"),
+        ({"views": {"train": 8, "test": 6, "elevation": 95}}, "95"),
+        ({"primary_descriptor": "pvhk/polar/center/64"}, "primary_descriptor"),
+        ({"compact": {"enabled": True}, "library_sizes": [8, 1]}, "two or more views around the circle"),
+        ({"compact": {"enabled": True}, "objects": ["beer-mug"]}, "give two or more objects"),
+        ({"compact": {"enabled": True, "alphas": [1.5]}}, "1.5"),
+        ({"descriptors": [{"kind": "shot"}]}, "descriptors[0]: unknown descriptor kind 'shot'"),
+        ({"multiview": {"enabled": True, "descriptor": "ft-pvhk/polar/center/32"}}, "a time-scaled kind"),
+        (
+            {"multiview": {"enabled": True, "library_views": [12]}},
+            "multiview.library_views [12] exceed views.train = 8",
+        ),
+        ({"multiview": {"enabled": True, "policies": ["greedy"]}}, "greedy"),
+        ({"descriptors": [{"kind": "esf", "samples": 64}]}, "descriptors[0]: an esf takes no samples"),
+        (
+            {"compact": {"enabled": True, "descriptor": {"kind": "esf"}}},
+            "compact.descriptor: an esf has no heat source",
+        ),
+        ({"comparison": {"enabled": True, "isomap_objects": ["unicorn"]}}, "comparison.isomap_objects: ['unicorn']"),
+        (
+            {"stitch": {"pairs": [{"object": "x", "first": "/no/top.ply", "second": "/no/bottom.ply"}]}},
+            "stitch.pairs[0]: /no/top.ply, /no/bottom.ply do(es) not exist",
+        ),
+        ({"stitch": {"pairs": [{"object": "x", "first": "a.ply"}]}}, "'second' is a required property"),
+        ({"captures": {"dir": "/no/captures"}}, "captures.dir: /no/captures: no such folder of captures"),
+        ({"ablation": "/no/ablation.csv"}, "ablation: /no/ablation.csv: not a readable ablation table"),
+        (
+            {
+                "stitch": {
+                    "pairs": [
+                        {
+                            "object": "x",
+                            "first": str(ROOT / "README.md"),
+                            "second": str(ROOT / "README.md"),
+                            "motion": [[1, 0, 0, 0], [0, -1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],
+                        }
+                    ]
+                }
+            },
+            "stitch.pairs[0].motion is not a rigid motion",
+        ),
+        (
+            {"stitch": {"pairs": [{"object": "x", "first": "a.ply", "second": "b.ply", "motion": [[1, 0, 0]]}]}},
+            "motion",
+        ),
+    ],
+)
 def test_bad_config_is_rejected_before_any_job(tmp_path, overrides, message):
     result = snakemake(tmp_path, tiny_config(**overrides), "--dry-run")
     assert result.returncode != 0
@@ -346,9 +555,14 @@ def test_config_from_the_command_line_is_read_by_the_schema_and_errors_are_one_l
     result = snakemake(tmp_path, tiny_config(), "--dry-run", "--config", 'views={"train": "many"}')
     assert "config error: views.train: 'many' is not of type 'integer'" in result.stdout + result.stderr
     # a descriptor's options are the kind's, not the schema's: '16' was refused as not a whole number
-    result = snakemake(tmp_path, tiny_config(), "--dry-run", "--config",
-                       'descriptors=[{"kind": "pvhk", "samples": 16, "source": "center", "sampling": "polar"}]',
-                       "primary_descriptor=pvhk/polar/center/16")
+    result = snakemake(
+        tmp_path,
+        tiny_config(),
+        "--dry-run",
+        "--config",
+        'descriptors=[{"kind": "pvhk", "samples": 16, "source": "center", "sampling": "polar"}]',
+        "primary_descriptor=pvhk/polar/center/16",
+    )
     assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
 
 
@@ -432,8 +646,12 @@ def test_missing_sweet_home_library_is_a_config_error(tmp_path):
 
 @pytest.mark.skipif(not SH3F.exists(), reason="Debian's sweethome3d-furniture is not installed")
 def test_objects_from_a_sweet_home_library(tmp_path):
-    config = tiny_config(objects=[], sh3f={"files": [str(SH3F)], "names": "^(Plastic cup|Coffee cup)$"},
-                         views={"train": 4, "test": 2}, library_sizes=[4])
+    config = tiny_config(
+        objects=[],
+        sh3f={"files": [str(SH3F)], "names": "^(Plastic cup|Coffee cup)$"},
+        views={"train": 4, "test": 2},
+        library_sizes=[4],
+    )
     result = snakemake(tmp_path, config)
     assert result.returncode == 0, result.stderr[-3000:]
     catalog = pd.read_csv(tmp_path / "results" / "catalog.csv")
@@ -460,18 +678,50 @@ def test_config_readme_describes_every_key_and_file():
 
 
 def test_the_twins_config_plans_22_objects(tmp_path):
-    result = subprocess.run([str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(ROOT), "--cores", "2",
-                             "--configfile", "config/twins.yaml", "--config", f"results={tmp_path}/twins", "--dry-run"],
-                            capture_output=True, text=True, timeout=300)
+    result = subprocess.run(
+        [
+            str(SNAKEMAKE),
+            "-s",
+            str(SNAKEFILE),
+            "--directory",
+            str(ROOT),
+            "--cores",
+            "2",
+            "--configfile",
+            "config/twins.yaml",
+            "--config",
+            f"results={tmp_path}/twins",
+            "--dry-run",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
     assert re.search(r"render +22\b", result.stdout) and re.search(r"classify +48\b", result.stdout)
     assert f"{tmp_path}/twins/views/bread-hue120.parquet" in result.stdout
 
 
 def test_smoke_config_plans_a_small_run(tmp_path):
-    result = subprocess.run([str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(ROOT), "--cores", "2",
-                             "--configfile", "config/smoke.yaml", "--config", f"results={tmp_path}/smoke", "--dry-run"],
-                            capture_output=True, text=True, timeout=300)
+    result = subprocess.run(
+        [
+            str(SNAKEMAKE),
+            "-s",
+            str(SNAKEFILE),
+            "--directory",
+            str(ROOT),
+            "--cores",
+            "2",
+            "--configfile",
+            "config/smoke.yaml",
+            "--config",
+            f"results={tmp_path}/smoke",
+            "--dry-run",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
     assert f"{tmp_path}/smoke/summary.md" in result.stdout
     assert re.search(r"describe +3\b", result.stdout) and re.search(r"classify +4\b", result.stdout)
@@ -497,8 +747,9 @@ def test_captured_depth_images_are_recognized_against_the_library(tmp_path):
             pixels = np.round(view.pixels).astype(int)
             rgb[pixels[:, 1], pixels[:, 0]] = np.round(view.colors * 255)
             Image.fromarray(rgb).save(captures / obj / f"shot{k}.rgb.png")
-    config = tiny_config(views={"train": 8, "test": 2}, library_sizes=[8, 4],
-                         captures={"dir": str(captures), "depth_range": [0.5, 1.5]})
+    config = tiny_config(
+        views={"train": 8, "test": 2}, library_sizes=[8, 4], captures={"dir": str(captures), "depth_range": [0.5, 1.5]}
+    )
     config["descriptors"] = config["descriptors"][:3]
     result = snakemake(tmp_path / "run", config)
     assert result.returncode == 0, result.stderr[-3000:]
@@ -507,14 +758,18 @@ def test_captured_depth_images_are_recognized_against_the_library(tmp_path):
     assert len(views) == 3 and set(views["split"]) == {"test"} and views["colors"].map(len).min() > 0
     assert json.loads(views["intrinsics"].iloc[0])["fx"] == 580.0
     precision = pd.read_csv(results / "captures" / "precision.csv")
-    assert set(precision["descriptor"]) == {"pvhk/polar/center/32", "pvhk/arclength/closest/32",
-                                            "ft-pvhk/polar/center/32"}
+    assert set(precision["descriptor"]) == {
+        "pvhk/polar/center/32",
+        "pvhk/arclength/closest/32",
+        "ft-pvhk/polar/center/32",
+    }
     overall = precision[(precision["group"] == "all") & (precision["level"] == "object")]
     assert len(overall) == 6 and overall["precision"].between(0, 1).all()
     page = (results / "figures" / "captures.html").read_text()
     assert "6 captures of 2 objects" in page and "plastic-cup/capture/shot0" in page
-    backwards = snakemake(tmp_path / "run3", {**config, "captures": {"dir": str(captures), "depth_range": [1.5, 0.5]}},
-                          "--dry-run")
+    backwards = snakemake(
+        tmp_path / "run3", {**config, "captures": {"dir": str(captures), "depth_range": [1.5, 0.5]}}, "--dry-run"
+    )
     assert backwards.returncode != 0 and "near < far" in backwards.stdout + backwards.stderr
     (captures / "unicorn").mkdir()
     (captures / "unicorn" / "x.npy").write_bytes(b"")
@@ -525,7 +780,7 @@ def test_captured_depth_images_are_recognized_against_the_library(tmp_path):
 
 def test_the_rump_proxy_orders_bodies_and_says_they_are_not_goats(tmp_path):
     """Rule rump (thesis ch. 8): HBRD of a small MakeHuman population, its Isomap and classifier, in the report."""
-    config = tiny_config(rump={"enabled": True, "bodies": 8, "image_scale": 0.5, "neighbours": 3})
+    config = tiny_config(rump={"enabled": True, "bodies": 8, "image_scale": 0.5, "n_neighbors": 3})
     result = snakemake(tmp_path, config, "results/figures/rump.html")
     assert result.returncode == 0, result.stderr[-3000:]
     table = pd.read_csv(tmp_path / "results" / "rump" / "descriptors.csv")
@@ -542,7 +797,7 @@ def test_people_s_poses_and_colour_twins_reach_the_report(tmp_path):
     """Rule people (thesis 3.5): one body's poses in the Isomap and two people of one shape told apart by colour."""
     shape = {"kind": "pvhk", "samples": 64, "source": "center", "sampling": "polar"}
     colour = {**shape, "kind": "c-pvhk", "color_map": "c2"}  # the rule's default descriptors
-    people = {"enabled": True, "frames": 8, "image_scale": 0.25, "neighbours": 3, "descriptors": [shape, colour]}
+    people = {"enabled": True, "frames": 8, "image_scale": 0.25, "n_neighbors": 3, "descriptors": [shape, colour]}
     result = snakemake(tmp_path, tiny_config(people=people), "results/figures/people.html")
     assert result.returncode == 0, result.stderr[-3000:]
     results = tmp_path / "results"
@@ -559,26 +814,33 @@ def test_people_s_poses_and_colour_twins_reach_the_report(tmp_path):
     bad = tiny_config(people={"enabled": True, "descriptors": [{"kind": "pvhk"}, {"kind": "ft-pvhk"}]})
     refused = snakemake(tmp_path / "bad", bad, "--dry-run")
     assert refused.returncode != 0 and "people.descriptors[1]: an ft-pvhk needs time scales" in (
-        refused.stdout + refused.stderr)
-    missing = snakemake(tmp_path / "missing", tiny_config(people={"enabled": True, "reallusion": "no.sh3f"}),
-                        "--dry-run")
+        refused.stdout + refused.stderr
+    )
+    missing = snakemake(
+        tmp_path / "missing", tiny_config(people={"enabled": True, "reallusion": "no.sh3f"}), "--dry-run"
+    )
     assert missing.returncode != 0 and "people.reallusion: no.sh3f does not exist" in missing.stdout + missing.stderr
 
 
 def test_colour_twins_join_the_run_and_only_colour_tells_them_apart(tmp_path):
-    """Key colour_twins (thesis 3.4): a twin, the same mesh in turned colours, is rendered and described like any
+    """Key color_twins (thesis 3.4): a twin, the same mesh in turned colours, is rendered and described like any
     object."""
     shape = {"kind": "pvhk", "samples": 32, "source": "center", "sampling": "polar"}
     colour = {**shape, "kind": "c-pvhk", "color_map": "sat-hue", "clock": "shape"}
-    config = tiny_config(objects=["yogurt-bottle", "beer-mug"], colour_twins={"objects": ["yogurt-bottle"]},
-                         descriptors=[shape, colour], library_sizes=[8])
+    config = tiny_config(
+        objects=["yogurt-bottle", "beer-mug"],
+        color_twins={"objects": ["yogurt-bottle"]},
+        descriptors=[shape, colour],
+        library_sizes=[8],
+    )
     result = snakemake(tmp_path, config)
     assert result.returncode == 0, result.stderr[-3000:]
     results = tmp_path / "results"
     twin_row = pd.read_csv(results / "catalog.csv").set_index("object").loc["yogurt-bottle-hue120"]
     assert twin_row["hue"] == 120 and twin_row["label"] == "bottle"
-    original, twin = (read_table(results / "views" / f"{o}.parquet")[0]
-                      for o in ("yogurt-bottle", "yogurt-bottle-hue120"))
+    original, twin = (
+        read_table(results / "views" / f"{o}.parquet")[0] for o in ("yogurt-bottle", "yogurt-bottle-hue120")
+    )
     assert np.array_equal(original["azimuth"], twin["azimuth"])  # the same views (their noise is their own)
     mean_colour = [np.concatenate(t["colors"].tolist()).reshape(-1, 3).mean(axis=0) for t in (original, twin)]
     assert np.abs(mean_colour[0] - mean_colour[1]).max() > 0.05
@@ -589,8 +851,20 @@ def test_colour_twins_join_the_run_and_only_colour_tells_them_apart(tmp_path):
     precision = pair.groupby("descriptor")["correct"].mean()
     assert precision[DescriptorSpec(**colour).name] > precision[DescriptorSpec(**shape).name]
     out, picture = tmp_path / "twins.csv", tmp_path / "twins.png"
-    subprocess.run([sys.executable, str(ROOT / "scripts" / "colour_twins.py"), str(results), "--out", str(out),
-                    "--figure", str(picture)], check=True, capture_output=True, cwd=ROOT)
+    subprocess.run(
+        [
+            sys.executable,
+            str(ROOT / "scripts" / "colour_twins.py"),
+            str(results),
+            "--out",
+            str(out),
+            "--figure",
+            str(picture),
+        ],
+        check=True,
+        capture_output=True,
+        cwd=ROOT,
+    )
     table = pd.read_csv(out).set_index("descriptor")
     assert table.loc[list(precision.index), "pairs"].round(4).tolist() == precision.round(4).tolist()
     assert picture.stat().st_size > 10_000
@@ -600,9 +874,9 @@ def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
     """Rule stitch (thesis ch. 7): two halves of a model, one moved, are stitched and rendered like any object."""
     from scipy.spatial.transform import Rotation
 
-    from heatdata.catalog import load_catalog_model, read_catalog
-    from heatdata.models import save_model
-    from heatdata.stitch import closed_part, split_model, transformed
+    from heatdata.io.catalog import load_catalog_model, read_catalog
+    from heatdata.io.models import save_model, transformed
+    from heatdata.jasnom.cuts import closed_part, split_model
 
     catalog = read_catalog(ROOT / "data/models/catalog.csv").set_index("object", drop=False)
     mug = closed_part(load_catalog_model(catalog.loc["beer-mug"]))
@@ -610,13 +884,21 @@ def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
     save_model(top, tmp_path / "top.ply")
     rotation, translation = Rotation.from_rotvec([0.4, 1.2, -0.3]), np.array([0.2, 0.0, 0.1])
     save_model(transformed(bottom, rotation.as_matrix(), translation), tmp_path / "bottom.ply")
-    pair = {"object": "stitched-mug", "label": "mug", "first": str(tmp_path / "top.ply"),
-            "second": str(tmp_path / "bottom.ply")}
+    pair = {
+        "object": "stitched-mug",
+        "label": "mug",
+        "first": str(tmp_path / "top.ply"),
+        "second": str(tmp_path / "bottom.ply"),
+    }
     back = np.eye(4)  # registered cameras: the motion is given
     back[:3, :3], back[:3, 3] = rotation.inv().as_matrix(), -rotation.inv().apply(translation)
     registered = {**pair, "object": "registered-mug", "motion": back.tolist()}
-    config = tiny_config(objects=["plastic-cup"], views={"train": 4, "test": 3}, library_sizes=[4],
-                         stitch={"pairs": [pair, registered], "samples": 32})
+    config = tiny_config(
+        objects=["plastic-cup"],
+        views={"train": 4, "test": 3},
+        library_sizes=[4],
+        stitch={"pairs": [pair, registered], "samples": 32},
+    )
     config["descriptors"] = config["descriptors"][:1]
     result = snakemake(tmp_path / "run", config)
     assert result.returncode == 0, result.stderr[-3000:]
@@ -632,6 +914,7 @@ def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
     given = yaml.safe_load((results / "stitched" / "registered-mug.json").read_text())
     np.testing.assert_allclose(given["rotation"], back[:3, :3], atol=1e-9)
     assert trimesh.load(results / "stitched" / "registered-mug.ply", process=False).is_watertight
-    duplicate = snakemake(tmp_path / "run2", {**config, "stitch": {"pairs": [{**pair, "object": "plastic-cup"}]}},
-                          "--dry-run")
+    duplicate = snakemake(
+        tmp_path / "run2", {**config, "stitch": {"pairs": [{**pair, "object": "plastic-cup"}]}}, "--dry-run"
+    )
     assert duplicate.returncode != 0 and "already one of the run's objects" in duplicate.stdout + duplicate.stderr

@@ -15,13 +15,15 @@ calls :func:`register` on an instance; the package imports every module in it.
 from __future__ import annotations
 
 import logging
+import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from ..errors import HeatdataError, ViewError
+from heatdata.core.distances import Nearest
+from heatdata.errors import HeatdataError, ViewError
 
 log = logging.getLogger(__name__)
 
@@ -88,6 +90,7 @@ class Option:
 
 def integer(low: int, high: int | None = None, *, allow_none: bool = False) -> Callable[[Any], Any]:
     """A check for whole numbers in ``[low, high]`` (bools and floats such as 2.5 are refused)."""
+
     def check(value):
         if value is None and allow_none:
             return None
@@ -96,11 +99,13 @@ def integer(low: int, high: int | None = None, *, allow_none: bool = False) -> C
         if value < low or (high is not None and value > high):
             raise ValueError(f"must be in {low}..{'' if high is None else high}, got {value}")
         return int(value)
+
     return check
 
 
 def number(low: float, high: float, *, open_low: bool = True) -> Callable[[Any], Any]:
     """A check for real numbers in ``(low, high]`` (``[low, high]`` with ``open_low=False``)."""
+
     def check(value):
         if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
             raise TypeError(f"must be a number, got {value!r}")
@@ -108,14 +113,21 @@ def number(low: float, high: float, *, open_low: bool = True) -> Callable[[Any],
         if not np.isfinite(value) or value > high or value < low or (open_low and value == low):
             raise ValueError(f"must be in {'(' if open_low else '['}{low:g}, {high:g}], got {value}")
         return value
+
     return check
 
 
-def one_of(choices) -> Callable[[Any], Any]:
+def one_of(choices, aliases: dict[str, str] | None = None) -> Callable[[Any], Any]:
+    """A check for one of ``choices``; an old spelling in ``aliases`` is renamed with a DeprecationWarning."""
+
     def check(value):
+        if aliases and isinstance(value, str) and value in aliases:
+            warnings.warn(f"{value!r} is deprecated: spell it {aliases[value]!r}", DeprecationWarning, stacklevel=2)
+            value = aliases[value]
         if value not in choices:
             raise ValueError(f"must be one of {', '.join(map(str, choices))}, got {value!r}")
         return value
+
     return check
 
 
@@ -159,7 +171,7 @@ class Kind:
         parts = [self.name] + [f"{k}={v}" for k, v in options.items() if v != defaults[k]]
         return "/".join(parts)
 
-    def compute(self, work, spec: "DescriptorSpec", **context) -> list[Descriptor]:
+    def compute(self, work, spec: DescriptorSpec, **context) -> list[Descriptor]:
         """The descriptors of ``spec`` on the view of ``work`` (a :class:`heatdata.descriptors.work.ViewWork`).
 
         ``context`` holds what :func:`heatdata.describe` was given (``times``,
@@ -167,46 +179,61 @@ class Kind:
         """
         raise NotImplementedError
 
-    def size(self, spec: "DescriptorSpec", view) -> int:
+    def size(self, spec: DescriptorSpec, view) -> int:
         """How many values a descriptor of ``spec`` has on ``view`` (a failed view's NaN row has as many)."""
         raise NotImplementedError
 
-    def distance_matrix(self, queries: np.ndarray, library: np.ndarray, *, query_weights=None,
-                        library_weights=None) -> np.ndarray:
+    def distance_matrix(
+        self, queries: np.ndarray, library: np.ndarray, *, query_weights=None, library_weights=None
+    ) -> np.ndarray:
         """(Q, N) distances between (Q, M) query and (N, M) library values."""
         raise NotImplementedError
 
-    def nearest(self, queries: np.ndarray, library: np.ndarray, *, query_weights=None, library_weights=None,
-                within=None, chunk: int = 4096) -> tuple[np.ndarray, np.ndarray]:
+    def nearest(
+        self,
+        queries: np.ndarray,
+        library: np.ndarray,
+        *,
+        query_weights=None,
+        library_weights=None,
+        within=None,
+        chunk: int = 4096,
+    ) -> Nearest:
         """(Q,) index and distance of each query's nearest library row (the first of equals), under
         :meth:`distance_matrix`, ``chunk`` queries at a time so that memory stays bounded.
 
         ``within`` (Q,): only rows nearer than this count; a query with none gets index -1
-        and distance ``within`` (as :func:`heatdata.distance.nearest_mhd`).
+        and distance ``within`` (as :func:`heatdata.core.distances.nearest_mhd`).
         """
         index, distance = np.empty(len(queries), np.int64), np.empty(len(queries))
         for q0 in range(0, len(queries), chunk):
             rows = slice(q0, q0 + chunk)
-            d = self.distance_matrix(queries[rows], library,
-                                     query_weights=None if query_weights is None else query_weights[rows],
-                                     library_weights=library_weights)
+            d = self.distance_matrix(
+                queries[rows],
+                library,
+                query_weights=None if query_weights is None else query_weights[rows],
+                library_weights=library_weights,
+            )
             index[rows] = np.argmin(d, axis=1)
             distance[rows] = d[np.arange(len(d)), index[rows]]
         if within is not None:
             far = distance >= within
             index[far], distance[far] = -1, np.asarray(within, np.float64)[far]
-        return index, distance
+        return Nearest(index, distance)
 
-    def fit(self, spec: "DescriptorSpec", views: list) -> dict[str, np.ndarray]:
+    def fit(self, spec: DescriptorSpec, views: list) -> dict[str, np.ndarray]:
         """What the kind learns from library ``views``, as named arrays (only if :attr:`fitted`)."""
         raise HeatdataError(f"{article(self.name)} {self.name} is not fitted")
 
-    def candidates(self, view, sources: np.ndarray, spec: "DescriptorSpec", *, times=None, modes: int = 32
-                   ) -> list[Descriptor]:
+    def candidates(
+        self, view, sources: np.ndarray, spec: DescriptorSpec, *, times=None, modes: int = 32
+    ) -> list[Descriptor]:
         """One descriptor per source vertex (only if :attr:`multi_source`)."""
-        raise ViewError(f"{article(self.name)} {self.name} has no heat source: candidate descriptors (ch. 6) "
-                        "need one of "
-                        f"{', '.join(k for k, v in KINDS.items() if v.multi_source)}")
+        raise ViewError(
+            f"{article(self.name)} {self.name} has no heat source: candidate descriptors (ch. 6) "
+            "need one of "
+            f"{', '.join(k for k, v in KINDS.items() if v.multi_source)}"
+        )
 
 
 KINDS: dict[str, Kind] = {}
@@ -255,22 +282,24 @@ class DescriptorSpec:
     fitted : dict of str to ndarray, or None
     """
 
-    __slots__ = ("kind", "options", "fitted")
+    __slots__ = ("fitted", "kind", "options")
 
     def __init__(self, kind: str = "pvhk", *args, fitted: Mapping | None = None, **given):
         impl = kind_of(kind)
         names = [o.name for o in impl.options]
         if len(args) > len(names):
-            raise ViewError(f"{article(kind)} {kind} takes at most {len(names)} options ({', '.join(names)}), "
-                            f"got {len(args)}")
+            raise ViewError(
+                f"{article(kind)} {kind} takes at most {len(names)} options ({', '.join(names)}), got {len(args)}"
+            )
         for name, value in zip(names, args, strict=False):
             if name in given:
                 raise ViewError(f"{kind}: option {name} given twice")
             given[name] = value
         unknown = sorted(k for k, v in given.items() if k not in names and v is not None)
         if unknown:
-            raise ViewError(f"{article(kind)} {kind} takes no {', '.join(unknown)} "
-                            f"(its options: {', '.join(names) or 'none'})")
+            raise ViewError(
+                f"{article(kind)} {kind} takes no {', '.join(unknown)} (its options: {', '.join(names) or 'none'})"
+            )
         options = {}
         for option in impl.options:
             value = given.get(option.name, option.default)
@@ -311,16 +340,17 @@ class DescriptorSpec:
         """Stable identifier, e.g. ``pvhk/polar/center/64``, ``pvst/polar/center/64/T0.75``, ``esf``."""
         return self.impl.label(self.options)
 
-    def replace(self, **changes) -> "DescriptorSpec":
+    def replace(self, **changes) -> DescriptorSpec:
         """A copy with some options changed (what was fitted is kept)."""
         return DescriptorSpec(self.kind, fitted=self.fitted, **{**self.options, **changes})
 
-    def with_fitted(self, fitted: Mapping) -> "DescriptorSpec":
+    def with_fitted(self, fitted: Mapping) -> DescriptorSpec:
         return DescriptorSpec(self.kind, fitted=fitted, **self.options)
 
     def _key(self):
-        return self.kind, tuple((k, v if isinstance(v, (str, int, float, tuple, type(None))) else id(v))
-                                for k, v in self.options.items())
+        return self.kind, tuple(
+            (k, v if isinstance(v, (str, int, float, tuple, type(None))) else id(v)) for k, v in self.options.items()
+        )
 
     def __eq__(self, other) -> bool:
         return isinstance(other, DescriptorSpec) and self._key() == other._key()
@@ -393,8 +423,10 @@ def stack_values(items, what: str = "descriptors") -> np.ndarray:
 def distance(a: Descriptor, b: Descriptor) -> float:
     """The kind's own distance between two descriptors of one kind (eq. 3.1, 5.14 or a histogram distance)."""
     if a.kind != b.kind:
-        raise HeatdataError(f"no distance between {article(a.kind)} {a.kind} and {article(b.kind)} {b.kind} "
-                            "descriptor: compare one kind")
+        raise HeatdataError(
+            f"no distance between {article(a.kind)} {a.kind} and {article(b.kind)} {b.kind} "
+            "descriptor: compare one kind"
+        )
     impl = kind_of(a.kind)
     weights = {}
     if impl.weighted and a.weights is not None and b.weights is not None:

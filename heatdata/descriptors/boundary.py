@@ -20,23 +20,29 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-from matplotlib.colors import rgb_to_hsv
 from scipy.spatial import cKDTree
 
-from ..errors import ViewError
-from ..view import View
+from heatdata.errors import ViewError
+from heatdata.views.view import View
 
 SAMPLINGS = ("arclength", "polar")
 SOURCE_RULES = ("closest", "center", "interior")
 
 
+def _hsv(rgb: np.ndarray) -> np.ndarray:
+    """(n, 3) RGB in [0, 1] to HSV (matplotlib's, imported here so that ``import heatdata`` does not load it)."""
+    from matplotlib.colors import rgb_to_hsv
+
+    return rgb_to_hsv(np.clip(rgb, 0.0, 1.0))
+
+
 def _hue(rgb: np.ndarray) -> np.ndarray:
-    return rgb_to_hsv(np.clip(rgb, 0.0, 1.0))[:, 0]
+    return _hsv(rgb)[:, 0]
 
 
 def _saturated_hue(rgb: np.ndarray) -> np.ndarray:
     """Rates ``1 + 8 s h``: 1 on greys (s = 0), up to 9 on saturated colours (issue 17's colour twins)."""
-    hsv = rgb_to_hsv(np.clip(rgb, 0.0, 1.0))
+    hsv = _hsv(rgb)
     return 1.0 + 8.0 * hsv[:, 1] * hsv[:, 0]
 
 
@@ -92,8 +98,9 @@ def _arclength_positions(view: View, boundary: np.ndarray) -> tuple[np.ndarray, 
     return cumulative, float(cumulative[-1])
 
 
-def sample_boundary(view: View, boundary: np.ndarray, temps: np.ndarray, samples: int | None,
-                    sampling: str = "arclength") -> tuple[np.ndarray, np.ndarray]:
+def sample_boundary(
+    view: View, boundary: np.ndarray, temps: np.ndarray, samples: int | None, sampling: str = "arclength"
+) -> tuple[np.ndarray, np.ndarray]:
     """Sample per-boundary-vertex values at M points (2.3.3).
 
     Parameters
@@ -118,8 +125,9 @@ def sample_boundary(view: View, boundary: np.ndarray, temps: np.ndarray, samples
     return (1.0 - frac) * temps[..., first] + frac * temps[..., second], positions
 
 
-def _sample_points(view: View, boundary: np.ndarray, samples: int | None, sampling: str
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _sample_points(
+    view: View, boundary: np.ndarray, samples: int | None, sampling: str
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Where the M samples fall on the boundary loop: (M,) edge start index and fraction along the edge, and
     the (M,) positions."""
     cumulative, total = _arclength_positions(view, boundary)

@@ -31,8 +31,18 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ..errors import HeatdataError, ViewError
-from .base import KINDS, Descriptor, DescriptorSpec, Kind, Option, article, kind_of, one_of, register
+from heatdata.descriptors.base import (
+    KINDS,
+    Descriptor,
+    DescriptorSpec,
+    Kind,
+    Option,
+    article,
+    kind_of,
+    one_of,
+    register,
+)
+from heatdata.errors import HeatdataError, ViewError
 
 log = logging.getLogger(__name__)
 
@@ -42,8 +52,7 @@ HOWS = ("learned", "sum")
 
 def part_codes() -> list[str]:
     """The kinds a part may be, in the order their codes count (sorted names)."""
-    return sorted(name for name, kind in KINDS.items()
-                  if not (kind.fitted or kind.time_scaled or kind.weighted))
+    return sorted(name for name, kind in KINDS.items() if not (kind.fitted or kind.time_scaled or kind.weighted))
 
 
 def checked_parts(value) -> tuple[DescriptorSpec, ...]:
@@ -78,19 +87,25 @@ def simplex_grid(count: int, step: float = WEIGHT_STEP) -> list[tuple[float, ...
 
 def header(spec: DescriptorSpec, sizes: list[int]) -> np.ndarray:
     codes = part_codes()
-    return np.concatenate([[len(sizes)], sizes, [codes.index(p.kind) for p in spec.parts],
-                           np.asarray(spec.fitted["coefficients"], np.float64)])
+    return np.concatenate(
+        [
+            [len(sizes)],
+            sizes,
+            [codes.index(p.kind) for p in spec.parts],
+            np.asarray(spec.fitted["coefficients"], np.float64),
+        ]
+    )
 
 
 def layout(values: np.ndarray) -> tuple[list[Kind], list[slice], np.ndarray]:
     """The part kinds, the slices of their values and their coefficients, read from a row's header."""
     count = int(values[0])
-    sizes = values[1:1 + count].astype(int)
+    sizes = values[1 : 1 + count].astype(int)
     codes = part_codes()
-    kinds = [kind_of(codes[int(c)]) for c in values[1 + count:1 + 2 * count]]
-    coefficients = values[1 + 2 * count:1 + 3 * count]
+    kinds = [kind_of(codes[int(c)]) for c in values[1 + count : 1 + 2 * count]]
+    coefficients = values[1 + 2 * count : 1 + 3 * count]
     starts = 1 + 3 * count + np.concatenate([[0], np.cumsum(sizes)])
-    return kinds, [slice(a, b) for a, b in zip(starts[:-1], starts[1:], strict=True)], coefficients
+    return kinds, [slice(a, b) for a, b in itertools.pairwise(starts)], coefficients
 
 
 def leave_one_out(among: list[np.ndarray], coefficients: np.ndarray, objects: np.ndarray) -> float:
@@ -105,10 +120,10 @@ class Combined(Kind):
     fitted = True
     distance_name = "sum of the parts' scaled distances"
     value_label = "the parts' values, after a header"
-    options = (Option("parts", None, "required: two or more descriptors ({kind: ..., options})",
-                      checked_parts),
-               Option("how", "learned", "learned: weights by leave-one-out among the library views; sum: all 1",
-                      one_of(HOWS)))
+    options = (
+        Option("parts", None, "required: two or more descriptors ({kind: ..., options})", checked_parts),
+        Option("how", "learned", "learned: weights by leave-one-out among the library views; sum: all 1", one_of(HOWS)),
+    )
 
     def validate(self, options: dict) -> dict:
         if options["parts"] is None:
@@ -127,12 +142,14 @@ class Combined(Kind):
         return 1 + 3 * len(sizes) + sum(sizes)
 
     def fit(self, spec: DescriptorSpec, views: list) -> dict[str, np.ndarray]:
-        from .compute import describe
+        from heatdata.descriptors.compute import describe
 
         if len(views) < 2:
             raise ViewError(f"{spec.name}: fitting needs two or more library views")
-        values = [np.stack(v) for v in zip(*(
-            [d.values for d in describe(view, list(spec.parts))] for view in views), strict=True)]
+        values = [
+            np.stack(v)
+            for v in zip(*([d.values for d in describe(view, list(spec.parts))] for view in views), strict=True)
+        ]
         objects = np.array([view.object_id for view in views])
         among = []
         for part, rows in zip(spec.parts, values, strict=True):
@@ -141,29 +158,51 @@ class Combined(Kind):
             among.append(d)
         scales = np.array([np.median(d.min(axis=1)) for d in among])
         if not np.all(np.isfinite(scales) & (scales > 0)):
-            raise ViewError(f"{spec.name}: a part's nearest-neighbour scale is {scales}; the library views are "
-                            "too few or identical")
+            raise ViewError(
+                f"{spec.name}: a part's nearest-neighbour scale is {scales}; the library views are too few or identical"
+            )
         grid = simplex_grid(len(among)) if spec.how == "learned" else [(1.0,) * len(among)]
         scored = np.array([leave_one_out(among, np.asarray(w) / scales, objects) for w in grid])
         # among equally good weights, the most even (nearest the plain sum)
         spread = np.array([np.ptp(w) for w in grid])
         weights = np.array(grid[int(np.lexsort((spread, -scored))[0])])
-        log.info("%s: scales %s, weights %s (leave-one-out %.1f%% over %d library views)", spec.name,
-                 np.round(scales, 4), weights, 100 * max(scored), len(views))
-        return {"scales": scales, "weights": weights, "coefficients": weights / scales,
-                "leave_one_out": np.array(scored.max())}
+        log.info(
+            "%s: scales %s, weights %s (leave-one-out %.1f%% over %d library views)",
+            spec.name,
+            np.round(scales, 4),
+            weights,
+            100 * max(scored),
+            len(views),
+        )
+        return {
+            "scales": scales,
+            "weights": weights,
+            "coefficients": weights / scales,
+            "leave_one_out": np.array(scored.max()),
+        }
 
     def compute(self, work, spec: DescriptorSpec, **context) -> list[Descriptor]:
         if spec.fitted is None:
-            raise ViewError(f"{work.view.name}: {article(self.name)} {self.name} must be fitted on library views "
-                            "first (spec = heatdata.fit_spec(spec, library_views))")
+            raise ViewError(
+                f"{work.view.name}: {article(self.name)} {self.name} must be fitted on library views "
+                "first (spec = heatdata.fit_spec(spec, library_views))"
+            )
         parts = [d for part in spec.parts for d in part.impl.compute(work, part, **context)]
         sizes = [len(d.values) for d in parts]
         values = np.concatenate([header(spec, sizes)] + [d.values for d in parts])
         repairs = tuple(dict.fromkeys(r for d in parts for r in d.repairs))
-        return [Descriptor(kind=self.name, values=values, positions=np.arange(len(values)) / len(values),
-                           source=parts[0].source, time=float("nan"), lambda2=parts[0].lambda2, sampling=None,
-                           repairs=repairs)]
+        return [
+            Descriptor(
+                kind=self.name,
+                values=values,
+                positions=np.arange(len(values)) / len(values),
+                source=parts[0].source,
+                time=float("nan"),
+                lambda2=parts[0].lambda2,
+                sampling=None,
+                repairs=repairs,
+            )
+        ]
 
     def distance_matrix(self, queries, library, *, query_weights=None, library_weights=None) -> np.ndarray:
         """``sum_k c_k d_k`` over the parts named in the rows' header (the library's first row)."""
@@ -172,12 +211,17 @@ class Combined(Kind):
         kinds, slices, coefficients = layout(reference)
         head = slices[0].start
         if queries.shape[1] != library.shape[1] or not (
-                np.array_equal(queries[:, :head], np.broadcast_to(reference[:head], (len(queries), head)))
-                and np.array_equal(library[:, :head], np.broadcast_to(reference[:head], (len(library), head)))):
-            raise HeatdataError("combined descriptors of different parts, lengths or fits: compare one spec, "
-                                "fitted once")
-        return sum(c * kind.distance_matrix(queries[:, s], library[:, s])
-                   for kind, s, c in zip(kinds, slices, coefficients, strict=True) if c > 0)  # a weight 0: unread
+            np.array_equal(queries[:, :head], np.broadcast_to(reference[:head], (len(queries), head)))
+            and np.array_equal(library[:, :head], np.broadcast_to(reference[:head], (len(library), head)))
+        ):
+            raise HeatdataError(
+                "combined descriptors of different parts, lengths or fits: compare one spec, fitted once"
+            )
+        return sum(
+            c * kind.distance_matrix(queries[:, s], library[:, s])
+            for kind, s, c in zip(kinds, slices, coefficients, strict=True)
+            if c > 0
+        )  # a weight 0: unread
 
 
 register(Combined())

@@ -2,13 +2,21 @@
 
 from __future__ import annotations
 
-from ..view import View
-from .base import Descriptor, DescriptorSpec
-from .work import ViewWork
+from heatdata.descriptors.base import Descriptor, DescriptorSpec
+from heatdata.descriptors.work import ViewWork
+from heatdata.views.view import View
 
 
-def describe(view: View, specs: list[DescriptorSpec], *, method: str = "krylov", modes: int = 30,
-             times=None, part_weights: bool = True, t_final: float | None = None) -> list[Descriptor]:
+def describe(
+    view: View,
+    specs: list[DescriptorSpec],
+    *,
+    method: str = "krylov",
+    modes: int = 30,
+    times=None,
+    part_weights: bool = True,
+    t_final: float | None = None,
+) -> list[Descriptor]:
     """Several descriptors of one view, sharing the expensive work.
 
     Heat kinds with the same colour map share one factorization and lambda_2; those

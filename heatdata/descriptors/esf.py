@@ -3,7 +3,7 @@
 A re-implementation of PCL 1.13's ``pcl::ESFEstimation`` (``features/impl/esf.hpp``),
 because no maintained Python binding of it exists and Debian's ``pcl-tools`` has no ESF
 tool: the triplets and their geometry in numpy, the voxel grid and the line tracing in
-numba (:mod:`heatdata._esf_kernel`). As in PCL:
+numba (:mod:`heatdata.descriptors._esf_kernel`). As in PCL:
 
 1. the view's points are centred on their centroid and scaled so that the farthest
    lies at 32 voxels; a 64^3 voxel grid marks each point's voxel and its 26 neighbours;
@@ -27,9 +27,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ViewError
-from .base import DescriptorSpec, Option, integer, register
-from .histograms import HistogramKind
+from heatdata.descriptors.base import DescriptorSpec, Option, integer, register
+from heatdata.descriptors.histograms import HistogramKind
+from heatdata.errors import ViewError
 
 GRID = 64
 HALF = GRID // 2
@@ -45,7 +45,7 @@ def _voxels(points: np.ndarray) -> np.ndarray:
 
 def _occupancy(points: np.ndarray) -> np.ndarray:
     """(64, 64, 64) bool: each point's voxel and its 26 neighbours (PCL's voxelize9)."""
-    from .._esf_kernel import occupancy
+    from heatdata.descriptors._esf_kernel import occupancy
 
     grid = np.zeros((GRID, GRID, GRID), dtype=bool)
     occupancy(np.ascontiguousarray(_voxels(points)), grid)
@@ -54,8 +54,8 @@ def _occupancy(points: np.ndarray) -> np.ndarray:
 
 def _trace(grid: np.ndarray, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(lines,) voxels visited and occupied voxels among them, for lines between voxel ``start`` and ``end``
-    (:func:`heatdata._esf_kernel.trace`)."""
-    from .._esf_kernel import trace
+    (:func:`heatdata.descriptors._esf_kernel.trace`)."""
+    from heatdata.descriptors._esf_kernel import trace
 
     count, occupied = np.empty(len(start), np.int64), np.empty(len(start), np.int64)
     trace(grid, np.ascontiguousarray(start), np.ascontiguousarray(end), count, occupied)
@@ -105,16 +105,22 @@ def esf_histogram(points: np.ndarray, *, triplets: int = 20000, seed: int = 0, n
             break
     idx = np.concatenate(chosen)[:triplets]
     if len(idx) < triplets:
-        raise ViewError(f"{name}: only {len(idx)} of {triplets} random point triplets span a triangle; "
-                        "the view is too small or flat for an ESF")
+        raise ViewError(
+            f"{name}: only {len(idx)} of {triplets} random point triplets span a triangle; "
+            "the view is too small or flat for an ESF"
+        )
     p1, p2, p3 = p[idx[:, 0]], p[idx[:, 1]], p[idx[:, 2]]
 
     def unit(v):
         return v / np.linalg.norm(v, axis=1, keepdims=True)
 
     v21, v31, v23 = unit(p2 - p1), unit(p3 - p1), unit(p2 - p3)
-    angle = [np.rint(np.arccos(np.clip(np.abs(np.einsum("ij,ij->i", u, v)), 0, 1)) / (np.pi / 2) * (BINS - 1))
-             .astype(np.int64) for u, v in ((v21, v31), (v23, v31), (v23, v21))]  # at p1, p3, p2
+    angle = [
+        np.rint(np.arccos(np.clip(np.abs(np.einsum("ij,ij->i", u, v)), 0, 1)) / (np.pi / 2) * (BINS - 1)).astype(
+            np.int64
+        )
+        for u, v in ((v21, v31), (v23, v31), (v23, v21))
+    ]  # at p1, p3, p2
     a = np.linalg.norm(p2 - p1, axis=1)
     b = np.linalg.norm(p3 - p1, axis=1)
     c = np.linalg.norm(p2 - p3, axis=1)
@@ -151,8 +157,10 @@ class ESF(HistogramKind):
     name = "esf"
     summary = "Ensemble of Shape Functions (PCL's algorithm, re-implemented; thesis 3.6.1)"
     bins = 10 * BINS
-    options = (Option("triplets", 20000, "random point triplets (PCL: 20,000)", integer(100)),
-               Option("seed", 0, "seed of the random triplets", integer(0)))
+    options = (
+        Option("triplets", 20000, "random point triplets (PCL: 20,000)", integer(100)),
+        Option("seed", 0, "seed of the random triplets", integer(0)),
+    )
 
     def compute(self, work, spec: DescriptorSpec, **context):
         view = work.view

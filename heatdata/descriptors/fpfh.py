@@ -12,16 +12,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import DescriptorSpec, Option, integer, number, register
-from .histograms import HistogramKind
+from heatdata.descriptors.base import DescriptorSpec, Option, integer, number, register
+from heatdata.descriptors.histograms import HistogramKind
 
 
 class FPFH(HistogramKind):
     name = "fpfh"
     summary = "Fast Point Feature Histograms (open3d), summed over the view's vertices (thesis 9.1)"
     bins = 33
-    options = (Option("radius", 0.015, "neighbourhood radius, metres", number(0.0, 1.0)),
-               Option("max_nn", 100, "at most this many neighbours", integer(3)))
+    options = (
+        Option("radius", 0.015, "neighbourhood radius, metres", number(0.0, 1.0)),
+        Option("max_nn", 100, "at most this many neighbours", integer(3)),
+    )
 
     def compute(self, work, spec: DescriptorSpec, **context):
         import open3d as o3d

@@ -18,14 +18,33 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from ..distance import mhd_matrix, nearest_mhd
-from ..errors import ViewError
-from ..spectrum import HeatOperator, eigen_spectrum, lambda2
-from ..view import View
-from .base import Descriptor, DescriptorSpec, Kind, Option, integer, one_of, register
-from .boundary import COLOR_MAPS, SAMPLINGS, SOURCE_RULES, color_rates, sample_boundary
-from .compute import describe
-from .work import WEIGHT_MODES, ViewWork, checked_times, heat_operator
+from heatdata.core.distances import mhd_matrix, nearest_mhd
+from heatdata.core.spectrum import HeatOperator, eigen_spectrum, lambda2
+from heatdata.descriptors.base import (
+    Descriptor,
+    DescriptorSpec,
+    Kind,
+    Option,
+    integer,
+    one_of,
+    register,
+)
+from heatdata.descriptors.boundary import (
+    COLOR_MAPS,
+    SAMPLINGS,
+    SOURCE_RULES,
+    color_rates,
+    sample_boundary,
+)
+from heatdata.descriptors.compute import describe
+from heatdata.descriptors.work import (
+    WEIGHT_MODES,
+    ViewWork,
+    checked_times,
+    heat_operator,
+)
+from heatdata.errors import ViewError
+from heatdata.views.view import View
 
 log = logging.getLogger(__name__)
 
@@ -33,7 +52,7 @@ DEFAULT_KIND = "pvhk"  # what heatdata describes when no kind is named
 COLOR_KIND = "c-pvhk"  # what a colour map without a kind asks for (the CLI's --color-map)
 MIN_MAIN_SHARE = 0.25  # below this share of boundary samples on the main part, part weights are unit
 TRUNCATION = 1e-7  # exp(-lambda_k t) of the first mode left out of the multi-source expansion
-#: the source rule of the ch. 6 candidate rows (:func:`heatdata.dataset.candidate_rows`); not computable
+#: the source rule of the ch. 6 candidate rows (:func:`heatdata.experiments.describe.candidate_rows`); not computable
 CANDIDATES_RULE = "candidates"
 
 
@@ -49,23 +68,36 @@ def _source(value):
 
 def _color_map(value):
     if isinstance(value, str) and value not in COLOR_MAPS:
-        raise ValueError(f"must be a colour map: one of {', '.join(COLOR_MAPS)} or a function of (n, 3) RGB, "
-                         f"got {value!r}")
+        raise ValueError(
+            f"must be a colour map: one of {', '.join(COLOR_MAPS)} or a function of (n, 3) RGB, got {value!r}"
+        )
     if not isinstance(value, str) and not callable(value):
         raise TypeError(f"must be a colour map name or a function, got {value!r}")
     return value
 
 
-SAMPLES = Option("samples", 64, "boundary samples M (None: one value per boundary vertex)",
-                 integer(2, allow_none=True), none_is_default=False)
-SOURCE = Option("source", "closest", "source rule: closest (eq. 2.7), center (eq. 2.8), interior, or a vertex index",
-                _source)
+SAMPLES = Option(
+    "samples",
+    64,
+    "boundary samples M (None: one value per boundary vertex)",
+    integer(2, allow_none=True),
+    none_is_default=False,
+)
+SOURCE = Option(
+    "source", "closest", "source rule: closest (eq. 2.7), center (eq. 2.8), interior, or a vertex index", _source
+)
 SAMPLING = Option("sampling", "arclength", "boundary sampling (2.3.3): arclength or polar", one_of(SAMPLINGS))
-COLOR_MAP = Option("color_map", None, "colour map of 3.4.2 (c1, c2, c3, c4, hue), sat-hue, or a function of RGB",
-                   _color_map)
-CLOCKS = ("colour", "shape")
-CLOCK = Option("clock", "colour", "whose 1/lambda_2 stops the C-PVHK: colour (the coloured operator's, eq. 2.11) "
-               "or shape (the colourless Laplacian's, so that a uniform change of colour shows)", one_of(CLOCKS))
+COLOR_MAP = Option(
+    "color_map", None, "colour map of 3.4.2 (c1, c2, c3, c4, hue), sat-hue, or a function of RGB", _color_map
+)
+CLOCKS = ("color", "shape")
+CLOCK = Option(
+    "clock",
+    "color",
+    "whose 1/lambda_2 stops the C-PVHK: color (the coloured operator's, eq. 2.11) "
+    "or shape (the colourless Laplacian's, so that a uniform change of colour shows)",
+    one_of(CLOCKS, {"colour": "color"}),
+)
 BOUNDARY_OPTIONS = (SAMPLES, SOURCE, SAMPLING)
 
 
@@ -77,7 +109,7 @@ def color_name(color_map) -> str | None:
 class BoundaryKind(Kind):
     """A descriptor read along the outer boundary after a heat pulse at a source (2.3)."""
 
-    options = BOUNDARY_OPTIONS
+    options: tuple[Option, ...] = BOUNDARY_OPTIONS
     distance_name = "modified Hausdorff distance, eq. 3.1"
 
     def label(self, options: Mapping) -> str:
@@ -94,9 +126,10 @@ class BoundaryKind(Kind):
         return mhd_matrix(queries, library, query_weights=query_weights, library_weights=library_weights)
 
     def nearest(self, queries, library, *, query_weights=None, library_weights=None, within=None, chunk=None):
-        """Exact search under eq. 3.1 / 5.14 without the distance matrix (:func:`heatdata.distance.nearest_mhd`)."""
-        return nearest_mhd(queries, library, query_weights=query_weights, library_weights=library_weights,
-                           within=within)
+        """Exact search under eq. 3.1 / 5.14 with no distance matrix (:func:`heatdata.core.distances.nearest_mhd`)."""
+        return nearest_mhd(
+            queries, library, query_weights=query_weights, library_weights=library_weights, within=within
+        )
 
     @staticmethod
     def _common(spec: DescriptorSpec, source: int) -> dict:
@@ -120,22 +153,32 @@ class HeatKind(BoundaryKind):
     def compute(self, work: ViewWork, spec: DescriptorSpec, **context) -> list[Descriptor]:
         connected, s_local, s = work.component(spec.source)
         op = work.operator(connected, spec.get("color_map"))
-        repairs = tuple(connected.repairs[len(work.view.repairs):])
+        repairs = tuple(connected.repairs[len(work.view.repairs) :])
         spec_times = self.times(work, connected, op, spec, context)
         weights, lam2, notes = self.weights(work, connected, op, spec, context)
         temps = work.heat(op, s_local, spec_times, connected.boundary)
         out = []
         for t, row in zip(spec_times, temps, strict=True):
             values, positions = sample_boundary(connected, connected.boundary, row, spec.samples, spec.sampling)
-            out.append(Descriptor(values=values, positions=positions, time=t, lambda2=lam2, repairs=repairs + notes,
-                                  weights=weights, **self._common(spec, s)))
+            out.append(
+                Descriptor(
+                    values=values,
+                    positions=positions,
+                    time=t,
+                    lambda2=lam2,
+                    repairs=repairs + notes,
+                    weights=weights,
+                    **self._common(spec, s),
+                )
+            )
         return out
 
     def spectrum_times(self, spectrum, connected: View, spec: DescriptorSpec, times) -> tuple:
         return (1.0 / spectrum.lambda2,)
 
-    def candidates(self, view: View, sources: np.ndarray, spec: DescriptorSpec, *, times=None, modes: int = 32
-                   ) -> list[Descriptor]:
+    def candidates(
+        self, view: View, sources: np.ndarray, spec: DescriptorSpec, *, times=None, modes: int = 32
+    ) -> list[Descriptor]:
         """One descriptor per source from one eigen-decomposition per connected component (6.2.1).
 
         ``Phi_B diag(exp(-lambda t)) Phi_S^T`` times ``sum(c)`` (eq. 2.9/2.11 with the heat
@@ -150,24 +193,33 @@ class HeatKind(BoundaryKind):
             local = np.cumsum(view.component_labels == label) - 1  # view vertex -> component vertex
             on_boundary = np.isin(local[sources[group]], connected.boundary)
             if on_boundary.any():
-                log.info("%s: %d of %d sources are on the outer boundary", view.name, int(on_boundary.sum()),
-                         len(group))
+                log.info(
+                    "%s: %d of %d sources are on the outer boundary", view.name, int(on_boundary.sum()), len(group)
+                )
             color_map = spec.get("color_map")
             op = heat_operator(connected, None if color_map is None else color_rates(connected, color_map))
             spectrum = eigen_spectrum(op, modes)
             spec_times = self.spectrum_times(spectrum, connected, spec, times)  # lambda_2 stays as modes double
             while spectrum.truncation(min(spec_times)) > TRUNCATION and len(spectrum.values) < op.n - 2:
                 spectrum = eigen_spectrum(op, 2 * len(spectrum.values))
-            repairs = tuple(connected.repairs[len(view.repairs):])
+            repairs = tuple(connected.repairs[len(view.repairs) :])
             per_time = []
             for t in spec_times:
                 heat = spectrum.heat(local[sources[group]], t, at=connected.boundary)  # (s, b)
                 values, positions = sample_boundary(connected, connected.boundary, heat, spec.samples, spec.sampling)
                 per_time.append(values)
             for row, g in enumerate(group):
-                out[int(g)] = [Descriptor(values=v[row], positions=positions, time=t, lambda2=spectrum.lambda2,
-                                          repairs=repairs, **self._common(spec, int(sources[g])))
-                               for t, v in zip(spec_times, per_time, strict=True)]
+                out[int(g)] = [
+                    Descriptor(
+                        values=v[row],
+                        positions=positions,
+                        time=t,
+                        lambda2=spectrum.lambda2,
+                        repairs=repairs,
+                        **self._common(spec, int(sources[g])),
+                    )
+                    for t, v in zip(spec_times, per_time, strict=True)
+                ]
         return [d for g in range(len(sources)) for d in out[g]]
 
 
@@ -179,7 +231,7 @@ class PVHK(HeatKind):
 class ColorPVHK(HeatKind):
     """The C-PVHK of eq. 2.10-2.11, stopped at the coloured or the colourless 1/lambda_2 (option ``clock``).
 
-    With the thesis's clock (``"colour"``) the descriptor cannot see a colour that is the
+    With the thesis's clock (``"color"``) the descriptor cannot see a colour that is the
     same all over the view: rates ``c`` everywhere divide lambda_2 by ``c`` and stretch
     the heat's time by ``c``, and the two cancel at t_s, so an object and its colour twin
     give the same curve. The ``"shape"`` clock (not in the thesis) stops at the colourless
@@ -188,7 +240,7 @@ class ColorPVHK(HeatKind):
 
     name = "c-pvhk"
     summary = "Colour PVHK: diffusion rates from the view's hue (eq. 2.10-2.11, 3.4.2)"
-    options = BOUNDARY_OPTIONS + (COLOR_MAP, CLOCK)
+    options = (*BOUNDARY_OPTIONS, COLOR_MAP, CLOCK)
 
     def validate(self, options: dict) -> dict:
         if options["color_map"] is None:
@@ -197,7 +249,7 @@ class ColorPVHK(HeatKind):
 
     def label(self, options: Mapping) -> str:
         label = super().label(options)
-        return label if options["clock"] == "colour" else f"{label}/{options['clock']}-clock"
+        return label if options["clock"] == "color" else f"{label}/{options['clock']}-clock"
 
     def times(self, work, connected, op, spec, context) -> tuple:
         if spec.clock == "shape":
@@ -212,8 +264,7 @@ class ColorPVHK(HeatKind):
 
 class FixedTimePVHK(HeatKind):
     name = "ft-pvhk"
-    summary = ("Fixed-time PVHK at the objects' time scales (Alg. 5.1), part-weighted distance (eq. 5.12-5.14, "
-               "Alg. 5.2)")
+    summary = "Fixed-time PVHK at the objects' time scales (Alg. 5.1), part-weighted distance (eq. 5.12-5.14, Alg. 5.2)"
     time_scaled = True
     weighted = True
 
@@ -236,24 +287,34 @@ for _kind in (PVHK(), ColorPVHK(), FixedTimePVHK()):
     register(_kind)
 
 
-def _part_weights(work: ViewWork, connected: View, op: HeatOperator, samples, sampling: str
-                  ) -> tuple[np.ndarray, tuple]:
+def _part_weights(
+    work: ViewWork, connected: View, op: HeatOperator, samples, sampling: str
+) -> tuple[np.ndarray, tuple]:
     """rho of eq. 5.13 at the descriptor's samples, and the repair made (if any)."""
     boundary = connected.boundary
     delta, _ = sample_boundary(connected, boundary, work.global_derivative(op, boundary), samples, sampling)
-    mean_square = float(np.mean(delta ** 2))
-    rho = np.exp(-delta ** 2 / mean_square) if mean_square > 0 else np.ones_like(delta)
+    mean_square = float(np.mean(delta**2))
+    rho = np.exp(-(delta**2) / mean_square) if mean_square > 0 else np.ones_like(delta)
     share = float(np.mean(rho >= 0.5))
     if share < MIN_MAIN_SHARE:
-        note = (f"part weights: only {share:.0%} of the boundary is on the main part (rho >= 0.5); "
-                "unit weights used (eq. 3.1)")
+        note = (
+            f"part weights: only {share:.0%} of the boundary is on the main part (rho >= 0.5); "
+            "unit weights used (eq. 3.1)"
+        )
         log.warning("%s: %s", connected.name, note)
         return np.ones_like(rho), (note,)
     return rho, ()
 
 
-def pvhk(view: View, samples: int | None = 64, source: str | int = "closest", *, sampling: str = "arclength",
-         method: str = "krylov", modes: int = 30) -> Descriptor:
+def pvhk(
+    view: View,
+    samples: int | None = 64,
+    source: str | int = "closest",
+    *,
+    sampling: str = "arclength",
+    method: str = "krylov",
+    modes: int = 30,
+) -> Descriptor:
     """Partial View Heat Kernel (Alg. 2.1, eq. 2.9).
 
     Parameters
@@ -278,9 +339,17 @@ def pvhk(view: View, samples: int | None = 64, source: str | int = "closest", *,
     return describe(view, [spec], method=method, modes=modes)[0]
 
 
-def c_pvhk(view: View, samples: int | None = 64, color_map: str | Callable = "c3", source: str | int = "closest",
-           *, sampling: str = "arclength", clock: str = "colour", method: str = "krylov", modes: int = 30
-           ) -> Descriptor:
+def c_pvhk(
+    view: View,
+    samples: int | None = 64,
+    color_map: str | Callable = "c3",
+    source: str | int = "closest",
+    *,
+    sampling: str = "arclength",
+    clock: str = "color",
+    method: str = "krylov",
+    modes: int = 30,
+) -> Descriptor:
     """Colour PVHK (eq. 2.10-2.11): diffusion rates ``c(v)`` from the view's RGB.
 
     ``color_map`` is one of :data:`COLOR_MAPS` (``c1``..``c4`` of 3.4.2, ``hue``,
@@ -292,8 +361,16 @@ def c_pvhk(view: View, samples: int | None = 64, color_map: str | Callable = "c3
     return describe(view, [spec], method=method, modes=modes)[0]
 
 
-def ft_pvhk(view: View, time: float, samples: int | None = 64, source: str | int = "closest", *,
-            sampling: str = "arclength", method: str = "krylov", modes: int = 30) -> Descriptor:
+def ft_pvhk(
+    view: View,
+    time: float,
+    samples: int | None = 64,
+    source: str | int = "closest",
+    *,
+    sampling: str = "arclength",
+    method: str = "krylov",
+    modes: int = 30,
+) -> Descriptor:
     """Fixed-time PVHK (5.4.1): the PVHK at a given time, e.g. :func:`object_time_scale`.
 
     Costs one heat solve and no lambda_2 (``Descriptor.lambda2`` is NaN); its part weights
@@ -303,8 +380,9 @@ def ft_pvhk(view: View, time: float, samples: int | None = 64, source: str | int
     return describe(view, [spec], method=method, modes=modes, times=[time], part_weights=False)[0]
 
 
-def part_weights(view: View, samples: int | None = 64, *, sampling: str = "arclength",
-                 source: str | int = "closest") -> np.ndarray:
+def part_weights(
+    view: View, samples: int | None = 64, *, sampling: str = "arclength", source: str | int = "closest"
+) -> np.ndarray:
     """Part weights rho of eq. 5.13, at the samples of a descriptor with the same arguments.
 
     ``rho_i = exp(-Delta_i^2 / mean(Delta^2))`` with ``Delta`` the source-position global
@@ -332,8 +410,9 @@ def global_derivative(view: View, source: str | int = "closest", time: float | N
     """
     work = ViewWork(view, "eigen", WEIGHT_MODES)
     connected, _, _ = work.component(source)
-    return work.global_derivative(work.operator(connected, None), np.arange(connected.n_vertices),
-                                  None if time is None else float(time))
+    return work.global_derivative(
+        work.operator(connected, None), np.arange(connected.n_vertices), None if time is None else float(time)
+    )
 
 
 def view_time_scale(view: View, source: str | int = "closest") -> float:
@@ -354,7 +433,8 @@ def object_time_scale(views, source: str | int = "closest") -> float:
     scales = {view.name: view_time_scale(view, source) for view in views}
     if not scales:
         raise ViewError("object_time_scale needs at least one view")
-    name = min(scales, key=scales.get)
-    log.info("time scale %.4g from %s (min of %d views; max %.4g)", scales[name], name, len(scales),
-             max(scales.values()))
+    name = min(scales, key=lambda n: scales[n])
+    log.info(
+        "time scale %.4g from %s (min of %d views; max %.4g)", scales[name], name, len(scales), max(scales.values())
+    )
     return scales[name]

@@ -32,11 +32,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ViewError
-from ..mesh import farthest_points
-from .base import DescriptorSpec, Option, integer, number, one_of, register
-from .boundary import source_vertex
-from .histograms import HistogramKind
+from heatdata.core.mesh import farthest_points
+from heatdata.descriptors.base import (
+    DescriptorSpec,
+    Option,
+    integer,
+    number,
+    one_of,
+    register,
+)
+from heatdata.descriptors.boundary import source_vertex
+from heatdata.descriptors.histograms import HistogramKind
+from heatdata.errors import ViewError
 
 #: bins of Euclidean / geodesic distance: another component or far round, round a gap, bent, straight
 RATIO_EDGES = np.array([0.0, 0.5, 0.8, 0.95, 1.0])
@@ -47,8 +54,9 @@ COLOR_PARTS = ("none", "hue-saturation")
 
 def vertex_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(n,) a third of the area of each vertex's triangles."""
-    area = 0.5 * np.linalg.norm(np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]],
-                                         vertices[faces[:, 2]] - vertices[faces[:, 0]]), axis=1)
+    area = 0.5 * np.linalg.norm(
+        np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]], vertices[faces[:, 2]] - vertices[faces[:, 0]]), axis=1
+    )
     return np.bincount(faces.ravel(), np.repeat(area / 3.0, 3), len(vertices))
 
 
@@ -95,8 +103,12 @@ def hgd_histogram(view, *, sources: int = 16, bins: int = 32, near: float = 0.00
         ratio = np.where(geodesic > 0, euclid / geodesic, 1.0)  # the source itself: straight
     ratio = np.clip(np.nan_to_num(ratio, nan=0.0), 0.0, 1.0)
     edges = np.geomspace(near, far, bins + 1)
-    counts = np.histogram2d(np.clip(euclid, near, far).ravel(), ratio.ravel(), (edges, RATIO_EDGES),
-                            weights=np.broadcast_to(area, euclid.shape).ravel())[0]
+    counts = np.histogram2d(
+        np.clip(euclid, near, far).ravel(),
+        ratio.ravel(),
+        (edges, RATIO_EDGES),
+        weights=np.broadcast_to(area, euclid.shape).ravel(),
+    )[0]
     return (counts / counts.sum()).ravel()
 
 
@@ -114,12 +126,14 @@ def color_histogram(colors: np.ndarray, area: np.ndarray) -> np.ndarray:
 class HGD(HistogramKind):
     name = "hgd"
     summary = "Heat-geodesic distribution: Euclidean distance x Euclidean/heat-method geodesic ratio (issue 28)"
-    options = (Option("sources", 16, "source vertices, spread by farthest-point sampling", integer(1, 1024)),
-               Option("bins", 32, "log-spaced bins of Euclidean distance", integer(2, 1024)),
-               Option("near", 0.004, "lower edge of the first distance bin, metres", number(0.0, 100.0)),
-               Option("far", 2.5, "upper edge of the last distance bin, metres", number(0.0, 100.0)),
-               Option("color", "none", "hue-saturation: append the view's colour histogram", one_of(COLOR_PARTS)),
-               Option("color_weight", 1.0, "the colour part's weight against the shape's 1", number(0.0, 100.0)))
+    options = (
+        Option("sources", 16, "source vertices, spread by farthest-point sampling", integer(1, 1024)),
+        Option("bins", 32, "log-spaced bins of Euclidean distance", integer(2, 1024)),
+        Option("near", 0.004, "lower edge of the first distance bin, metres", number(0.0, 100.0)),
+        Option("far", 2.5, "upper edge of the last distance bin, metres", number(0.0, 100.0)),
+        Option("color", "none", "hue-saturation: append the view's colour histogram", one_of(COLOR_PARTS)),
+        Option("color_weight", 1.0, "the colour part's weight against the shape's 1", number(0.0, 100.0)),
+    )
 
     def validate(self, options: dict) -> dict:
         if options["near"] >= options["far"]:

@@ -21,11 +21,11 @@ import logging
 
 import numpy as np
 
-from ..errors import ViewError
-from ..spectrum import eigen_spectrum
-from .base import DescriptorSpec, Option, integer, register
-from .histograms import HistogramKind
-from .work import ViewWork
+from heatdata.core.spectrum import eigen_spectrum
+from heatdata.descriptors.base import DescriptorSpec, Option, integer, register
+from heatdata.descriptors.histograms import HistogramKind
+from heatdata.descriptors.work import ViewWork
+from heatdata.errors import ViewError
 
 log = logging.getLogger(__name__)
 
@@ -39,21 +39,23 @@ def signatures(work: ViewWork, modes: int, frequencies: int) -> tuple[np.ndarray
     op = work.operator(view, None)
     spectrum = work.spectrum(op, modes) if modes <= op.n - 2 else eigen_spectrum(op, op.n - 2)
     times = np.exp2(np.arange(TIME_STEPS) * TIME_STEP) / spectrum.values[-1]
-    hks = (spectrum.vectors ** 2) @ np.exp(-np.outer(spectrum.values, times))  # (n, T)
+    hks = (spectrum.vectors**2) @ np.exp(-np.outer(spectrum.values, times))  # (n, T)
     derivative = np.diff(np.log(np.maximum(hks, np.finfo(float).tiny)), axis=1)
     magnitude = np.abs(np.fft.rfft(derivative, axis=1))[:, :frequencies]
-    return magnitude, spectrum.lambda2, tuple(view.repairs[len(work.view.repairs):])
+    return magnitude, spectrum.lambda2, tuple(view.repairs[len(work.view.repairs) :])
 
 
 class SIHKS(HistogramKind):
     name = "si-hks"
     summary = "Scale-Invariant Heat Kernel Signature, bag of k-means words fitted on library views (thesis 3.6.1)"
     fitted = True
-    options = (Option("words", 32, "geometric words (k-means clusters); the histogram's bins", integer(2, 1024)),
-               Option("modes", 100, "eigenpairs of the heat kernel signature", integer(8)),
-               Option("frequencies", 6, "Fourier magnitudes kept per vertex", integer(1, TIME_STEPS // 2)),
-               Option("fit_vertices", 200, "vertices per library view the codebook is fitted on", integer(1)),
-               Option("seed", 0, "seed of the vertex sample and of k-means", integer(0)))
+    options = (
+        Option("words", 32, "geometric words (k-means clusters); the histogram's bins", integer(2, 1024)),
+        Option("modes", 100, "eigenpairs of the heat kernel signature", integer(8)),
+        Option("frequencies", 6, "Fourier magnitudes kept per vertex", integer(1, TIME_STEPS // 2)),
+        Option("fit_vertices", 200, "vertices per library view the codebook is fitted on", integer(1)),
+        Option("seed", 0, "seed of the vertex sample and of k-means", integer(0)),
+    )
 
     def size(self, spec: DescriptorSpec, view) -> int:
         return spec.words
@@ -62,31 +64,39 @@ class SIHKS(HistogramKind):
         from sklearn.cluster import KMeans
 
         rng = np.random.default_rng(spec.seed)
-        sample = []
+        samples = []
         for view in views:
             features, _, _ = signatures(ViewWork(view), spec.modes, spec.frequencies)
             keep = rng.choice(len(features), size=min(spec.fit_vertices, len(features)), replace=False)
-            sample.append(features[keep])
-        sample = np.concatenate(sample)
+            samples.append(features[keep])
+        sample = np.concatenate(samples)
         if len(sample) < spec.words:
             raise ViewError(f"si-hks: {len(sample)} library vertices cannot make {spec.words} words")
         mean, scale = sample.mean(axis=0), sample.std(axis=0)
         scale[scale == 0] = 1.0
         kmeans = KMeans(n_clusters=spec.words, n_init=4, random_state=spec.seed).fit((sample - mean) / scale)
-        log.info("si-hks: %d words from %d vertices of %d library views (inertia %.3g)", spec.words, len(sample),
-                 len(views), kmeans.inertia_)
+        log.info(
+            "si-hks: %d words from %d vertices of %d library views (inertia %.3g)",
+            spec.words,
+            len(sample),
+            len(views),
+            kmeans.inertia_,
+        )
         return {"words": kmeans.cluster_centers_, "mean": mean, "scale": scale}
 
     def compute(self, work: ViewWork, spec: DescriptorSpec, **context):
         from scipy.spatial import cKDTree
 
         if spec.fitted is None:
-            raise ViewError(f"{work.view.name}: an si-hks must be fitted on library views first "
-                            "(spec = heatdata.fit_spec(spec, library_views))")
+            raise ViewError(
+                f"{work.view.name}: an si-hks must be fitted on library views first "
+                "(spec = heatdata.fit_spec(spec, library_views))"
+            )
         words = np.asarray(spec.fitted["words"])
         if words.shape != (spec.words, spec.frequencies):
-            raise ViewError(f"si-hks: the fitted codebook is {words.shape}, the spec wants "
-                            f"({spec.words}, {spec.frequencies})")
+            raise ViewError(
+                f"si-hks: the fitted codebook is {words.shape}, the spec wants ({spec.words}, {spec.frequencies})"
+            )
         self.check_points(work.largest())
         features, lam2, repairs = signatures(work, spec.modes, spec.frequencies)
         _, nearest = cKDTree(words).query((features - spec.fitted["mean"]) / spec.fitted["scale"])

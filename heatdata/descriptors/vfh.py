@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ViewError
-from .base import DescriptorSpec, Option, number, register
-from .histograms import HistogramKind
+from heatdata.descriptors.base import DescriptorSpec, Option, number, register
+from heatdata.descriptors.histograms import HistogramKind
+from heatdata.errors import ViewError
 
 TOOLS = ("pcl_normal_estimation", "pcl_vfh_estimation")
 TIMEOUT = 120  # seconds per tool call
@@ -29,8 +29,10 @@ TIMEOUT = 120  # seconds per tool call
 def write_pcd(path: Path, points: np.ndarray) -> None:
     """A binary PCD v0.7 file of (n, 3) points (float32), viewpoint at the origin."""
     x = np.ascontiguousarray(points, dtype="<f4")
-    header = (f"# .PCD v0.7 - heatdata\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
-              f"WIDTH {len(x)}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {len(x)}\nDATA binary\n")
+    header = (
+        f"# .PCD v0.7 - heatdata\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+        f"WIDTH {len(x)}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {len(x)}\nDATA binary\n"
+    )
     Path(path).write_bytes(header.encode() + x.tobytes())
 
 
@@ -62,8 +64,10 @@ class VFH(HistogramKind):
     def unavailable(self) -> str | None:
         missing = [tool for tool in TOOLS if shutil.which(tool) is None]
         if missing:
-            return (f"{', '.join(missing)} not found: install Debian's pcl-tools (apt-get install pcl-tools, "
-                    "or bash scripts/setup.sh --baselines)")
+            return (
+                f"{', '.join(missing)} not found: install Debian's pcl-tools (apt-get install pcl-tools, "
+                "or bash scripts/setup.sh --baselines)"
+            )
         return None
 
     def compute(self, work, spec: DescriptorSpec, **context):
@@ -72,17 +76,21 @@ class VFH(HistogramKind):
         if reason is not None:
             raise ViewError(f"{view.name}: no vfh here: {reason}")
         self.check_points(view)
-        with tempfile.TemporaryDirectory(prefix="heatdata-vfh-") as folder:
-            folder = Path(folder)
+        with tempfile.TemporaryDirectory(prefix="heatdata-vfh-") as temporary:
+            folder = Path(temporary)
             write_pcd(folder / "view.pcd", view.vertices)
-            _run([TOOLS[0], str(folder / "view.pcd"), str(folder / "normals.pcd"), "-radius",
-                  f"{spec.normal_radius:g}"], view.name)
+            _run(
+                [TOOLS[0], str(folder / "view.pcd"), str(folder / "normals.pcd"), "-radius", f"{spec.normal_radius:g}"],
+                view.name,
+            )
             _run([TOOLS[1], str(folder / "normals.pcd"), str(folder / "vfh.pcd")], view.name)
             values = read_vfh(folder / "vfh.pcd")
         if values.shape != (self.bins,) or not np.all(np.isfinite(values)) or not values.any():
-            raise ViewError(f"{view.name}: PCL gave an empty or malformed VFH ({values.shape[0]} values, sum "
-                            f"{np.nansum(values):g}); are there normals within normal_radius = "
-                            f"{spec.normal_radius:g} m?")
+            raise ViewError(
+                f"{view.name}: PCL gave an empty or malformed VFH ({values.shape[0]} values, sum "
+                f"{np.nansum(values):g}); are there normals within normal_radius = "
+                f"{spec.normal_radius:g} m?"
+            )
         return [self.histogram(spec, values, view)]
 
 

@@ -12,10 +12,17 @@ import logging
 
 import numpy as np
 
-from ..errors import SpectrumError, ViewError
-from ..spectrum import HeatOperator, Spectrum, eigen_spectrum, krylov_heat, lambda2, laplacian
-from ..view import View
-from .boundary import color_rates, source_vertex
+from heatdata.core.spectrum import (
+    HeatOperator,
+    Spectrum,
+    eigen_spectrum,
+    krylov_heat,
+    lambda2,
+    laplacian,
+)
+from heatdata.descriptors.boundary import color_rates, source_vertex
+from heatdata.errors import SpectrumError, ViewError
+from heatdata.views.view import View
 
 log = logging.getLogger(__name__)
 
@@ -25,8 +32,10 @@ WEIGHT_MODES = 16  # eigenpairs for the global derivative; doubled while the tru
 def heat_operator(view: View, rates: np.ndarray | None = None) -> HeatOperator:
     """The :class:`HeatOperator` of a connected view."""
     if view.n_components > 1:
-        raise ViewError(f"{view.name}: {view.n_components} connected components; "
-                        "take one with view.component_of(vertex) or view.largest_component()")
+        raise ViewError(
+            f"{view.name}: {view.n_components} connected components; "
+            "take one with view.component_of(vertex) or view.largest_component()"
+        )
     return HeatOperator(laplacian(view.vertices, view.edges, view.name), rates, view.name)
 
 
@@ -40,8 +49,9 @@ def checked_times(times, what: str) -> tuple:
     return tuple(float(t) for t in values)
 
 
-def heat_kernel(view: View, source: int | str = "closest", times=None, *, color_map=None,
-                tol: float = 1e-7) -> np.ndarray:
+def heat_kernel(
+    view: View, source: int | str = "closest", times=None, *, color_map=None, tol: float = 1e-7
+) -> np.ndarray:
     """Temperatures over the whole view after a unit pulse at ``source`` (eq. 2.5-2.6, 2.11).
 
     Parameters
@@ -92,26 +102,33 @@ class ViewWork:
 
     def largest(self) -> View:
         """The view's largest connected component (the view itself when it has one), for kinds without a source."""
-        return self.cached(("largest",), lambda: self.view if self.view.n_components == 1 else
-                           self.view.largest_component())
+        return self.cached(
+            ("largest",), lambda: self.view if self.view.n_components == 1 else self.view.largest_component()
+        )
 
     def normals(self) -> np.ndarray:
         """(n, 3) unit vertex normals of the view's mesh (area-weighted face normals), facing the camera."""
+
         def compute():
             import open3d as o3d
 
-            mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(np.array(self.view.vertices, np.float64)),
-                                             o3d.utility.Vector3iVector(self.view.faces.astype(np.int32)))
+            mesh = o3d.geometry.TriangleMesh(
+                o3d.utility.Vector3dVector(np.array(self.view.vertices, np.float64)),
+                o3d.utility.Vector3iVector(self.view.faces.astype(np.int32)),
+            )
             normals = np.asarray(mesh.compute_vertex_normals().vertex_normals, dtype=np.float64)
             facing_away = np.einsum("ij,ij->i", normals, self.view.vertices) > 0  # camera at the origin
             normals[facing_away] *= -1.0
             return normals
+
         return self.cached(("normals",), compute)
 
     def operator(self, connected: View, color_map) -> HeatOperator:
         color = color_map if isinstance(color_map, (str, type(None))) else id(color_map)
-        return self.cached(("op", id(connected), color), lambda: heat_operator(
-            connected, None if color_map is None else color_rates(connected, color_map)))
+        return self.cached(
+            ("op", id(connected), color),
+            lambda: heat_operator(connected, None if color_map is None else color_rates(connected, color_map)),
+        )
 
     def shifted(self, op: HeatOperator, sigma: float) -> HeatOperator:
         """``op`` factorized at shift ``sigma`` (:meth:`HeatOperator.shifted`), once per view."""
@@ -126,19 +143,23 @@ class ViewWork:
                 if key[0] == "spectrum" and key[1] == id(op):
                     return value.lambda2
             return self.spectrum(op, self.modes).lambda2 if self.method == "eigen" else lambda2(op)
+
         return self.cached(("lambda2", id(op)), compute)
 
     def heat(self, op: HeatOperator, source: int, times: tuple, boundary: np.ndarray) -> np.ndarray:
         """(len(times), b) normalized boundary temperatures."""
+
         def compute():
             if self.method == "eigen":
                 spectrum = self.spectrum(op, self.modes)
-                return np.stack([spectrum.heat([source], t, at=boundary)[0] for t in times])
+                return np.stack([spectrum.heat(np.array([source]), t, at=boundary)[0] for t in times])
             return krylov_heat(op, source, np.asarray(times), at=boundary)
+
         return self.cached(("heat", id(op), source, times), compute)
 
     def global_derivative(self, op: HeatOperator, at: np.ndarray, time: float | None = None) -> np.ndarray:
         """Eq. 5.12 at vertices ``at``, at ``time`` (default t_global = 1/lambda_2), with enough modes."""
+
         def compute():
             modes = WEIGHT_MODES
             while True:
@@ -148,7 +169,7 @@ class ViewWork:
                 except SpectrumError:
                     if modes >= op.n - 2:
                         raise
-                    log.info("%s: the global derivative needs more than %d modes; trying %d",
-                             op.name, modes, 2 * modes)
+                    log.info("%s: the global derivative needs more than %d modes; trying %d", op.name, modes, 2 * modes)
                     modes = min(2 * modes, op.n - 2)
+
         return self.cached(("derivative", id(op), id(at), time), compute)

@@ -3,7 +3,11 @@
 import jsonschema
 import yaml
 from snakemake.exceptions import WorkflowError
+from snakemake.logging import logger
 from snakemake.utils import validate
+
+from heatdata.errors import ConfigError
+from heatdata.experiments.config import accept_aliases
 
 SCHEMA = yaml.safe_load(open(workflow.source_path("../schemas/config.schema.yaml")))
 
@@ -24,6 +28,11 @@ def typed(value, schema):
     return value
 
 
+try:
+    for note in accept_aliases(config):  # the old spellings, renamed with a warning
+        logger.warning(note)
+except ConfigError as exc:
+    raise WorkflowError(f"config error: {exc}") from None
 config.update(typed(dict(config), SCHEMA))
 try:
     validate(config, "../schemas/config.schema.yaml")

@@ -1,4 +1,5 @@
 """Write the catalogue this run uses, model files as absolute paths (rule catalog)."""
+
 import io
 from pathlib import Path
 

@@ -1,9 +1,14 @@
 """Nearest-neighbour predictions of one descriptor for one library size (rule classify)."""
+
+from heatdata.io.tables import PREDICTION_SCHEMA, read_metadata, write_table
 from heatdata.log import setup_logging
-from heatdata.evaluate import evaluate_table
-from heatdata.tables import PREDICTION_SCHEMA, read_metadata, write_table
+from heatdata.recognition.evaluate import evaluate_table
 
 setup_logging(path=snakemake.log[0])
-predictions = evaluate_table(snakemake.input[0], snakemake.params.descriptor, [int(snakemake.wildcards.size)],
-                             time_rule=snakemake.params.time_rule)
+predictions = evaluate_table(
+    snakemake.input[0],
+    snakemake.params.descriptor,
+    [int(snakemake.wildcards.size)],
+    time_rule=snakemake.params.time_rule,
+)
 write_table(predictions, snakemake.output[0], PREDICTION_SCHEMA, read_metadata(snakemake.input[0]))

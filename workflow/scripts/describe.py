@@ -1,11 +1,12 @@
 """Describe one object's views (rule describe); FT-PVHK at the objects' time scales, fitted kinds as fitted."""
+
 import pandas as pd
 from threadpoolctl import threadpool_limits
 
-from heatdata.dataset import describe_view_table, load_fitted
 from heatdata.descriptors import DescriptorSpec
+from heatdata.experiments.describe import describe_view_table, load_fitted
+from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
 from heatdata.log import setup_logging
-from heatdata.tables import DESCRIPTOR_SCHEMA, read_table, write_table
 
 setup_logging(path=snakemake.log[0])
 views, meta = read_table(snakemake.input.views)

@@ -1,9 +1,10 @@
 """All predictions of the run and their precision table (rule evaluate)."""
+
 import pandas as pd
 
+from heatdata.io.tables import PREDICTION_SCHEMA, read_table, write_table
 from heatdata.log import setup_logging
-from heatdata.evaluate import precision_table
-from heatdata.tables import PREDICTION_SCHEMA, read_table, write_table
+from heatdata.recognition.metrics import precision_table
 
 setup_logging(path=snakemake.log[0])
 parts = [read_table(path) for path in snakemake.input]

@@ -1,11 +1,12 @@
 """Render one object's views (rule render)."""
+
 import json
 
 from threadpoolctl import threadpool_limits
 
+from heatdata.experiments.views import render_object_views
+from heatdata.io.tables import VIEW_SCHEMA, write_table
 from heatdata.log import setup_logging
-from heatdata.dataset import render_object_views
-from heatdata.tables import VIEW_SCHEMA, write_table
 
 setup_logging(path=snakemake.log[0])
 with threadpool_limits(snakemake.threads):

@@ -1,10 +1,11 @@
 """One object's time scale for each FT-PVHK descriptor, from its library views (rule time_scale, Alg. 5.1)."""
+
 from threadpoolctl import threadpool_limits
 
-from heatdata.log import setup_logging
-from heatdata.dataset import view_table_time_scales
 from heatdata.descriptors import DescriptorSpec
-from heatdata.tables import read_table
+from heatdata.experiments.describe import view_table_time_scales
+from heatdata.io.tables import read_table
+from heatdata.log import setup_logging
 
 setup_logging(path=snakemake.log[0])
 views, _ = read_table(snakemake.input[0])

@@ -1,0 +1,330 @@
+"""View sets: which views of which objects to render, and their descriptor rows (thesis 3.3-3.4).
+
+A view plan lists, per object, the training views (the library, evenly spaced in
+azimuth) and the test views (offset by half a test step, so no test view repeats a
+library angle), each with its own noise seed derived from the object id, split and
+index - the same plan always renders the same views.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+import pandas as pd
+
+from heatdata.descriptors import (
+    CANDIDATES_RULE,
+    Descriptor,
+    DescriptorSpec,
+    describe,
+    fit_spec,
+    object_time_scale,
+    source_vertex,
+)
+from heatdata.descriptors.heat import color_name
+from heatdata.descriptors.sources import candidate_descriptors, candidate_sources
+from heatdata.errors import HeatdataError, SpectrumError, ViewError
+from heatdata.experiments.views import render_views
+from heatdata.io.models import Model
+from heatdata.views.view import View
+
+log = logging.getLogger(__name__)
+
+
+def _ft_times(
+    view: View, split: str, specs: list[DescriptorSpec], time_scales: pd.DataFrame | None
+) -> dict[str, pd.Series]:
+    """Per time-scaled spec (ft-pvhk), the times to describe ``view`` at, indexed by the object they belong to.
+
+    A library view is described at its own object's time scale; a test view, whose object
+    is unknown, at every object's (Alg. 5.2 compares it with each object's library at
+    that object's time).
+    """
+    names = [s.name for s in specs if s.impl.time_scaled]
+    if not names:
+        return {}
+    if time_scales is None:
+        raise HeatdataError(f"{', '.join(names)} need(s) the objects' time scales (Alg. 5.1, time_scale_table)")
+    times = {}
+    for name in names:
+        scales = time_scales[time_scales["descriptor"] == name].set_index("object")["time_scale"]
+        if split == "train":
+            if view.object_id not in scales.index:
+                raise HeatdataError(f"{view.name}: no time scale of object {view.object_id!r} for {name}")
+            scales = scales.loc[[view.object_id]]
+        if scales.empty:
+            raise HeatdataError(f"no time scales for {name}")
+        times[name] = scales
+    return times
+
+
+def _describe_each(view: View, specs: list[DescriptorSpec], times: dict) -> list[Descriptor]:
+    """:func:`describe`, but a spec that fails on this view (e.g. a PVST whose source lies on the
+    boundary, a heat solve that does not converge) gives NaN descriptors with the reason in
+    ``repairs`` instead of stopping a batch."""
+    try:
+        return describe(view, specs, times=times)
+    except (ViewError, SpectrumError):
+        pass
+    results = []
+    for spec in specs:
+        try:
+            results += describe(view, [spec], times=times)
+        except (ViewError, SpectrumError) as exc:
+            log.warning("%s: %s failed: %s", view.name, spec.name, exc)
+            results += [
+                _failed(spec, spec.impl.size(spec, view), float(t), f"{spec.name} failed: {exc}")
+                for t in np.atleast_1d(times.get(spec.name, np.nan))
+            ]
+    return results
+
+
+def _failed(spec: DescriptorSpec, count: int, time: float, reason: str) -> Descriptor:
+    """The NaN descriptor of a view ``spec`` could not describe, with ``reason`` in its repairs."""
+    nan = np.full(count, np.nan)
+    return Descriptor(
+        kind=spec.kind,
+        values=nan,
+        positions=nan,
+        source=-1,
+        time=time,
+        lambda2=np.nan,
+        sampling=spec.get("sampling"),
+        color_map=color_name(spec.get("color_map")),
+        repairs=(reason,),
+    )
+
+
+def _row(view: View, planned, spec: DescriptorSpec, d: Descriptor, seconds: float, time_object: str = "") -> dict:
+    """One :data:`heatdata.io.tables.DESCRIPTOR_SCHEMA` row; boundary columns are null for kinds without them."""
+    boundary = "sampling" in spec.options
+    return {
+        "object": view.object_id,
+        "label": view.label,
+        "view_id": view.view_id,
+        "split": planned.split,
+        "azimuth": view.azimuth,
+        "elevation": view.elevation,
+        "distance": view.distance,
+        "seed": planned.seed,
+        "n_vertices": view.n_vertices,
+        "n_boundary": len(view.boundary),
+        "descriptor": spec.name,
+        "kind": spec.kind,
+        "sampling": spec.get("sampling"),
+        "source_rule": str(spec.source) if boundary else None,
+        "color_map": d.color_map or ("" if boundary else None),
+        "source": d.source,
+        "time": d.time,
+        "time_object": time_object,
+        "lambda2": d.lambda2,
+        "t_global": 1.0 / d.lambda2,
+        "values": d.values.tolist(),
+        "positions": d.positions.tolist(),
+        "weights": None if d.weights is None else d.weights.tolist(),
+        "repairs": list(view.repairs) + list(d.repairs),
+        "seconds": seconds,
+    }
+
+
+def candidate_rows(
+    views: list[View],
+    plan: pd.DataFrame,
+    spec: DescriptorSpec,
+    *,
+    library_count: int | None = 250,
+    test_count: int | None = None,
+    progress_every: int = 40,
+) -> pd.DataFrame:
+    """Descriptors from many candidate sources per view, and from the spec's own source rule (thesis 6.2).
+
+    Every view gets one row per candidate source (descriptor name with source
+    ``candidates``, e.g. ``pvhk/polar/candidates/64``) and one row for ``spec``'s own
+    rule (the initial library of 6.4, e.g. ``pvhk/polar/center/64``), all from one
+    eigen-decomposition (:func:`heatdata.candidate_descriptors`). Library views take
+    ``library_count`` candidates by mesh simplification, test views ``test_count``
+    (None: every vertex off the outline, as in the thesis). A view that cannot be
+    described gets one NaN candidate row with the reason in ``repairs``.
+    """
+    if len(views) != len(plan):
+        raise HeatdataError(f"{len(views)} views but {len(plan)} plan rows")
+    multi = spec.replace(source=CANDIDATES_RULE)
+    rows = []
+    start = time.perf_counter()
+    for count, (view, planned) in enumerate(zip(views, plan.itertuples(), strict=True), 1):
+        tic = time.perf_counter()
+        try:
+            sources = candidate_sources(view, library_count if planned.split == "train" else test_count)
+            own = source_vertex(view, spec.source)
+            described = candidate_descriptors(view, np.append(sources, own), spec)
+        except (ViewError, SpectrumError) as exc:
+            log.warning("%s: candidate descriptors failed: %s", view.name, exc)
+            failed = _failed(spec, spec.impl.size(spec, view), np.nan, f"candidate descriptors failed: {exc}")
+            rows.append(_row(view, planned, multi, failed, time.perf_counter() - tic))
+            continue
+        seconds = (time.perf_counter() - tic) / len(described)
+        rows += [_row(view, planned, multi, d, seconds) for d in described[:-1]]
+        rows.append(_row(view, planned, spec, described[-1], seconds))
+        if count % progress_every == 0 or count == len(views):
+            log.info(
+                "%s: %d/%d views described from %d candidate sources (%.1f s)",
+                view.object_id,
+                count,
+                len(views),
+                len(described) - 1,
+                time.perf_counter() - start,
+            )
+    return pd.DataFrame(rows)
+
+
+def descriptor_rows(
+    views: list[View],
+    plan: pd.DataFrame,
+    specs: list[DescriptorSpec],
+    *,
+    time_scales: pd.DataFrame | None = None,
+    progress_every: int = 40,
+) -> pd.DataFrame:
+    """Descriptors of ``specs`` for each view; ``plan`` gives each view's split and seed, in order.
+
+    ``time_scales`` (rows of :func:`time_scale_table` for every object) is needed for
+    ``ft-pvhk`` specs: a library view gets one row at its object's time scale, a test
+    view one row per object (column ``time_object``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per view x descriptor (x time object), columns of
+        :data:`heatdata.io.tables.DESCRIPTOR_SCHEMA`.
+    """
+    if len(views) != len(plan):
+        raise HeatdataError(f"{len(views)} views but {len(plan)} plan rows")
+    rows = []
+    start = time.perf_counter()
+    for count, (view, planned) in enumerate(zip(views, plan.itertuples(), strict=True), 1):
+        tic = time.perf_counter()
+        ft_times = _ft_times(view, planned.split, specs, time_scales)
+        descriptors = _describe_each(view, specs, {name: t.to_numpy() for name, t in ft_times.items()})
+        seconds = (time.perf_counter() - tic) / len(descriptors)
+        labelled = [
+            (spec, obj) for spec in specs for obj in (ft_times[spec.name].index if spec.impl.time_scaled else [""])
+        ]
+        for (spec, time_object), d in zip(labelled, descriptors, strict=True):
+            rows.append(_row(view, planned, spec, d, seconds, time_object))
+        if count % progress_every == 0 or count == len(views):
+            log.info(
+                "%s: %d/%d views described (%.1f s)", view.object_id, count, len(views), time.perf_counter() - start
+            )
+    return pd.DataFrame(rows)
+
+
+def time_scale_table(views: list[View], plan: pd.DataFrame, specs: list[DescriptorSpec]) -> pd.DataFrame:
+    """The time scale of each object for each ``ft-pvhk`` spec (Alg. 5.1, from the library views).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``object, descriptor, source_rule, time_scale, n_views``; no rows without
+        an ft-pvhk spec.
+    """
+    library: dict[str, list[View]] = {}
+    for view, planned in zip(views, plan.itertuples(), strict=True):
+        if planned.split == "train":
+            library.setdefault(view.object_id, []).append(view)
+    rows, scales = [], {}
+    for spec in specs:
+        if not spec.impl.time_scaled:
+            continue
+        for obj, object_views in library.items():
+            key = (obj, str(spec.source))
+            if key not in scales:
+                scales[key] = object_time_scale(object_views, spec.source)
+            rows.append(
+                {
+                    "object": obj,
+                    "descriptor": spec.name,
+                    "source_rule": str(spec.source),
+                    "time_scale": scales[key],
+                    "n_views": len(object_views),
+                }
+            )
+    return pd.DataFrame(rows, columns=["object", "descriptor", "source_rule", "time_scale", "n_views"])
+
+
+def describe_object(
+    model: Model, plan: pd.DataFrame, specs: list[DescriptorSpec], *, noise: bool = True
+) -> pd.DataFrame:
+    """Render the planned views of ``model`` and describe them (see :func:`descriptor_rows`)."""
+    return descriptor_rows(render_views(model, plan, noise=noise), plan, specs)
+
+
+def describe_view_table(
+    frame: pd.DataFrame, specs: list[DescriptorSpec], time_scales: pd.DataFrame | None = None
+) -> pd.DataFrame:
+    """Workflow step: descriptor rows of the views of a :data:`VIEW_SCHEMA` frame."""
+    from heatdata.views.frames import frame_to_views
+
+    return descriptor_rows(frame_to_views(frame), frame[["split", "seed"]], specs, time_scales=time_scales)
+
+
+def candidate_view_table(
+    frame: pd.DataFrame, spec: DescriptorSpec, *, library_count: int | None, test_count: int | None
+) -> pd.DataFrame:
+    """Workflow step: :func:`candidate_rows` of the views of a :data:`VIEW_SCHEMA` frame."""
+    from heatdata.views.frames import frame_to_views
+
+    return candidate_rows(
+        frame_to_views(frame), frame[["split", "seed"]], spec, library_count=library_count, test_count=test_count
+    )
+
+
+def view_table_time_scales(frame: pd.DataFrame, specs: list[DescriptorSpec]) -> pd.DataFrame:
+    """Workflow step: :func:`time_scale_table` of the library views of a :data:`VIEW_SCHEMA` frame."""
+    from heatdata.views.frames import frame_to_views
+
+    library = frame[frame["split"] == "train"]
+    return time_scale_table(frame_to_views(library), library[["split"]], specs)
+
+
+FIT_VIEWS_PER_OBJECT = 10  # library views per object a fitted kind (SI-HKS's codebook) learns from
+
+
+def fit_view_tables(
+    frames: list[pd.DataFrame], spec: DescriptorSpec, *, per_object: int = FIT_VIEWS_PER_OBJECT
+) -> DescriptorSpec:
+    """Workflow step: fit ``spec`` on up to ``per_object`` library views of each object, evenly spaced in azimuth.
+
+    ``frames`` are :data:`VIEW_SCHEMA` tables (one per object); only ``split = "train"`` rows are used.
+    """
+    from heatdata.recognition.evaluate import library_subset
+    from heatdata.views.frames import frame_to_views
+
+    views = []
+    for frame in frames:
+        library = frame[frame["split"] == "train"]
+        if library.empty:
+            continue
+        count = min(per_object, library["azimuth"].nunique())
+        views += frame_to_views(library_subset(library, count).sort_values("azimuth"))
+    log.info("fitting %s on %d library views (%d per object at most)", spec.name, len(views), per_object)
+    return fit_spec(spec, views)
+
+
+def save_fitted(spec: DescriptorSpec, path) -> None:
+    """What a fitted spec learned, as a ``.npz`` of its named arrays."""
+    np.savez(path, **spec.fitted)
+
+
+def load_fitted(specs: list[DescriptorSpec], paths: dict) -> list[DescriptorSpec]:
+    """``specs`` with the fitted kinds' learned arrays read from ``paths`` (spec name -> ``.npz``)."""
+    out = []
+    for spec in specs:
+        if spec.impl.fitted:
+            if spec.name not in paths:
+                raise HeatdataError(f"{spec.name} must be fitted on the library views first (no fitted file given)")
+            with np.load(paths[spec.name]) as arrays:
+                spec = spec.with_fitted({k: arrays[k] for k in arrays.files})
+        out.append(spec)
+    return out

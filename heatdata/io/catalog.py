@@ -1,0 +1,196 @@
+"""Model catalogues: a CSV listing objects with their class, file and real size.
+
+Both the embedded default data (``data/models/catalog.csv``) and any Sweet Home 3D
+furniture library imported with :func:`import_sh3f` are described by the same table,
+so the rest of heatdata reads models one way:
+
+============  =====================================================================
+column        meaning
+============  =====================================================================
+object        stable object identifier (unique in the catalogue)
+label         object class used for recognition (e.g. ``mug``)
+file          model file, relative to the catalogue's folder
+width         real size along the model's x axis, metres (empty: file units are m)
+height        real size along y (up), metres
+depth         real size along z, metres
+rotation      optional 9 numbers (row-major 3x3) applied before scaling
+scale         optional factor from file units to metres when no size is given
+hue           optional degrees by which the model's colours are turned (a colour twin, 3.4)
+name          human-readable name
+source        where the model came from (library and creator)
+licence       licence of the model
+============  =====================================================================
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, overload
+
+import numpy as np
+import pandas as pd
+
+from heatdata.errors import ModelError
+from heatdata.io.models import SUPPORTED_SUFFIXES, Model, hue_rotated, load_model
+
+CATALOG_COLUMNS = [
+    "object",
+    "label",
+    "file",
+    "width",
+    "height",
+    "depth",
+    "rotation",
+    "name",
+    "source",
+    "licence",
+    "scale",
+    "hue",
+]
+
+
+SH3F_LICENCES = {"blendswap-cc-0": "CC0-1.0"}
+
+
+def embedded_catalog() -> Path:
+    """The catalogue of the embedded CC0 models: ``data/models/`` of the repository, or of an installed wheel.
+
+    A wheel ships the repository's ``data/`` folder as ``heatdata/embedded/`` (pyproject.toml).
+    """
+    package = Path(__file__).resolve().parents[1]
+    for folder in (package / "embedded", package.parent / "data"):
+        if (folder / "models" / "catalog.csv").is_file():
+            return folder / "models" / "catalog.csv"
+    raise ModelError(f"no embedded models next to {package} (expected embedded/models/ or ../data/models/)")
+
+
+def read_catalog(path: str | Path) -> pd.DataFrame:
+    """Read and check a catalogue CSV.
+
+    Raises
+    ------
+    ModelError
+        The file is missing, lacks a column, has duplicate object ids, or names a model
+        file that does not exist.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ModelError(f"{path}: no such catalogue")
+    table = pd.read_csv(path, dtype={"object": str, "label": str, "file": str, "rotation": str}, keep_default_na=False)
+    missing = [c for c in ("object", "label", "file") if c not in table.columns]
+    if missing:
+        raise ModelError(f"{path}: catalogue lacks column(s) {', '.join(missing)}")
+    duplicated = table["object"][table["object"].duplicated()].tolist()
+    if duplicated:
+        raise ModelError(f"{path}: duplicate object id(s) {duplicated}")
+    for column in CATALOG_COLUMNS:
+        if column not in table.columns:
+            table[column] = ""
+    table["path"] = [str(path.parent / f) for f in table["file"]]
+    return table
+
+
+def catalog_from_folder(models_dir: str | Path, scale: float = 1.0) -> pd.DataFrame:
+    """A catalogue of a folder of meshes: one file per object, the class is the subfolder name.
+
+    ``models_dir/mugs/red.obj`` becomes object ``mugs-red`` of class ``mugs``; files
+    directly in ``models_dir`` get the class ``unlabelled``. File units times ``scale``
+    are metres.
+
+    Raises
+    ------
+    ModelError
+        The folder does not exist or holds no supported mesh file.
+    """
+    root = Path(models_dir)
+    if not root.is_dir():
+        raise ModelError(f"{root}: no such models folder")
+    files = sorted(p for p in root.rglob("*") if p.suffix.lower() in SUPPORTED_SUFFIXES and p.is_file())
+    if not files:
+        raise ModelError(f"{root}: no mesh files ({', '.join(SUPPORTED_SUFFIXES)}) in the models folder")
+    rows = []
+    for path in files:
+        relative = path.relative_to(root)
+        label = relative.parts[0] if len(relative.parts) > 1 else "unlabelled"
+        rows.append(
+            {
+                "object": f"{label}-{path.stem}" if label != "unlabelled" else path.stem,
+                "label": label,
+                "file": str(relative),
+                "width": "",
+                "height": "",
+                "depth": "",
+                "rotation": "",
+                "name": path.stem,
+                "source": str(path),
+                "licence": "",
+                "scale": scale,
+            }
+        )
+    table = pd.DataFrame(rows)
+    duplicated = table["object"][table["object"].duplicated()].tolist()
+    if duplicated:
+        raise ModelError(f"{root}: object names repeat ({duplicated}); give the files distinct names")
+    table["path"] = [str(root / f) for f in table["file"]]
+    return table
+
+
+@overload
+def _number(value: Any, default: float) -> float: ...
+
+
+@overload
+def _number(value: Any, default: None = None) -> float | None: ...
+
+
+def _number(value: Any, default: float | None = None) -> float | None:
+    """A catalogue cell as a float; empty or NaN cells give ``default``."""
+    if value is None or str(value).strip() in ("", "nan", "NaN"):
+        return default
+    return float(value)
+
+
+def load_catalog_model(row: pd.Series | dict) -> Model:
+    """Load the model of one catalogue row, scaled to its real size."""
+    width = _number(row.get("width"))
+    size = None if width is None else (width, float(row["height"]), float(row["depth"]))
+    rotation = None
+    if str(row.get("rotation", "")).strip():
+        rotation = np.array([float(x) for x in str(row["rotation"]).split()]).reshape(3, 3)
+    model = load_model(
+        row["path"],
+        size=size,
+        scale=_number(row.get("scale"), 1.0),
+        rotation=rotation,
+        name=row["object"],
+        label=row["label"],
+    )
+    hue = _number(row.get("hue"), 0.0)
+    return hue_rotated(model, hue, name=row["object"]) if hue % 360 else model
+
+
+def color_twins(catalog: pd.DataFrame, objects: list[str], degrees: float) -> pd.DataFrame:
+    """Catalogue rows of colour twins (thesis 3.4): each of ``objects`` with its colours turned by ``degrees``.
+
+    A twin is object ``<object>-hue<degrees>``, of the same class, file and size; only its
+    colour tells it from the original (:func:`heatdata.io.models.hue_rotated`, applied by
+    :func:`load_catalog_model`).
+
+    Raises
+    ------
+    ModelError
+        An object is not in the catalogue, the turn is a whole number of turns, or a twin's id is taken.
+    """
+    missing = sorted(set(objects) - set(catalog["object"]))
+    if missing:
+        raise ModelError(f"colour twins of {missing}: not in the catalogue")
+    if not np.isfinite(degrees) or degrees % 360 == 0:
+        raise ModelError(f"a colour twin needs a hue turn that is not a whole number of turns, got {degrees}")
+    twins = catalog[catalog["object"].isin(objects)].copy()
+    twins["name"] = [f"{n or o}, hue turned {degrees:g} degrees" for n, o in zip(twins["name"], twins["object"])]
+    twins["object"] = [f"{o}-hue{degrees:g}" for o in twins["object"]]
+    twins["hue"] = degrees
+    taken = sorted(set(twins["object"]) & set(catalog["object"]))
+    if taken:
+        raise ModelError(f"colour twins {taken}: object ids already in the catalogue")
+    return twins

@@ -1,0 +1,360 @@
+"""3D models: loading OBJ/MTL/textures, PLY, STL, OFF and GLB into one in-memory form.
+
+A :class:`Model` is a triangle mesh in metres with everything the renderer needs to
+colour a ray hit: per-face-corner colours for untextured faces and per-face-corner
+texture coordinates plus texture images for textured ones. Files are parsed with
+trimesh; this module only gathers its scene graph into flat arrays and scales the
+result to real size (thesis 2.1: partial views are measured in the sensor's metres).
+
+The model frame is the file's own, with +y up (the OBJ and Sweet Home 3D convention).
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+from heatdata.errors import ModelError, StitchError
+
+log = logging.getLogger(__name__)
+
+SUPPORTED_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
+DEFAULT_GREY = (0.7, 0.7, 0.7)
+
+
+@dataclass
+class Model:
+    """A coloured triangle mesh in metres.
+
+    Attributes
+    ----------
+    name : str
+        Object identifier (stable string).
+    vertices : (n, 3) float64
+        Vertex positions in metres, model frame (+y up).
+    faces : (m, 3) int64
+        Triangles as vertex indices.
+    corner_colors : (m, 3, 3) float32
+        RGB in [0, 1] at each corner of each face; used where a face has no texture.
+    corner_uv : (m, 3, 2) float32
+        Texture coordinates at each face corner (meaningful where ``face_texture >= 0``).
+    face_texture : (m,) int32
+        Index into ``textures`` per face, -1 for untextured faces.
+    textures : list of (h, w, 3) float32
+        Texture images, RGB in [0, 1], row 0 at the top of the image.
+    label : str
+        Object class (e.g. ``"mug"``).
+    source : str
+        The file the model was read from.
+    repairs : list of str
+        What loading could not use, e.g. a texture that is missing or outside the model's
+        folder (the Kd colour stands in); every view rendered from the model carries them.
+    """
+
+    name: str
+    vertices: np.ndarray
+    faces: np.ndarray
+    corner_colors: np.ndarray
+    corner_uv: np.ndarray
+    face_texture: np.ndarray
+    textures: list = field(default_factory=list)
+    label: str = ""
+    source: str = ""
+    repairs: list = field(default_factory=list)
+
+    @classmethod
+    def untextured(cls, name: str, vertices: np.ndarray, faces: np.ndarray, colors=DEFAULT_GREY, **fields) -> Model:
+        """A model without textures: ``colors`` one RGB for every face, or (m, 3, 3) per face corner; ``fields``:
+        the other attributes (``label``, ``source``, ...)."""
+        faces = np.asarray(faces, np.int64)
+        corner_colors = np.broadcast_to(np.asarray(colors, np.float32), (len(faces), 3, 3)).copy()
+        return cls(
+            name=name,
+            vertices=np.asarray(vertices, np.float64),
+            faces=faces,
+            corner_colors=corner_colors,
+            corner_uv=np.zeros((len(faces), 3, 2), np.float32),
+            face_texture=np.full(len(faces), -1, np.int32),
+            **fields,
+        )
+
+    @property
+    def extents(self) -> np.ndarray:
+        """(3,) float64: bounding-box size along x, y, z in metres."""
+        return self.vertices.max(axis=0) - self.vertices.min(axis=0)
+
+    @property
+    def center(self) -> np.ndarray:
+        """(3,) float64: bounding-box centre."""
+        return 0.5 * (self.vertices.max(axis=0) + self.vertices.min(axis=0))
+
+
+def _image_to_array(image) -> np.ndarray | None:
+    if image is None:
+        return None
+    array = np.asarray(image.convert("RGB"), dtype=np.float32) / 255.0
+    return array if array.size else None
+
+
+def _material_color_and_texture(visual) -> tuple[np.ndarray, np.ndarray | None]:
+    """Base RGB colour and texture image of a trimesh TextureVisuals material."""
+    material = getattr(visual, "material", None)
+    if material is None:
+        return np.array(DEFAULT_GREY), None
+    if isinstance(material, trimesh.visual.material.PBRMaterial):
+        factor = material.baseColorFactor
+        color = np.asarray(factor[:3], float) / 255.0 if factor is not None else np.array(DEFAULT_GREY)
+        return color, _image_to_array(material.baseColorTexture)
+    diffuse = getattr(material, "diffuse", None)
+    color = np.asarray(diffuse[:3], float) / 255.0 if diffuse is not None else np.array(DEFAULT_GREY)
+    return color, _image_to_array(getattr(material, "image", None))
+
+
+class _FolderResolver(trimesh.resolvers.FilePathResolver):
+    """trimesh's file resolver, confined to the model's folder: a model file, its MTL and texture names
+    are untrusted input, so a name that leads outside the folder (``../``, an absolute path, a link)
+    is refused, and every refused or missing file is noted for the model's repairs."""
+
+    def __init__(self, path: Path):
+        super().__init__(str(path))
+        self.root = Path(self.parent).resolve()
+        self.notes: list[str] = []
+
+    def get(self, name: str):
+        clean = name.strip()
+        target = (self.root / clean).resolve()
+        if not target.is_relative_to(self.root):
+            self.notes.append(f"refused {clean!r}: it is outside the model's folder")
+            raise OSError(self.notes[-1])
+        if not target.is_file():
+            self.notes.append(f"missing {clean!r} in the model's folder")
+            raise OSError(self.notes[-1])
+        return target.read_bytes()
+
+
+def _read_scene(path: Path) -> tuple[trimesh.Scene, list[str]]:
+    """The file's scene and what its resolver refused or missed (MTL, textures)."""
+    resolver = _FolderResolver(path)
+    try:
+        loaded = trimesh.load(str(path), force="scene", process=False, resolver=resolver)
+    except Exception as exc:  # trimesh raises many types on corrupt input
+        raise ModelError(f"{path}: cannot read the model file ({type(exc).__name__}: {exc})") from exc
+    notes = [f"{path.name}: {note}; the material's colour is used instead" for note in dict.fromkeys(resolver.notes)]
+    for note in notes:
+        log.warning("%s", note)
+    return loaded, notes
+
+
+def load_model(
+    path: str | Path,
+    *,
+    size: tuple[float, float, float] | None = None,
+    scale: float = 1.0,
+    rotation: np.ndarray | None = None,
+    name: str | None = None,
+    label: str = "",
+    center: bool = True,
+) -> Model:
+    """Load a mesh file into a :class:`Model` in metres.
+
+    Parameters
+    ----------
+    path : str or Path
+        An OBJ (with MTL and textures), PLY, STL, OFF, GLB or glTF file.
+    size : (3,) float, optional
+        Real size (width along x, height along y, depth along z) in metres. The mesh is
+        scaled per axis to this bounding box, as Sweet Home 3D does with its catalogue sizes
+        (an axis along which the mesh is flat stays flat).
+    scale : float
+        Uniform factor from file units to metres, used when ``size`` is not given.
+    rotation : (3, 3) float, optional
+        Rotation applied before scaling (a Sweet Home 3D ``modelRotation``).
+    name, label : str
+        Object identifier (default: the file stem) and class.
+    center : bool
+        Move the bounding box's centre to the origin (default). False keeps the file's
+        frame (scaled), e.g. for scans whose frames are registered to each other.
+
+    Returns
+    -------
+    Model
+
+    Raises
+    ------
+    ModelError
+        The file does not exist, is of an unsupported type, cannot be parsed, or holds no
+        triangle.
+    """
+    path = Path(path)
+    if size is not None and (np.shape(size) != (3,) or not np.all(np.isfinite(size)) or np.any(np.asarray(size) < 0)):
+        raise ModelError(
+            f"{path}: size must be three finite lengths >= 0 in metres (a negative one mirrors the model), got {size}"
+        )
+    if not (np.isfinite(scale) and scale > 0):
+        raise ModelError(f"{path}: scale must be a positive number, got {scale}")
+    if not path.is_file():
+        raise ModelError(f"{path}: no such model file")
+    if path.suffix.lower() not in SUPPORTED_SUFFIXES:
+        raise ModelError(f"{path}: unsupported model type {path.suffix!r} (use one of {', '.join(SUPPORTED_SUFFIXES)})")
+    if path.stat().st_size == 0:
+        raise ModelError(f"{path}: the model file is empty")
+    scene, repairs = _read_scene(path)
+    meshes = [g for g in scene.dump(concatenate=False) if isinstance(g, trimesh.Trimesh) and len(g.faces)]
+    if not meshes:
+        raise ModelError(f"{path}: the model has no triangle faces")
+
+    parts: list[np.ndarray] = []
+    faces, colors, uvs, face_tex, textures = [], [], [], [], []
+    offset = 0
+    for mesh in meshes:
+        v = np.asarray(mesh.vertices, dtype=np.float64)
+        f = np.asarray(mesh.faces, dtype=np.int64)
+        n_faces = len(f)
+        corner_uv = np.zeros((n_faces, 3, 2), np.float32)
+        tex_index = -1
+        visual = mesh.visual
+        if isinstance(visual, trimesh.visual.texture.TextureVisuals):
+            color, image = _material_color_and_texture(visual)
+            corner = np.broadcast_to(color.astype(np.float32), (n_faces, 3, 3))
+            if image is not None and visual.uv is not None and len(visual.uv) == len(v):
+                textures.append(image)
+                tex_index = len(textures) - 1
+                corner_uv = np.asarray(visual.uv, np.float32)[f]
+        elif isinstance(visual, trimesh.visual.color.ColorVisuals) and visual.kind == "vertex":
+            corner = (np.asarray(visual.vertex_colors, np.float32)[:, :3] / 255.0)[f]
+        elif isinstance(visual, trimesh.visual.color.ColorVisuals) and visual.kind == "face":
+            rgb = np.asarray(visual.face_colors, np.float32)[:, :3] / 255.0
+            corner = np.repeat(rgb[:, None, :], 3, axis=1)
+        else:
+            corner = np.broadcast_to(np.array(DEFAULT_GREY, np.float32), (n_faces, 3, 3))
+        parts.append(v)
+        faces.append(f + offset)
+        colors.append(np.array(corner, np.float32))
+        uvs.append(corner_uv)
+        face_tex.append(np.full(n_faces, tex_index, np.int32))
+        offset += len(v)
+
+    vertices = np.concatenate(parts)
+    if not np.all(np.isfinite(vertices)):
+        raise ModelError(f"{path}: the model has NaN or infinite vertex coordinates")
+    if rotation is not None:
+        vertices = vertices @ np.asarray(rotation, float).T
+    if center:
+        vertices = vertices - 0.5 * (vertices.max(axis=0) + vertices.min(axis=0))
+    if size is not None:
+        extents = vertices.max(axis=0) - vertices.min(axis=0)
+        flat = extents <= 0  # a flat model keeps zero thickness; its other axes are scaled
+        vertices = vertices * np.where(flat, 1.0, np.asarray(size, float) / np.where(flat, 1.0, extents))
+    else:
+        vertices = vertices * scale
+    model = Model(
+        name=name or path.stem,
+        vertices=vertices,
+        faces=np.concatenate(faces),
+        corner_colors=np.concatenate(colors),
+        corner_uv=np.concatenate(uvs),
+        face_texture=np.concatenate(face_tex),
+        textures=textures,
+        label=label,
+        source=str(path),
+        repairs=repairs,
+    )
+    log.debug(
+        "loaded %s: %d vertices, %d faces, %d textures, extents %s m",
+        path,
+        len(model.vertices),
+        len(model.faces),
+        len(textures),
+        np.round(model.extents, 3),
+    )
+    return model
+
+
+def vertex_colors(model: Model) -> np.ndarray:
+    """(n, 3) RGB per vertex: the mean colour of its face corners (textured corners sample their texture)."""
+    colors = np.array(model.corner_colors, dtype=np.float64)
+    for t, image in enumerate(model.textures):
+        faces = np.flatnonzero(model.face_texture == t)
+        if len(faces):
+            uv = model.corner_uv[faces].reshape(-1, 2) % 1.0
+            h, w = image.shape[:2]
+            px = np.clip((uv[:, 0] * w).astype(int), 0, w - 1)
+            py = np.clip(((1.0 - uv[:, 1]) * h).astype(int), 0, h - 1)
+            colors[faces] = image[py, px].reshape(len(faces), 3, 3)
+    total = np.zeros((len(model.vertices), 3))
+    count = np.zeros(len(model.vertices))
+    np.add.at(total, model.faces.ravel(), colors.reshape(-1, 3))
+    np.add.at(count, model.faces.ravel(), 1.0)
+    return total / np.maximum(count, 1.0)[:, None]
+
+
+def hue_rotated(model: Model, degrees: float, name: str | None = None) -> Model:
+    """A colour twin of ``model``: the same mesh, its colours and textures turned by ``degrees`` around the hue
+    circle (saturation and value kept: greys stay grey), the twins of thesis 3.4 that only colour tells apart."""
+    from matplotlib.colors import hsv_to_rgb, rgb_to_hsv
+
+    if not np.isfinite(degrees):
+        raise ModelError(f"the hue rotation must be a finite number of degrees, got {degrees}")
+
+    def turn(rgb: np.ndarray) -> np.ndarray:
+        hsv = rgb_to_hsv(np.clip(rgb, 0.0, 1.0))
+        hsv[..., 0] = (hsv[..., 0] + degrees / 360.0) % 1.0
+        return hsv_to_rgb(hsv).astype(np.float32)
+
+    return replace(
+        model,
+        name=name or f"{model.name}-hue{degrees:g}",
+        corner_colors=turn(model.corner_colors),
+        textures=[turn(image) for image in model.textures],
+    )
+
+
+def save_model(model: Model, path: str | Path) -> Path:
+    """Write ``model`` as a mesh file with per-vertex colours (:func:`vertex_colors`); PLY keeps them.
+
+    The format follows the suffix (``.ply``, ``.obj``, ``.off``, ``.stl``, ``.glb``);
+    textures are baked into the vertex colours. The folder is created.
+    """
+    path = Path(path)
+    if path.suffix.lower() not in SUPPORTED_SUFFIXES:
+        raise ModelError(f"{path}: write a model as one of {', '.join(SUPPORTED_SUFFIXES)}")
+    colors = np.clip(np.round(vertex_colors(model) * 255), 0, 255).astype(np.uint8)
+    mesh = trimesh.Trimesh(model.vertices, model.faces, vertex_colors=colors, process=False)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    mesh.export(path)
+    return path
+
+
+def reversed_faces(model: Model) -> Model:
+    """``model`` with every face wound the other way (its corners' colours and texture coordinates with them)."""
+    return replace(
+        model,
+        faces=model.faces[:, ::-1].copy(),
+        corner_colors=model.corner_colors[:, ::-1].copy(),
+        corner_uv=model.corner_uv[:, ::-1].copy(),
+    )
+
+
+def transformed(model: Model, rotation: np.ndarray, translation: np.ndarray) -> Model:
+    """``model`` moved rigidly: ``x -> rotation @ x + translation``."""
+    return replace(model, vertices=model.vertices @ np.asarray(rotation).T + np.asarray(translation))
+
+
+def rigid_motion(motion) -> np.ndarray:
+    """``motion`` as a (4, 4) float64 rigid transform, or a :class:`StitchError`: a rotation (no reflection), a
+    translation, last row 0 0 0 1."""
+    m = np.asarray(motion, np.float64)
+    if (
+        m.shape != (4, 4)
+        or not np.allclose(m[:3, :3] @ m[:3, :3].T, np.eye(3), atol=1e-6)
+        or np.linalg.det(m[:3, :3]) < 0
+        or not np.allclose(m[3], [0.0, 0.0, 0.0, 1.0])
+    ):
+        raise StitchError(
+            f"motion must be a 4x4 rigid transform (a rotation, no reflection, last row 0 0 0 1), got shape {m.shape}"
+        )
+    return m

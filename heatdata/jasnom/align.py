@@ -1,0 +1,349 @@
+"""The JASNOM search (thesis 7.3): Kabsch candidates at every shift, refined, with a runner-up."""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.spatial.transform import Rotation
+
+from heatdata.errors import StitchError
+from heatdata.jasnom.boundary import MIN_BOUNDARY, Boundary, _as_loops
+from heatdata.jasnom.cost import (
+    ALONG,
+    ALPHA,
+    BETA,
+    GAMMA,
+    ScanSurface,
+    _Curve,
+    _residuals,
+    _robust,
+    _terms,
+    _Weights,
+    _weights,
+)
+
+log = logging.getLogger(__name__)
+
+
+REFINE = 4
+
+
+AMBIGUOUS = 1.25
+
+
+POOR_GAP = 0.02
+DISTINCT_DEGREES, DISTINCT_SIZE = 2.0, 0.01
+
+
+@dataclass(frozen=True)
+class Alignment:
+    """The best rigid motion of the second mesh onto the first, what it costs and how it was found.
+
+    Attributes
+    ----------
+    rotation : (3, 3) float64
+    translation : (3,) float64
+        ``x = rotation @ y + translation`` maps the second mesh into the first's frame.
+    cost, edge_cost, crossing_cost, crease_cost : float
+        J, J1, J2 and J3 at the motion (module docstring); ``J = J1 + beta J2 + gamma J3``.
+    runner_up : float
+        J of the best pose found more than 2 deg or 1% of the size away (NaN when the
+        search found none, or no search was made).
+    gap : float
+        Mean length of the paired edge vectors at the motion (the seam's mean gap), in
+        the meshes' units.
+    size : float
+        Bounding-box diagonal of the two boundaries at the motion (what ``gap`` and the
+        distinct-pose threshold are relative to).
+    facing : float
+        Mean cosine between paired boundary normals: near -1 when the meshes face each
+        other across their boundaries, positive when they lie on the same side.
+    candidates : int
+        Poses evaluated (coarse candidates and refinement steps).
+    seconds : float
+    """
+
+    rotation: np.ndarray
+    translation: np.ndarray
+    cost: float
+    edge_cost: float
+    crossing_cost: float
+    crease_cost: float
+    runner_up: float
+    gap: float
+    size: float
+    facing: float
+    candidates: int
+    seconds: float
+
+    @property
+    def ambiguous(self) -> bool:
+        """A different pose is nearly as cheap (its J below :data:`AMBIGUOUS` times the best's)."""
+        return bool(np.isfinite(self.runner_up) and self.runner_up < AMBIGUOUS * self.cost + 1e-12)
+
+    @property
+    def poor(self) -> bool:
+        """The seam's mean gap exceeds :data:`POOR_GAP` of the size."""
+        return bool(self.gap > POOR_GAP * self.size)
+
+
+def _kabsch(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rotations and translations best mapping ``y`` (S, 3) onto each ``x`` (C, S, 3) in the least-squares sense."""
+    cx, cy = x.mean(axis=1), y.mean(axis=0)
+    h = np.einsum("si,csj->cij", y - cy, x - cx[:, None])
+    u, _, vt = np.linalg.svd(h)
+    d = np.sign(np.linalg.det(np.einsum("cji,ckj->cik", vt, u)))
+    fix = np.ones((len(x), 3))
+    fix[:, 2] = d
+    rotation = np.einsum("cji,cj,ckj->cik", vt, fix, u)
+    return rotation, cx - np.einsum("cij,j->ci", rotation, cy)
+
+
+def _differs(
+    a: tuple[np.ndarray, np.ndarray],
+    b: tuple[np.ndarray, np.ndarray],
+    centre: np.ndarray,
+    size: float,
+    degrees: float,
+    fraction: float,
+) -> bool:
+    """Whether two motions differ by more than ``degrees`` of rotation, or move ``centre`` (B2's centroid) to points
+    more than ``fraction`` of ``size`` apart."""
+    angle = float(np.degrees(Rotation.from_matrix(a[0] @ b[0].T).magnitude()))
+    return angle > degrees or float(np.linalg.norm(a[0] @ centre + a[1] - b[0] @ centre - b[1])) > fraction * size
+
+
+def align(
+    first: Boundary | list[Boundary],
+    second: Boundary | list[Boundary],
+    *,
+    alpha: float = ALPHA,
+    beta: float = BETA,
+    gamma: float = GAMMA,
+    along: float = ALONG,
+    samples: int = 128,
+    refine: int = REFINE,
+    robust: float = 0.0,
+    scans: tuple[ScanSurface, ScanSurface] | None = None,
+    constrained: bool = True,
+    trace: list | None = None,
+) -> Alignment:
+    """Eq. 7.5-7.6: the rigid motion of ``second`` onto ``first`` that minimizes J (module docstring).
+
+    Parameters
+    ----------
+    first, second : Boundary or list of Boundary
+        A mesh's longest boundary, or all its loops longest first (:func:`boundaries`): the
+        coarse search pairs the longest loops, and J is measured on every loop.
+    alpha, beta, gamma, along : float
+        The cost's steepness and weights (module docstring; defaults :data:`ALPHA`,
+        :data:`BETA`, :data:`GAMMA`, :data:`ALONG`).
+    samples : int
+        Points per boundary, uniform by arc length; the coarse search tries ``2 * samples``
+        correspondences.
+    refine : int
+        Distinct coarse candidates refined over six degrees of freedom.
+    robust : float
+        Width of a soft-L1 loss on every residual, in units of s (0: plain squares): pairs
+        farther apart than this count less, as parts of a boundary without a partner.
+    scans : (ScanSurface, ScanSurface), optional
+        The two meshes as depth scans (:func:`stitch` with ``scans=True``): poses are
+        allowed where each lies on the far side from the other's camera, instead of where
+        the boundary normals face each other (7.3).
+    constrained : bool
+        False allows every pose (no orientation constraint; for ablations).
+    trace : list, optional
+        Receives ``(rotation, translation, J)`` at every pose evaluated (for tests that the
+        cost prefers the truth).
+
+    Raises
+    ------
+    StitchError
+        A boundary of fewer than :data:`MIN_BOUNDARY` vertices, or a weight that is not a
+        finite number in range.
+    """
+    first, second = _as_loops(first), _as_loops(second)
+    for b in (first[0], second[0]):
+        if len(b.loop) < MIN_BOUNDARY:
+            raise StitchError(
+                f"a boundary of {len(b.loop)} vertices cannot fix a motion: at least {MIN_BOUNDARY} are "
+                "needed (give --motion if it is known)"
+            )
+    ratio = max(first[0].length, second[0].length) / min(first[0].length, second[0].length)
+    if ratio > 1.5:
+        log.warning("the boundaries' lengths differ by a factor %.2f: JASNOM assumes they trace one curve", ratio)
+    begin = time.perf_counter()
+    c1, c2 = _Curve.of(first, samples), _Curve.of(second, samples)
+    w = _weights(c1, alpha, beta, gamma, along, robust, samples)
+    size = float(
+        np.linalg.norm(
+            np.ptp(np.vstack([c1.samples, c2.samples - c2.samples.mean(axis=0) + c1.samples.mean(axis=0)]), axis=0)
+        )
+    )
+    centre = c2.samples.mean(axis=0)
+    visited: list = []
+
+    def evaluate(rotation, translation) -> tuple[np.ndarray, float]:
+        """The weighted residuals and J, +inf where the meshes would lie on one side of the seam (7.3)."""
+        residuals, _, cosines = _residuals(rotation, translation, c1, c2, w)
+        residuals = residuals * w.root
+        if not constrained:
+            allowed = True
+        elif scans is None:
+            allowed = np.mean(cosines) <= 0.0  # the meshes lie on the two sides of the seam (7.3)
+        else:  # each scan is the far side of the object from the other's camera
+            allowed = (
+                max(
+                    scans[1].faces_camera(rotation, translation, np.zeros(3)),
+                    scans[0].faces_camera(rotation.T, -rotation.T @ translation, np.zeros(3)),
+                )
+                < 0.5
+            )
+        value = float(np.mean(np.sum(_robust(residuals**2, w.robust), axis=1))) if allowed else np.inf
+        visited.append((rotation, translation, value))
+        return residuals, value
+
+    shifts = np.arange(samples)
+    order = np.concatenate(
+        [
+            (shifts[:, None] - shifts) % samples,  # eq. 7.8 on equal samples: reversed (7.3)
+            (shifts[:, None] + shifts) % samples,
+        ]
+    )  # and the mirrored order
+    rotations, translations = _kabsch(c1.samples[:samples][order], c2.samples[:samples])
+    coarse = np.array([evaluate(r, t)[1] for r, t in zip(rotations, translations, strict=True)])
+    if not np.isfinite(coarse).any():
+        raise StitchError(
+            "no alignment puts each scan on the far side of the object from the other's camera: are both in their "
+            "cameras' frames (camera at the origin), taken from opposite sides?"
+            if scans is not None
+            else "the two meshes do not face each other across their boundaries at any alignment (the boundary normals "
+            "agree): either both are wound the same way round the cut (reverse one's faces), the second lies on the "
+            "first (the same surface twice), or their longest boundaries are not one curve"
+        )
+    starts: list[tuple[np.ndarray, np.ndarray, float]] = []
+    for k in np.argsort(coarse, kind="stable")[: np.isfinite(coarse).sum()]:  # the cheapest, 10 deg or 5% apart
+        if all(_differs((rotations[k], translations[k]), start[:2], centre, size, 10.0, 0.05) for start in starts):
+            starts.append((rotations[k], translations[k], float(coarse[k])))
+        if len(starts) == refine:
+            break
+    # a refinement that ends where the constraint forbids (J = inf) leaves its start as the candidate
+    found = sorted(
+        (
+            min((_refine(r, t, r @ centre + t, w, c1, c2, evaluate), (r, t, j)), key=lambda pose: pose[2])
+            for r, t, j in starts
+        ),
+        key=lambda pose: pose[2],
+    )
+    rotation, translation, _best = found[0]
+    others = [
+        j
+        for r, t, j in found[1:]
+        if _differs((r, t), (rotation, translation), centre, size, DISTINCT_DEGREES, DISTINCT_SIZE)
+    ]
+    if trace is not None:
+        trace.extend(visited)
+    return _alignment(rotation, translation, c1, c2, w, min(others, default=np.nan), len(visited), begin)
+
+
+def _refine(
+    rotation0: np.ndarray, translation0: np.ndarray, centre: np.ndarray, w: _Weights, c1: _Curve, c2: _Curve, evaluate
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """Trust-region least squares from a pose, over a rotation vector about ``centre`` (B2's moved centroid) and a
+    translation in units of s, then :func:`_polished`."""
+
+    def motion(p):
+        turn = Rotation.from_rotvec(p[:3]).as_matrix()
+        return turn @ rotation0, turn @ (translation0 - centre) + centre + w.scale * p[3:]
+
+    pairs = len(c1.samples) + len(c2.samples)
+
+    def residuals(p):
+        return evaluate(*motion(p))[0].ravel() / np.sqrt(pairs)
+
+    result = least_squares(
+        residuals,
+        np.zeros(6),
+        method="trf",
+        x_scale=1.0,
+        ftol=1e-12,
+        xtol=1e-12,
+        gtol=1e-12,
+        max_nfev=300,
+        loss="soft_l1" if w.robust > 0 else "linear",
+        f_scale=w.robust / np.sqrt(pairs) if w.robust > 0 else 1.0,
+    )
+    rotation, translation = motion(result.x)
+    return _polished(rotation, translation, c1, c2, evaluate)
+
+
+def _polished(
+    rotation: np.ndarray, translation: np.ndarray, c1: _Curve, c2: _Curve, evaluate, steps: int = 30
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """A pose improved by closest-point Kabsch steps (ICP on the loops) while J decreases: where the boundaries
+    coincide it ends exactly on them, which the least squares, over closest points that switch segments, can
+    stop short of."""
+    best = evaluate(rotation, translation)[1]
+    for _ in range(steps):
+        moved = c2.samples @ rotation.T + translation
+        targets = np.vstack([c1.closest(moved)[0], c1.samples])
+        sources = np.vstack([c2.samples, c2.closest((c1.samples - translation) @ rotation)[0]])
+        turn, shift = _kabsch(targets[None], sources)
+        cost = evaluate(turn[0], shift[0])[1]
+        if not cost < best:
+            break
+        rotation, translation, best = turn[0], shift[0], cost
+    return rotation, translation, best
+
+
+def alignment_at(
+    first: Boundary | list[Boundary],
+    second: Boundary | list[Boundary],
+    rotation: np.ndarray,
+    translation: np.ndarray,
+    *,
+    alpha: float = ALPHA,
+    beta: float = BETA,
+    gamma: float = GAMMA,
+    along: float = ALONG,
+    robust: float = 0.0,
+    samples: int = 128,
+) -> Alignment:
+    """J at a known rigid motion of ``second`` onto ``first`` (registered cameras, a turntable, the truth).
+
+    Nothing is searched, so :func:`stitch` can join scans whose motion is known and an
+    experiment can compare J at the true motion with J at :func:`align`'s optimum.
+    """
+    begin = time.perf_counter()
+    c1, c2 = _Curve.of(_as_loops(first), samples), _Curve.of(_as_loops(second), samples)
+    w = _weights(c1, alpha, beta, gamma, along, robust, samples)
+    return _alignment(
+        np.asarray(rotation, np.float64), np.asarray(translation, np.float64), c1, c2, w, np.nan, 1, begin
+    )
+
+
+def _alignment(
+    rotation, translation, c1: _Curve, c2: _Curve, w: _Weights, runner_up: float, candidates: int, begin: float
+) -> Alignment:
+    residuals, xi, cosines = _residuals(rotation, translation, c1, c2, w)
+    cost, edge, crossing, crease = _terms(residuals, w)
+    moved = c2.samples @ rotation.T + translation
+    size = float(np.linalg.norm(np.ptp(np.vstack([c1.samples, moved]), axis=0)))
+    return Alignment(
+        rotation=rotation,
+        translation=translation,
+        cost=cost,
+        edge_cost=edge,
+        crossing_cost=crossing,
+        crease_cost=crease,
+        runner_up=float(runner_up),
+        gap=float(np.mean(np.linalg.norm(xi, axis=1))),
+        size=size,
+        facing=float(np.mean(cosines)),
+        candidates=candidates,
+        seconds=time.perf_counter() - begin,
+    )

@@ -1,0 +1,1 @@
+"""Recognition (thesis ch. 3, 4, 6): nearest neighbours, evaluation, precision, compact libraries, multi-view."""

@@ -1,0 +1,390 @@
+"""Evaluation: nearest-neighbour recognition of test views against a library (thesis 3.3.2, Alg. 5.2, Alg. 6.1).
+
+Predictions and precision tables; the figures are in :mod:`heatdata.reporting.figures.recognition` and the
+report in :mod:`heatdata.reporting.pages`.
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from heatdata.core.distances import SHORTLIST
+from heatdata.descriptors import kind_of
+from heatdata.errors import HeatdataError
+from heatdata.io.tables import iter_table
+from heatdata.recognition.nearest import classify_candidates
+
+log = logging.getLogger(__name__)
+
+
+#: what :func:`classify` reads of a descriptor table
+CLASSIFY_COLUMNS = ("object", "label", "view_id", "split", "azimuth", "descriptor", "kind", "values")
+
+
+#: what it reads besides for a time-scaled kind (Alg. 5.2)
+TIME_SCALED_COLUMNS = ("time_object", "time", "t_global", "weights")
+
+
+#: which objects' time scales a time-scaled test view is compared at (:func:`classify`)
+TIME_RULES = ("plausible", "every")
+
+
+def classify(
+    descriptors: pd.DataFrame,
+    descriptor: str,
+    *,
+    library: str = "train",
+    queries: str = "test",
+    time_rule: str = "plausible",
+) -> pd.DataFrame:
+    """Nearest-neighbour class of each query view among the library views, by the kind's distance.
+
+    The distance is the descriptor kind's own (eq. 3.1 for boundary curves, chi-square
+    for histograms). A time-scaled kind (``ft-pvhk``) is compared object by object
+    (Alg. 5.2): the query's row at object o's time scale (``time_object``) against o's
+    library views, with the weighted distance of eq. 5.14; the nearest view wins.
+    Alg. 5.2 takes the query's own object's time scale, which for a test view is its
+    label; ``time_rule`` says which objects a query is compared with instead:
+    ``"plausible"`` (default) those whose time scale (Alg. 5.1: the smallest 1/lambda_2
+    of their library views) is at most the query's own 1/lambda_2 (``t_global``), as its
+    own object's nearly always is - every object when none is; ``"every"`` every object.
+    On the 58 chairs at 8 library views ``"plausible"`` gains 4.9 points (issue 17,
+    ``scripts/ft_time_scales.py``).
+
+    Parameters
+    ----------
+    descriptors : DataFrame
+        A descriptor table (:data:`heatdata.io.tables.DESCRIPTOR_SCHEMA`).
+    descriptor : str
+        Which descriptor (the ``descriptor`` column) to use.
+    library, queries : str
+        Values of the ``split`` column.
+    time_rule : {"plausible", "every"}
+        For a time-scaled kind: which objects' time scales a query is compared at.
+
+    Returns
+    -------
+    DataFrame
+        One row per query view, columns of :data:`heatdata.io.tables.PREDICTION_SCHEMA`.
+    """
+    if time_rule not in TIME_RULES:
+        raise HeatdataError(f"unknown time_rule {time_rule!r} (use {' or '.join(TIME_RULES)})")
+    _require_columns(descriptors, CLASSIFY_COLUMNS, descriptor)
+    rows = descriptors[descriptors["descriptor"] == descriptor]
+    lib, query = rows[rows["split"] == library], rows[rows["split"] == queries]
+    if lib.empty or query.empty:
+        raise HeatdataError(f"descriptor {descriptor!r}: no {library!r} or no {queries!r} rows to compare")
+    lengths = {len(v) for v in rows["values"]}
+    if len(lengths) > 1:
+        raise HeatdataError(f"descriptor {descriptor!r}: descriptors of different lengths {sorted(lengths)}")
+    kinds = rows["kind"].unique()
+    if len(kinds) != 1:
+        raise HeatdataError(f"descriptor {descriptor!r}: rows of several kinds {sorted(kinds)}")
+    impl = kind_of(kinds[0])
+    lib, query, unusable = _usable(lib, query, descriptor)
+    if impl.time_scaled:
+        _require_columns(descriptors, TIME_SCALED_COLUMNS, descriptor)
+        query, index, distance = _fixed_time_neighbours(query, lib, descriptor, impl, time_rule)
+    else:
+        index, distance = impl.nearest(np.stack(query["values"].to_numpy()), np.stack(lib["values"].to_numpy()))
+    match = lib.iloc[index]
+    predictions = pd.DataFrame(
+        {
+            "descriptor": descriptor,
+            "object": query["object"].to_numpy(),
+            "label": query["label"].to_numpy(),
+            "view_id": query["view_id"].to_numpy(),
+            "azimuth": query["azimuth"].to_numpy(),
+            "predicted_object": match["object"].to_numpy(),
+            "predicted_label": match["label"].to_numpy(),
+            "predicted_view_id": match["view_id"].to_numpy(),
+            "predicted_azimuth": match["azimuth"].to_numpy(),
+            "distance": distance,
+            "correct": query["object"].to_numpy() == match["object"].to_numpy(),
+            "library_size": int(lib.groupby("object").size().max()),
+        }
+    )
+    if not unusable.empty:  # no prediction: counted as wrong
+        failed = unusable.drop_duplicates("view_id")
+        predictions = pd.concat(
+            [
+                predictions,
+                pd.DataFrame(
+                    {
+                        "descriptor": descriptor,
+                        "object": failed["object"].to_numpy(),
+                        "label": failed["label"].to_numpy(),
+                        "view_id": failed["view_id"].to_numpy(),
+                        "azimuth": failed["azimuth"].to_numpy(),
+                        "predicted_object": "",
+                        "predicted_label": "",
+                        "predicted_view_id": "",
+                        "predicted_azimuth": np.nan,
+                        "distance": np.nan,
+                        "correct": False,
+                        "library_size": predictions["library_size"].iloc[0],
+                    }
+                ),
+            ],
+            ignore_index=True,
+        )
+    return predictions
+
+
+def _require_columns(descriptors: pd.DataFrame, columns, descriptor: str) -> None:
+    missing = sorted(set(columns) - set(descriptors.columns))
+    if missing:
+        raise HeatdataError(f"descriptor {descriptor!r}: the table lacks column(s) {', '.join(missing)}")
+
+
+def _usable(lib: pd.DataFrame, query: pd.DataFrame, descriptor: str) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame]:
+    """Library and query rows without NaN values, and the query rows with some (logged).
+
+    A PVST sample that never reaches its threshold, or a descriptor that failed on a view,
+    is NaN. Such library views are left out; such test views get no prediction.
+    """
+    bad_lib, bad_query = _nan_views(lib), _nan_views(query)
+    if bad_lib or bad_query:
+        log.warning(
+            "%s: %d library and %d test views have NaN values (see their repairs); the library views "
+            "are left out and the test views count as wrong",
+            descriptor,
+            len(bad_lib),
+            len(bad_query),
+        )
+    unusable = query["view_id"].isin(bad_query)
+    return lib[~lib["view_id"].isin(bad_lib)], query[~unusable], query[unusable]
+
+
+def _nan_views(rows: pd.DataFrame) -> set[str]:
+    """The ``view_id`` of rows with a NaN value."""
+    return set(rows.loc[~rows["values"].map(lambda v: bool(np.isfinite(v).all())), "view_id"])
+
+
+def _stack(column: pd.Series) -> np.ndarray | None:
+    """(rows, M) array of a list column; None if any row is null (no part weights)."""
+    if column.isna().any():
+        return None
+    return np.stack(column.to_numpy())
+
+
+def _fixed_time_neighbours(
+    query: pd.DataFrame, lib: pd.DataFrame, descriptor: str, impl, time_rule: str
+) -> tuple[pd.DataFrame, np.ndarray, np.ndarray]:
+    """Alg. 5.2: per query view, the nearest library view over objects, each at its own time scale.
+
+    Returns the query views (one row each), the positional index of each one's nearest
+    library row in ``lib``, and the weighted distance (eq. 5.14). Each object is searched
+    only for the views ``time_rule`` lets compare with it (:func:`classify`), and only for
+    library views nearer than the best so far (``within`` of :meth:`Kind.nearest`).
+    """
+    views = query.drop_duplicates("view_id")
+    view_of_row = pd.Index(views["view_id"]).get_indexer(query["view_id"])
+    allowed = np.ones(len(query), dtype=bool)
+    if time_rule == "plausible":
+        reachable = (query["time"] <= query["t_global"]).to_numpy()
+        allowed = reachable | (np.bincount(view_of_row, reachable, len(views)) == 0)[view_of_row]
+    values = query["values"].to_numpy()  # (rows,) arrays, stacked object by object (memory)
+    weights = None if query["weights"].isna().any() else query["weights"].to_numpy()
+    lib_values, lib_weights = np.stack(lib["values"].to_numpy()), _stack(lib["weights"])
+    if (weights is None) != (lib_weights is None):
+        raise HeatdataError(f"descriptor {descriptor!r}: part weights on the test or the library rows only")
+    at_time = query.groupby("time_object").indices
+    best = np.full(len(views), np.inf)
+    index = np.zeros(len(views), dtype=np.int64)
+    for obj, positions in lib.groupby("object").indices.items():
+        rows = at_time.get(obj, np.zeros(0, dtype=np.int64))
+        rows = rows[np.argsort(view_of_row[rows], kind="stable")]  # in the order of ``views``
+        if not np.array_equal(view_of_row[rows], np.arange(len(views))):
+            counts = np.bincount(view_of_row[rows], minlength=len(views))
+            view = views["view_id"].iloc[int(np.flatnonzero(counts != 1)[0])]
+            problem = "no row" if counts.min() == 0 else "several rows"
+            raise HeatdataError(
+                f"descriptor {descriptor!r}: test view {view} has {problem} at the time scale of "
+                f"object {obj!r} (time_object); describe test views with every object's"
+            )
+        searched = np.flatnonzero(allowed[rows])  # rows are in view order: row k is view k's
+        if not len(searched):
+            continue
+        rows = rows[searched]
+        nearest, distance = impl.nearest(
+            np.stack(values[rows]),
+            lib_values[positions],
+            query_weights=None if weights is None else np.stack(weights[rows]),
+            library_weights=None if lib_weights is None else lib_weights[positions],
+            within=best[searched],
+        )  # only a nearer one matters
+        found = nearest >= 0
+        best[searched[found]] = distance[found]
+        index[searched[found]] = positions[nearest[found]]
+    return views, index, best
+
+
+def evaluate_library_sizes(
+    descriptors: pd.DataFrame, descriptor: str, sizes: list[int], *, time_rule: str = "plausible"
+) -> pd.DataFrame:
+    """Nearest-neighbour predictions of the test views for libraries of several sizes.
+
+    Returns the rows of :func:`classify` (with ``time_rule``) with a ``library_size`` column.
+    """
+    rows = descriptors[descriptors["descriptor"] == descriptor]
+    tests = rows[rows["split"] == "test"]
+    results = []
+    for size in sizes:
+        subset = pd.concat([library_subset(rows, size), tests])
+        results.append(classify(subset, descriptor, time_rule=time_rule).assign(library_size=size))
+    return pd.concat(results, ignore_index=True)
+
+
+def evaluate_table(
+    path: str | Path, descriptor: str, sizes: list[int], *, library_split: str = "train", time_rule: str = "plausible"
+) -> pd.DataFrame:
+    """:func:`evaluate_library_sizes` on a descriptor table on disk, reading its test rows a row group at a time.
+
+    Memory holds the library rows and one row group of test rows, not the whole table (a
+    run's table has one row group per object, :func:`heatdata.io.tables.concat_tables`): the
+    chairs' FT-PVHK has 406,000 test rows, each test view at every object's time scale
+    (Alg. 5.2). A time-scaled test view whose rows are not all in one group waits for the
+    next; one still missing a time scale at the end is an error, as in :func:`classify`.
+
+    ``library_split="test"`` is the protocol of thesis 5.5: the library views are chosen
+    among the test views (each at its own object's time scale), which are all queried, so
+    each library view is also a query that finds itself. The default keeps them apart:
+    the library comes from the ``train`` views, rendered at other angles with other noise.
+    ``time_rule``: as :func:`classify`.
+    """
+    columns = [*CLASSIFY_COLUMNS, *TIME_SCALED_COLUMNS]
+    rows = [("descriptor", "==", descriptor)]
+    own_time = [
+        group[group["time_object"].isin(["", None]) | (group["time_object"] == group["object"])]
+        for group in iter_table(path, columns=columns, filters=[*rows, ("split", "==", library_split)])
+    ]
+    if not own_time:
+        raise HeatdataError(f"{path}: no library ({library_split!r}) rows of descriptor {descriptor!r}")
+    train = pd.concat(own_time, ignore_index=True).assign(split="train")
+    bad = _nan_views(train)
+    if bad:
+        log.warning("%s: %d library views have NaN values (see their repairs) and are left out", descriptor, len(bad))
+    libraries = {
+        size: library[~library["view_id"].isin(bad)]
+        for size, library in ((size, library_subset(train, size)) for size in sizes)
+    }
+    time_scaled = kind_of(train["kind"].iloc[0]).time_scaled
+    objects = train["object"].nunique()
+    parts: dict[int, list[pd.DataFrame]] = {size: [] for size in sizes}
+
+    def add(tests: pd.DataFrame) -> None:
+        for size, library in libraries.items():
+            parts[size].append(
+                classify(pd.concat([library, tests]), descriptor, time_rule=time_rule).assign(library_size=size)
+            )
+
+    pending = None
+    for group in iter_table(path, columns=columns, filters=[*rows, ("split", "==", "test")]):
+        tests = group if pending is None else pd.concat([pending, group], ignore_index=True)
+        if time_scaled:  # a view is whole once it has a row at every object's time scale
+            whole = tests.groupby("view_id")["time_object"].transform("nunique") >= objects
+            tests, pending = tests[whole], tests[~whole]
+        if not tests.empty:
+            add(tests)
+    if pending is not None and not pending.empty:
+        add(pending)  # raises: a test view without a row at some object's time scale
+    if not any(parts.values()):
+        raise HeatdataError(f"{path}: no test rows of descriptor {descriptor!r}")
+    return pd.concat([part for size in sizes for part in parts[size]], ignore_index=True)
+
+
+def evaluate_compact(
+    candidates: pd.DataFrame, libraries: pd.DataFrame, *, shortlist: int | None = SHORTLIST
+) -> pd.DataFrame:
+    """Alg. 6.1: each test view, described from its candidate sources, against each library.
+
+    Parameters
+    ----------
+    candidates : pandas.DataFrame
+        Test (``split = "test"``) ``candidates`` rows of :func:`heatdata.experiments.describe.candidate_rows`.
+    libraries : pandas.DataFrame
+        :func:`heatdata.experiments.compact.compact_libraries`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Rows of :data:`heatdata.io.tables.PREDICTION_SCHEMA`, one per library
+        (``descriptor`` = method, ``library_size``) and test view, ready for
+        :func:`precision_table`. A test view that could not be described counts as
+        wrong (``predicted_object`` empty).
+    """
+    tests = candidates[(candidates["split"] == "test") & (candidates["source_rule"] == "candidates")]
+    per_view = []
+    for _, rows in tests.groupby("view_id", sort=False):
+        values = np.stack(rows["values"].to_numpy())
+        usable = np.all(np.isfinite(values), axis=1)
+        first = rows.iloc[0]
+        per_view.append((first, values[usable]))
+    failed = sum(len(v) == 0 for _, v in per_view)
+    if failed:
+        log.warning("%d test views have no usable candidate descriptor and count as wrong", failed)
+    out = []
+    for (method, size), lib in libraries.groupby(["descriptor", "library_size"], sort=False):
+        lib_values = np.stack(lib["values"].to_numpy())
+        objects = lib["object"].to_numpy()
+        for first, values in per_view:
+            row = {
+                "descriptor": method,
+                "library_size": int(size),
+                "object": first["object"],
+                "label": first["label"],
+                "view_id": first["view_id"],
+                "azimuth": first["azimuth"],
+            }
+            if len(values) == 0:
+                out.append(
+                    {
+                        **row,
+                        "predicted_object": "",
+                        "predicted_label": "",
+                        "predicted_view_id": "",
+                        "predicted_azimuth": np.nan,
+                        "distance": np.nan,
+                        "correct": False,
+                    }
+                )
+                continue
+            pair = classify_candidates(values, lib_values, objects, shortlist=shortlist)
+            match = lib.iloc[pair.index]
+            out.append(
+                {
+                    **row,
+                    "predicted_object": match["object"],
+                    "predicted_label": match["label"],
+                    "predicted_view_id": match["view_id"],
+                    "predicted_azimuth": match["azimuth"],
+                    "distance": pair.distance,
+                    "correct": match["object"] == first["object"],
+                }
+            )
+        log.info("%s, %d views: %d test views classified", method, size, len(per_view))
+    return pd.DataFrame(out)
+
+
+def library_subset(descriptors: pd.DataFrame, size: int, split: str = "train") -> pd.DataFrame:
+    """The ``size`` library views per object evenly spaced in azimuth among the ``split`` views (3.4.1).
+
+    Raises
+    ------
+    HeatdataError
+        An object has fewer library views than ``size``.
+    """
+    library = descriptors[descriptors["split"] == split]
+    chosen = []
+    for obj, views in library.groupby("object")["azimuth"]:
+        angles = np.sort(views.unique())
+        if size > len(angles):
+            raise HeatdataError(f"library size {size} is larger than the {len(angles)} {split} views of {obj!r}")
+        keep = angles[np.floor(np.arange(size) * len(angles) / size).astype(int)]
+        chosen.append(library[(library["object"] == obj) & library["azimuth"].isin(keep)])
+    return pd.concat(chosen)

@@ -1,0 +1,1 @@
+"""What a person reads: figures (split by chapter) and the report's pages."""

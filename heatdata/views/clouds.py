@@ -1,0 +1,183 @@
+"""Organized point clouds (PCD, range PLY) to views, with the intrinsics fitted to their grid."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from heatdata.errors import ViewError
+from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view
+from heatdata.views.view import View
+
+
+def fit_intrinsics(points: np.ndarray) -> dict:
+    """Pinhole intrinsics of an organized cloud: least squares of its pixel grid against x/z and y/z."""
+    valid = np.isfinite(points).all(axis=2) & (points[..., 2] > 0)
+    rows, cols = np.nonzero(valid)
+    if len(rows) < 3:
+        raise ViewError("an organized cloud needs at least 3 valid points to fit its intrinsics")
+    p = points[valid]
+    (fx, cx), *_ = np.linalg.lstsq(np.column_stack([p[:, 0] / p[:, 2], np.ones(len(p))]), cols, rcond=None)
+    (fy, cy), *_ = np.linalg.lstsq(np.column_stack([p[:, 1] / p[:, 2], np.ones(len(p))]), rows, rcond=None)
+    return {
+        "fx": float(fx),
+        "fy": float(fy),
+        "cx": float(cx),
+        "cy": float(cy),
+        "width": points.shape[1],
+        "height": points.shape[0],
+    }
+
+
+def read_organized_cloud(
+    path,
+    *,
+    scale: float = 1.0,
+    max_depth_jump: float = MAX_DEPTH_JUMP,
+    view_id: str | None = None,
+    object_id: str = "",
+    label: str = "",
+) -> View:
+    """The view of an organized point cloud: a PCD with ``WIDTH`` x ``HEIGHT``, or a range-map PLY.
+
+    Parameters
+    ----------
+    path : str or Path
+        ``.pcd`` (ASCII or binary; fields ``x y z``, optionally ``rgb``; NaN = no reading)
+        or ``.ply`` whose header holds a VCG ``camera`` element (MeshLab's range maps): its
+        vertices are put back on their pixel grid by the camera.
+    scale : float
+        File units to metres (PCL writes metres; MeshLab range maps are often millimetres).
+
+    Returns
+    -------
+    View
+        Triangulated by :func:`grid_view`, intrinsics fitted to the grid.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ViewError(f"{path}: no such point cloud file")
+    if path.suffix.lower() == ".pcd":
+        points, colors = _read_pcd(path)
+    elif path.suffix.lower() == ".ply":
+        points, colors = _read_range_ply(path)
+    else:
+        raise ViewError(f"{path}: unsupported organized cloud {path.suffix!r} (.pcd or a range-map .ply)")
+    points = points * float(scale)
+    return grid_view(
+        points,
+        colors,
+        max_depth_jump=max_depth_jump,
+        intrinsics=fit_intrinsics(points),
+        view_id=view_id or path.stem,
+        object_id=object_id,
+        label=label,
+        repairs=[f"organized {points.shape[1]}x{points.shape[0]} cloud, not segmented"],
+    )
+
+
+PCD_TYPES = {
+    ("F", 4): "<f4",
+    ("F", 8): "<f8",
+    ("U", 1): "u1",
+    ("U", 2): "<u2",
+    ("U", 4): "<u4",
+    ("I", 1): "i1",
+    ("I", 2): "<i2",
+    ("I", 4): "<i4",
+}
+
+
+def _read_pcd(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
+    raw = path.read_bytes()
+    header, position = {}, 0
+    while True:
+        end = raw.find(b"\n", position)
+        if end < 0:
+            raise ViewError(f"{path}: the PCD header has no DATA line")
+        line = raw[position:end].decode("ascii", "replace").strip()
+        position = end + 1
+        if not line or line.startswith("#"):
+            continue
+        key, *values = line.split()
+        header[key.upper()] = values
+        if key.upper() == "DATA":
+            break
+    try:
+        fields, sizes, types = header["FIELDS"], [int(s) for s in header["SIZE"]], header["TYPE"]
+        counts = [int(c) for c in header.get("COUNT", ["1"] * len(fields))]
+        width, height, data = int(header["WIDTH"][0]), int(header["HEIGHT"][0]), header["DATA"][0].lower()
+    except (KeyError, ValueError, IndexError) as error:
+        raise ViewError(f"{path}: not a PCD header ({error})") from error
+    if height <= 1:
+        raise ViewError(f"{path}: the cloud is not organized (HEIGHT {height}): a view needs its pixel grid")
+    if not {"x", "y", "z"} <= set(fields):
+        raise ViewError(f"{path}: the cloud has no x y z fields ({' '.join(fields)})")
+    unknown = [f"{f} {t}{s}" for f, s, t in zip(fields, sizes, types) if (t, s) not in PCD_TYPES]
+    if unknown:
+        raise ViewError(f"{path}: PCD field types not read: {', '.join(unknown)}")
+    dtype = np.dtype(
+        [(f, PCD_TYPES[(t, s)], (c,) if c > 1 else ()) for f, s, t, c in zip(fields, sizes, types, counts)]
+    )
+    if data == "ascii":
+        table = np.loadtxt(raw[position:].decode("ascii").splitlines(), ndmin=2)
+        cloud = np.zeros(len(table), dtype)
+        column = 0
+        for f, c in zip(fields, counts):
+            cloud[f] = table[:, column] if c == 1 else table[:, column : column + c]
+            column += c
+    elif data == "binary":
+        cloud = np.frombuffer(raw, dtype, count=width * height, offset=position)
+    else:
+        raise ViewError(f"{path}: PCD DATA {data} is not read (save it as ascii or binary)")
+    if len(cloud) != width * height:
+        raise ViewError(f"{path}: {len(cloud)} points for a {width}x{height} grid")
+    points = np.stack([cloud[a].astype(np.float64) for a in "xyz"], axis=-1).reshape(height, width, 3)
+    colors = None
+    if "rgb" in fields or "rgba" in fields:
+        packed = cloud["rgb" if "rgb" in fields else "rgba"]
+        packed = packed.view(np.uint32) if packed.dtype.kind == "f" else packed.astype(np.uint32)
+        colors = (
+            np.stack([(packed >> 16) & 255, (packed >> 8) & 255, packed & 255], axis=-1).reshape(height, width, 3)
+            / 255.0
+        )
+    return points, colors
+
+
+def _read_range_ply(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
+    import trimesh
+
+    try:
+        mesh = trimesh.load(path, process=False)
+    except Exception as error:  # trimesh raises many kinds on a bad file
+        raise ViewError(f"{path}: cannot read the PLY ({error})") from error
+    camera = getattr(mesh, "metadata", {}).get("_ply_raw", {}).get("camera")
+    if camera is None or not len(camera["data"]):
+        raise ViewError(f"{path}: the PLY has no camera element, so its pixel grid is unknown (not organized)")
+    c = camera["data"][0]
+    axes = np.array([[c[f"{a}_axis{b}"] for b in "xyz"] for a in "xyz"], np.float64)
+    local = (np.asarray(mesh.vertices, np.float64) - [c["view_px"], c["view_py"], c["view_pz"]]) @ axes.T
+    local[:, 1] *= -1.0  # VCG's camera y is up; a view's is down (z stays forward)
+    if not (local[:, 2] > 0).all():
+        raise ViewError(f"{path}: vertices behind the PLY's camera")
+    angles = local[:, :2] / local[:, 2:]
+    # The grid's pitch, from the range map's own edges (MeshLab's focal and pixel size round it off by ~2%)
+    faces = np.asarray(mesh.faces)
+    if not len(faces):
+        raise ViewError(f"{path}: the range map has no faces to find its grid pitch from")
+    steps = np.abs(np.diff(angles[faces[:, [0, 1, 2, 0]]], axis=1)).reshape(-1, 2)
+    pitch = np.array([np.median(s[s > 0.5 * np.median(s[s > 0])]) for s in steps.T])
+    grid = np.round((angles - angles.min(axis=0)) / pitch).astype(np.int64)
+    shape = grid.max(axis=0)[::-1] + 1
+    cells = grid[:, 1] * shape[1] + grid[:, 0]
+    if len(np.unique(cells)) < len(cells):
+        raise ViewError(f"{path}: two vertices fall on one pixel: not an organized range map")
+    points = np.full((*shape, 3), np.nan)
+    points.reshape(-1, 3)[cells] = local
+    colors = None
+    visual = getattr(mesh, "visual", None)
+    if visual is not None and getattr(visual, "kind", None) == "vertex":
+        colors = np.full((*shape, 3), 0.5)
+        colors.reshape(-1, 3)[cells] = np.asarray(visual.vertex_colors, np.float64)[:, :3] / 255.0
+    return points, colors

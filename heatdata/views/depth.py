@@ -1,0 +1,317 @@
+"""Views from depth images and organized point clouds, real or rendered, and back (thesis 2.1, 2.3).
+
+A partial view is the triangle mesh of an organized depth grid: neighbouring valid pixels
+are joined unless their depths differ by more than ``max_depth_jump`` times their mean
+depth (a depth discontinuity), and only the largest connected piece is kept. The virtual
+Kinect (:func:`heatdata.render_view`) and every sensor reader here go through the same
+:func:`grid_view`, so a capture and a rendering of the same surface give the same mesh.
+
+Inputs:
+
+- a depth image: a 16-bit PNG in millimetres (0 = no reading, as the Kinect and
+  RealSense SDKs write them) or a float ``.npy`` in metres (NaN or 0 = no reading), with
+  pinhole intrinsics ``fx, fy, cx, cy, width, height`` in a JSON or YAML file, an optional
+  aligned RGB image and an optional object mask;
+- an organized point cloud: a PCD with ``WIDTH`` x ``HEIGHT`` (NaN = no reading), or a
+  range-map PLY whose header holds its camera (VCG/MeshLab's ``camera`` element, e.g.
+  pymeshlab's ``tests/sample_meshes/rangemaps/face000.ply``).
+
+Segmentation, in this order: the mask when given; else the depth range when given; else
+every valid pixel. Then the largest connected piece of the mesh (a support plane joined
+to the object stays: give a mask or a depth range to cut it off).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+from pathlib import Path
+
+import numpy as np
+import yaml
+from PIL import Image
+
+from heatdata.errors import ViewError
+from heatdata.views.view import View
+
+log = logging.getLogger(__name__)
+
+
+INTRINSIC_KEYS = ("fx", "fy", "cx", "cy", "width", "height")
+
+
+MAX_DEPTH_JUMP = 0.02  # relative depth step above which neighbouring pixels are not joined
+
+
+def grid_faces(index: np.ndarray, depth: np.ndarray, max_jump: float) -> np.ndarray:
+    """Triangles joining neighbouring valid pixels of an organized grid.
+
+    Parameters
+    ----------
+    index : (h, w) int64
+        Vertex index of each pixel, -1 where there is no reading.
+    depth : (n,) float
+        Depth of each vertex.
+    max_jump : float
+        A triangle is dropped when two of its pixels differ in depth by more than
+        ``max_jump`` times their mean depth.
+
+    Returns
+    -------
+    (m, 3) int64
+        Each 2x2 pixel block gives two triangles when its four pixels are valid, or one
+        when three are, wound clockwise in the image (u right, v down): their normals
+        point away from the camera (+z).
+    """
+    a, b = index[:-1, :-1], index[:-1, 1:]
+    c, d = index[1:, :-1], index[1:, 1:]
+    candidates = [
+        (a, b, c, (a >= 0) & (b >= 0) & (c >= 0)),
+        (b, d, c, (b >= 0) & (c >= 0) & (d >= 0)),
+        (a, b, d, (a >= 0) & (b >= 0) & (d >= 0) & (c < 0)),
+        (a, d, c, (a >= 0) & (c >= 0) & (d >= 0) & (b < 0)),
+    ]
+    faces = np.concatenate([np.column_stack([p[m], q[m], r[m]]) for p, q, r, m in candidates])
+    z = depth[faces]
+    mean = z.mean(axis=1)
+    spread = z.max(axis=1) - z.min(axis=1)
+    return faces[spread <= max_jump * mean]
+
+
+def grid_view(
+    points: np.ndarray,
+    colors: np.ndarray | None = None,
+    *,
+    max_depth_jump: float = MAX_DEPTH_JUMP,
+    components: str = "largest",
+    **view_fields,
+) -> View:
+    """The view of an organized grid of camera-frame points: its triangle mesh, largest piece only by default.
+
+    Parameters
+    ----------
+    points : (h, w, 3) float
+        Camera-frame points (x right, y down, z forward, metres), NaN where there is no
+        reading.
+    colors : (h, w, 3) float in [0, 1], optional
+    max_depth_jump : float
+        See :func:`grid_faces`.
+    components : {"largest", "all"}
+        Keep the largest connected piece (a repair, recorded in ``repairs``), or every piece (to measure what
+        the largest leaves out, issue 28).
+    **view_fields
+        ``intrinsics``, ``view_id``, ``object_id``, ``label``, angles, ``pose``, ``repairs``.
+
+    Raises
+    ------
+    ViewError
+        No valid pixel, or no triangle between them.
+    """
+    name = view_fields.get("view_id") or "view"
+    if components not in ("largest", "all"):
+        raise ViewError(f"{name}: components must be 'largest' or 'all', got {components!r}")
+    valid = np.isfinite(points).all(axis=2) & (points[..., 2] > 0)
+    if not valid.any():
+        raise ViewError(f"{name}: no valid pixel")
+    index = np.full(valid.shape, -1, np.int64)
+    index[valid] = np.arange(int(valid.sum()))
+    vertices = points[valid].astype(np.float64)
+    faces = grid_faces(index, vertices[:, 2], max_depth_jump)
+    if len(faces) == 0:
+        raise ViewError(
+            f"{name}: the {int(valid.sum())} valid pixels form no triangle (isolated pixels, or depth "
+            f"steps above {max_depth_jump:g} of the depth everywhere)"
+        )
+    rgb = None if colors is None else np.asarray(colors, np.float64)[valid]
+    view = View.from_arrays(vertices, faces, rgb, **view_fields)
+    return view.largest_component() if components == "largest" else view
+
+
+def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, name: str = "intrinsics") -> dict:
+    """``fx, fy, cx, cy, width, height`` as numbers, checked (and against an image's ``(h, w)``)."""
+    missing = [key for key in INTRINSIC_KEYS if key not in intrinsics]
+    if missing:
+        raise ViewError(f"{name}: missing {', '.join(missing)} (need {', '.join(INTRINSIC_KEYS)})")
+    try:
+        k = {key: float(intrinsics[key]) for key in INTRINSIC_KEYS}
+    except (TypeError, ValueError) as error:
+        raise ViewError(f"{name}: intrinsics must be numbers ({error})") from error
+    if not (k["fx"] > 0 and k["fy"] > 0 and k["width"] >= 1 and k["height"] >= 1):
+        raise ViewError(f"{name}: fx, fy, width and height must be positive, got {k}")
+    k["width"], k["height"] = int(k["width"]), int(k["height"])
+    if shape is not None and (k["height"], k["width"]) != tuple(shape):
+        raise ViewError(
+            f"{name}: the intrinsics are for {k['width']}x{k['height']} but the depth image is {shape[1]}x{shape[0]}"
+        )
+    return k
+
+
+def back_project(depth: np.ndarray, intrinsics: dict) -> np.ndarray:
+    """(h, w, 3) camera-frame points of a z-depth image (metres; NaN stays NaN)."""
+    rows, cols = np.indices(depth.shape)
+    k = intrinsics
+    return np.stack([(cols - k["cx"]) / k["fx"] * depth, (rows - k["cy"]) / k["fy"] * depth, depth], axis=-1)
+
+
+def view_from_depth(
+    depth_m: np.ndarray,
+    intrinsics: dict,
+    rgb: np.ndarray | None = None,
+    mask: np.ndarray | None = None,
+    *,
+    depth_range: tuple[float, float] | None = None,
+    max_depth_jump: float = MAX_DEPTH_JUMP,
+    view_id: str = "depth",
+    object_id: str = "",
+    label: str = "",
+) -> View:
+    """The view seen in a depth image (thesis 2.1): segmented, triangulated as rendered views are.
+
+    Parameters
+    ----------
+    depth_m : (h, w) float
+        z-depth in metres; NaN, infinite or <= 0 where there is no reading.
+    intrinsics : dict
+        ``fx, fy, cx, cy`` in pixels, ``width, height`` matching the image.
+    rgb : (h, w, 3) uint8 or float in [0, 1], optional
+        Colour registered to the depth image (default grey).
+    mask : (h, w) bool, optional
+        The object's pixels.
+    depth_range : (near, far) metres, optional
+        Used when there is no mask: the pixels within it.
+    max_depth_jump : float
+        See :func:`grid_faces`.
+
+    Returns
+    -------
+    View
+        Camera-frame vertices; the segmentation is recorded in ``view.repairs``.
+
+    Raises
+    ------
+    ViewError
+        Intrinsics that do not match the image, an RGB image or mask of another size, no
+        valid pixel (after segmentation), no triangle.
+    """
+    depth = np.array(depth_m, dtype=np.float64)
+    if depth.ndim != 2:
+        raise ViewError(f"{view_id}: a depth image is (h, w), got shape {depth.shape}")
+    k = check_intrinsics(intrinsics, depth.shape, view_id)
+    depth[~np.isfinite(depth) | (depth <= 0)] = np.nan
+    readings = int(np.isfinite(depth).sum())
+    if readings == 0:
+        raise ViewError(f"{view_id}: the depth image has no valid pixel (all zero, NaN or negative)")
+    colors = None if rgb is None else _rgb(rgb, depth.shape, view_id)
+    if mask is not None:
+        mask = np.asarray(mask)
+        if mask.shape != depth.shape:
+            raise ViewError(f"{view_id}: the mask is {mask.shape[1::-1]} but the depth image is {depth.shape[::-1]}")
+        depth[~mask.astype(bool)] = np.nan
+        note = f"segmented by the mask: {int(np.isfinite(depth).sum())} of {readings} readings"
+    elif depth_range is not None:
+        near, far = map(float, depth_range)
+        if not 0 <= near < far:
+            raise ViewError(f"{view_id}: depth_range must be (near, far) with 0 <= near < far, got {depth_range}")
+        depth[(depth < near) | (depth > far)] = np.nan
+        note = f"segmented by depth {near:g}-{far:g} m: {int(np.isfinite(depth).sum())} of {readings} readings"
+    else:
+        note = f"not segmented: all {readings} readings"
+    if not np.isfinite(depth).any():
+        raise ViewError(f"{view_id}: no valid pixel is left after segmentation ({note.split(':')[0]})")
+    log.info("%s: %s", view_id, note)
+    return grid_view(
+        back_project(depth, k),
+        colors,
+        max_depth_jump=max_depth_jump,
+        intrinsics=k,
+        view_id=view_id,
+        object_id=object_id,
+        label=label,
+        repairs=[note],
+    )
+
+
+def _rgb(rgb: np.ndarray, shape: tuple[int, int], name: str) -> np.ndarray:
+    rgb = np.asarray(rgb)
+    if rgb.ndim == 3 and rgb.shape[2] == 4:
+        rgb = rgb[..., :3]
+    if rgb.shape != (*shape, 3):
+        raise ViewError(
+            f"{name}: the RGB image is {rgb.shape[1::-1] if rgb.ndim >= 2 else rgb.shape} but the "
+            f"depth image is {shape[::-1]} (register the colour to the depth first)"
+        )
+    if rgb.dtype.kind in "ui":
+        return rgb.astype(np.float64) / 255.0
+    rgb = rgb.astype(np.float64)
+    if not (np.isfinite(rgb).all() and rgb.min() >= 0 and rgb.max() <= 1):
+        raise ViewError(f"{name}: a float RGB image must lie in [0, 1]")
+    return rgb
+
+
+def read_intrinsics(path) -> dict:
+    """Intrinsics from a JSON or YAML file with ``fx, fy, cx, cy, width, height``."""
+    path = Path(path)
+    try:
+        data = yaml.safe_load(path.read_text())  # JSON is YAML
+    except (OSError, yaml.YAMLError) as error:
+        raise ViewError(f"{path}: cannot read the intrinsics ({error})") from error
+    if not isinstance(data, dict):
+        raise ViewError(f"{path}: the intrinsics must be a mapping of {', '.join(INTRINSIC_KEYS)}")
+    return check_intrinsics(data, name=str(path))
+
+
+def read_depth(path, intrinsics_path, rgb_path=None, mask_path=None, **kwargs) -> View:
+    """:func:`view_from_depth` of files: a 16-bit PNG in millimetres or a float ``.npy`` in metres.
+
+    ``rgb_path``: a colour image of the same size; ``mask_path``: an image whose non-zero
+    pixels are the object's. Other keywords go to :func:`view_from_depth`.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ViewError(f"{path}: no such depth file")
+    suffix = path.suffix.lower()
+    if suffix == ".npy":
+        depth = np.load(path)
+        if depth.dtype.kind != "f":
+            raise ViewError(f"{path}: a .npy depth image holds float metres, got {depth.dtype}")
+    elif suffix == ".png":
+        with Image.open(path) as image:
+            if image.mode not in ("I;16", "I;16B", "I;16L", "I"):
+                raise ViewError(f"{path}: a depth PNG must be 16-bit (millimetres), got mode {image.mode}")
+            depth = np.asarray(image, dtype=np.float64) / 1000.0
+    else:
+        raise ViewError(
+            f"{path}: unsupported depth file {suffix!r} (a 16-bit PNG in millimetres or a float .npy "
+            "in metres; convert EXR to .npy)"
+        )
+    rgb = None if rgb_path is None else _image(rgb_path, "RGB")
+    mask = None if mask_path is None else _image(mask_path, "L") > 0
+    kwargs.setdefault("view_id", path.stem)
+    return view_from_depth(depth, read_intrinsics(intrinsics_path), rgb, mask, **kwargs)
+
+
+def _image(path, mode: str) -> np.ndarray:
+    try:
+        with Image.open(path) as image:
+            return np.asarray(image.convert(mode))
+    except OSError as error:
+        raise ViewError(f"{path}: cannot read the image ({error})") from error
+
+
+def write_depth(view: View, path, intrinsics_path=None) -> None:
+    """The depth image a view corresponds to: a 16-bit PNG in millimetres, and its intrinsics as JSON.
+
+    Each vertex is written at its pixel (``view.pixels``, rounded); pixels without a vertex
+    are 0. ``intrinsics_path`` defaults to the PNG's name with ``.json``.
+    """
+    k = check_intrinsics(view.intrinsics, name=view.name)
+    pixels = np.round(view.pixels).astype(np.int64)
+    inside = (pixels[:, 0] >= 0) & (pixels[:, 0] < k["width"]) & (pixels[:, 1] >= 0) & (pixels[:, 1] < k["height"])
+    millimetres = np.round(view.vertices[:, 2] * 1000.0)
+    if not inside.all() or millimetres.max() > np.iinfo(np.uint16).max:
+        raise ViewError(f"{view.name}: vertices outside the image or beyond 65.5 m cannot be written as a depth PNG")
+    image = np.zeros((k["height"], k["width"]), np.uint16)
+    image[pixels[:, 1], pixels[:, 0]] = millimetres.astype(np.uint16)
+    path = Path(path)
+    Image.fromarray(image).save(path)
+    Path(intrinsics_path or path.with_suffix(".json")).write_text(json.dumps(k, indent=1) + "\n")

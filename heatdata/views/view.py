@@ -1,0 +1,357 @@
+"""Partial views: the triangle mesh of the surface a depth sensor sees (thesis 2.1).
+
+A :class:`View` holds the mesh in camera coordinates (OpenCV frame: x right, y down,
+z forward, camera at the origin), per-vertex RGB, the camera intrinsics and, when it
+was rendered, the view angle and pose. It does not care whether it came from the
+renderer or a real sensor: :meth:`View.from_arrays` builds one from any mesh and
+cleans it (NaN check, duplicate vertices merged, degenerate faces dropped), logging
+and recording every repair in ``view.repairs``.
+
+The boundary (2.3.3) is the outer boundary loop ordered counter-clockwise as a person
+sees the image (x right, y up), starting where the +x axis of the image-centred frame
+leaves the shape.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import zipfile
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from heatdata.core.mesh import (
+    boundary_loops,
+    component_labels,
+    consistent_winding,
+    mesh_edges,
+)
+from heatdata.errors import ViewError
+
+log = logging.getLogger(__name__)
+
+MIN_VERTICES = 30
+ZERO_AREA = 1e-10  # faces below this fraction of the median face area (twice the area) are degenerate
+KINECT_INTRINSICS = {"fx": 580.0, "fy": 580.0, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480}
+
+
+def kinect_intrinsics(image_scale: float = 1.0) -> dict:
+    """The Kinect's intrinsics for an image scaled by ``image_scale`` (0.5: its 320x240 mode)."""
+    if not image_scale > 0:
+        raise ViewError(f"image_scale must be positive, got {image_scale}")
+    k = KINECT_INTRINSICS
+    width, height = round(k["width"] * image_scale), round(k["height"] * image_scale)
+    return {
+        "fx": k["fx"] * image_scale,
+        "fy": k["fy"] * image_scale,
+        "cx": (width - 1) / 2.0,
+        "cy": (height - 1) / 2.0,
+        "width": width,
+        "height": height,
+    }
+
+
+@dataclass
+class View:
+    """A partial view.
+
+    Attributes
+    ----------
+    vertices : (n, 3) float64
+        Camera-frame coordinates in metres.
+    faces : (m, 3) int64
+        Triangles.
+    colors : (n, 3) float64
+        RGB in [0, 1].
+    intrinsics : dict
+        ``fx, fy, cx, cy, width, height`` of the pinhole camera.
+    view_id, object_id, label : str
+        Stable identifiers and class.
+    azimuth, elevation, distance : float
+        View angle in degrees and camera distance in metres (NaN for sensor data).
+    pose : (4, 4) float64
+        Camera-to-model transform (identity when unknown).
+    repairs : list of str
+        Every repair made to the input, in order.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    colors: np.ndarray
+    intrinsics: dict = field(default_factory=lambda: dict(KINECT_INTRINSICS))
+    view_id: str = ""
+    object_id: str = ""
+    label: str = ""
+    azimuth: float = float("nan")
+    elevation: float = float("nan")
+    distance: float = float("nan")
+    pose: np.ndarray = field(default_factory=lambda: np.eye(4))
+    repairs: list = field(default_factory=list)
+
+    @classmethod
+    def from_arrays(cls, vertices, faces, colors=None, **kwargs) -> View:
+        """Build a view from raw arrays, checking and cleaning them.
+
+        NaN or infinite coordinates raise :class:`ViewError`; duplicate vertices are
+        merged and faces that repeat a vertex are dropped, each logged and recorded.
+        """
+        name = kwargs.get("view_id") or "view"
+        vertices = np.asarray(vertices, dtype=np.float64)
+        raw_faces = np.asarray(faces)
+        if raw_faces.dtype.kind == "f" and not np.all(raw_faces == np.round(raw_faces)):
+            raise ViewError(
+                f"{name}: faces must be whole vertex indices, got e.g. {raw_faces[raw_faces != np.round(raw_faces)][0]}"
+            )
+        if raw_faces.dtype.kind not in "iuf":
+            raise ViewError(f"{name}: faces must be integer vertex indices, got {raw_faces.dtype}")
+        faces = raw_faces.astype(np.int64)
+        if vertices.ndim != 2 or vertices.shape[1] != 3:
+            raise ViewError(f"{name}: vertices must be (n, 3), got {vertices.shape}")
+        if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
+            raise ViewError(f"{name}: faces must be a non-empty (m, 3) array, got {faces.shape}")
+        if faces.min() < 0 or faces.max() >= len(vertices):
+            raise ViewError(f"{name}: faces index vertices outside 0..{len(vertices) - 1}")
+        if not np.all(np.isfinite(vertices)):
+            bad = int((~np.isfinite(vertices)).any(axis=1).sum())
+            raise ViewError(f"{name}: {bad} vertices have NaN or infinite coordinates")
+        colors = np.full((len(vertices), 3), 0.5) if colors is None else np.asarray(colors, dtype=np.float64)
+        if colors.shape != vertices.shape:
+            raise ViewError(f"{name}: colors must be (n, 3) RGB for the {len(vertices)} vertices, got {colors.shape}")
+        if not np.all(np.isfinite(colors)):
+            bad = int((~np.isfinite(colors)).any(axis=1).sum())
+            raise ViewError(f"{name}: {bad} vertices have NaN or infinite colours")
+        repairs = list(kwargs.pop("repairs", []))
+        unique, first, inverse = np.unique(vertices, axis=0, return_index=True, return_inverse=True)
+        if len(unique) < len(vertices):
+            message = f"merged {len(vertices) - len(unique)} duplicate vertices"
+            log.warning("%s: %s", name, message)
+            repairs.append(message)
+            order = np.argsort(first)  # keep the original vertex order
+            rank = np.empty_like(order)
+            rank[order] = np.arange(len(order))
+            faces = rank[inverse.ravel()][faces]
+            vertices, colors = vertices[first[order]], colors[first[order]]
+        degenerate = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2]) | (faces[:, 0] == faces[:, 2])
+        if degenerate.any():
+            message = f"dropped {int(degenerate.sum())} degenerate faces"
+            log.warning("%s: %s", name, message)
+            repairs.append(message)
+            faces = faces[~degenerate]
+        p = vertices[faces]
+        area2 = np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+        flat = area2 <= ZERO_AREA * max(float(np.median(area2)), np.finfo(float).tiny)
+        if flat.any():
+            message = f"dropped {int(flat.sum())} zero-area faces (collinear vertices)"
+            log.warning("%s: %s", name, message)
+            repairs.append(message)
+            faces = faces[~flat]
+        if len(faces) == 0:
+            raise ViewError(f"{name}: no face with a non-zero area")
+        faces, flipped = consistent_winding(faces)
+        if flipped:
+            message = f"reversed {flipped} faces whose winding disagreed with their neighbours'"
+            log.warning("%s: %s", name, message)
+            repairs.append(message)
+        used = np.zeros(len(vertices), bool)
+        used[faces.ravel()] = True
+        if not used.all():
+            message = f"dropped {int((~used).sum())} vertices in no face"
+            log.debug("%s: %s", name, message)
+            repairs.append(message)
+            vertices, colors, faces = _compact(vertices, colors, faces, used)
+        view = cls(vertices=vertices, faces=faces, colors=colors, repairs=repairs, **kwargs)
+        view.check_size()
+        return view
+
+    def to_ply(self, path) -> None:
+        """Write the view as a binary PLY with vertex colours (MeshLab, Open3D and PCL open it), camera frame."""
+        import trimesh
+
+        colors = np.round(np.clip(self.colors, 0.0, 1.0) * 255).astype(np.uint8)
+        trimesh.Trimesh(self.vertices, self.faces, vertex_colors=colors, process=False).export(path, file_type="ply")
+
+    def save(self, path) -> None:
+        """Write the view to a ``.npz`` file (arrays plus identifiers and intrinsics)."""
+        np.savez_compressed(
+            path,
+            vertices=self.vertices,
+            faces=self.faces,
+            colors=self.colors,
+            pose=self.pose,
+            angle=np.array([self.azimuth, self.elevation, self.distance]),
+            intrinsics=np.array(json.dumps(self.intrinsics)),
+            ids=np.array([self.view_id, self.object_id, self.label]),
+            repairs=np.array(json.dumps(self.repairs)),
+        )
+
+    @classmethod
+    def load(cls, path) -> View:
+        """Read a view written by :meth:`save`."""
+        if not zipfile.is_zipfile(path):
+            raise ViewError(
+                f"{path}: not a readable .npz view file (not a zip archive: truncated, or not written by "
+                "heatdata render)"
+            )
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                view_id, object_id, label = (str(x) for x in data["ids"])
+                azimuth, elevation, distance = (float(x) for x in data["angle"])
+                return cls.from_arrays(
+                    data["vertices"],
+                    data["faces"],
+                    data["colors"],
+                    intrinsics=json.loads(str(data["intrinsics"])),
+                    view_id=view_id,
+                    object_id=object_id,
+                    label=label,
+                    azimuth=azimuth,
+                    elevation=elevation,
+                    distance=distance,
+                    pose=data["pose"],
+                    repairs=json.loads(str(data["repairs"])),
+                )
+        except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+            raise ViewError(f"{path}: not a readable heatdata view ({type(exc).__name__}: {exc})") from exc
+
+    # -- structure ---------------------------------------------------------------
+
+    @property
+    def n_vertices(self) -> int:
+        return len(self.vertices)
+
+    def check_size(self) -> None:
+        """Raise :class:`ViewError` if the view has fewer than ``MIN_VERTICES`` vertices."""
+        if self.n_vertices < MIN_VERTICES:
+            raise ViewError(f"{self.name}: only {self.n_vertices} vertices (at least {MIN_VERTICES} needed)")
+
+    @property
+    def name(self) -> str:
+        return self.view_id or self.object_id or "view"
+
+    @cached_property
+    def edges(self) -> np.ndarray:
+        """(e, 2) int64: unique undirected mesh edges, ``i < j``."""
+        return mesh_edges(self.faces, self.n_vertices)
+
+    @cached_property
+    def component_labels(self) -> np.ndarray:
+        """(n,) int: connected-component index of each vertex."""
+        return component_labels(self.edges, self.n_vertices)
+
+    @property
+    def n_components(self) -> int:
+        return int(self.component_labels.max()) + 1
+
+    def submesh(self, keep: np.ndarray, reason: str) -> View:
+        """A copy keeping the vertices where ``keep`` is true (and faces among them).
+
+        The repair ``reason`` is logged and recorded in the copy's ``repairs``.
+        """
+        keep = np.asarray(keep, bool)
+        face_keep = keep[self.faces].all(axis=1)
+        vertices, colors, faces = _compact(self.vertices, self.colors, self.faces[face_keep], keep)
+        log.info("%s: %s", self.name, reason)
+        view = View(
+            vertices=vertices,
+            faces=faces,
+            colors=colors,
+            intrinsics=self.intrinsics,
+            view_id=self.view_id,
+            object_id=self.object_id,
+            label=self.label,
+            azimuth=self.azimuth,
+            elevation=self.elevation,
+            distance=self.distance,
+            pose=self.pose,
+            repairs=[*self.repairs, reason],
+        )
+        view.check_size()
+        return view
+
+    def largest_component(self) -> View:
+        """The view itself if connected, else its largest connected component (a repair)."""
+        if self.n_components == 1:
+            return self
+        sizes = np.bincount(self.component_labels)
+        keep = self.component_labels == np.argmax(sizes)
+        return self.submesh(
+            keep, f"kept the largest of {len(sizes)} components ({int(keep.sum())} of {self.n_vertices} vertices)"
+        )
+
+    def component_of(self, vertex: int) -> tuple[View, int]:
+        """The connected component containing ``vertex``, and that vertex's new index."""
+        if self.n_components == 1:
+            return self, vertex
+        keep = self.component_labels == self.component_labels[vertex]
+        sub = self.submesh(
+            keep,
+            f"kept the component of vertex {vertex} "
+            f"({int(keep.sum())} of {self.n_vertices} vertices, "
+            f"{self.n_components} components)",
+        )
+        return sub, int(np.cumsum(keep)[vertex] - 1)
+
+    # -- image-plane geometry ------------------------------------------------------
+
+    @cached_property
+    def pixels(self) -> np.ndarray:
+        """(n, 2) float64: image coordinates (u right, v down) of the vertices."""
+        k = self.intrinsics
+        z = self.vertices[:, 2]
+        if np.any(z <= 0):
+            raise ViewError(f"{self.name}: vertices behind the camera (z <= 0)")
+        return np.column_stack(
+            [k["fx"] * self.vertices[:, 0] / z + k["cx"], k["fy"] * self.vertices[:, 1] / z + k["cy"]]
+        )
+
+    @cached_property
+    def image_center(self) -> np.ndarray:
+        """(2,) float64: centre of the segmented depth image (mean vertex pixel), 2.3.3."""
+        return self.pixels.mean(axis=0)
+
+    @cached_property
+    def planar(self) -> np.ndarray:
+        """(n, 2) float64: image-centred frame, x right and y up, in pixels (Fig. 2.6)."""
+        d = self.pixels - self.image_center
+        return np.column_stack([d[:, 0], -d[:, 1]])
+
+    @cached_property
+    def boundary(self) -> np.ndarray:
+        """(b,) int64: the outer boundary loop, counter-clockwise, origin on the +x axis."""
+        return _outer_boundary(self)
+
+
+def _compact(vertices, colors, faces, keep):
+    index = np.full(len(vertices), -1, np.int64)
+    index[keep] = np.arange(int(keep.sum()))
+    return vertices[keep], colors[keep], index[faces]
+
+
+def _signed_area(points: np.ndarray) -> float:
+    x, y = points[:, 0], points[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _outer_boundary(view: View) -> np.ndarray:
+    planar = view.planar
+    loops = [loop for loop in boundary_loops(view.faces, planar) if len(loop) >= 3]
+    if not loops:
+        raise ViewError(f"{view.name}: the mesh has no boundary (a closed surface is not a partial view)")
+    areas = [_signed_area(planar[loop]) for loop in loops]
+    best = int(np.argmax(np.abs(areas)))
+    loop = loops[best]
+    if areas[best] < 0:
+        loop = loop[::-1]
+    # origin: the outermost crossing of the +x axis, going counter-clockwise (angle 0)
+    p = planar[loop]
+    q = np.roll(p, -1, axis=0)
+    crosses = (p[:, 1] < 0) & (q[:, 1] >= 0)
+    if crosses.any():
+        idx = np.flatnonzero(crosses)
+        x_at = p[idx, 0] + (q[idx, 0] - p[idx, 0]) * (-p[idx, 1]) / (q[idx, 1] - p[idx, 1])
+        start = (idx[np.argmax(x_at)] + 1) % len(loop)
+    else:  # the centre is outside the loop: start at the vertex nearest to angle 0
+        start = int(np.argmin(np.abs(np.arctan2(p[:, 1], p[:, 0]))))
+    return np.roll(loop, -start)
