@@ -6,7 +6,7 @@ and selects the sources of every (object, library size, alpha) with the LP and w
 (``heatdata.recognition.compact.cyclic_dp``), each in a child process with a time limit, and compares the optima.
 Needs Debian's sweethome3d-furniture.
 
-    .venv/bin/python benchmarks/bench_compact_lp.py config/compact_chairs.yaml [--timeout 600]
+    .venv/bin/python benchmarks/bench_compact_lp.py config/experiments/compact_chairs.yaml [--timeout 600]
 """
 
 import argparse
@@ -108,7 +108,7 @@ def run(solver, costs, timeout: float) -> tuple[float, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("config", help="a compact config, e.g. config/compact_chairs.yaml")
+    parser.add_argument("config", help="a compact config, e.g. config/experiments/compact_chairs.yaml")
     parser.add_argument("--timeout", type=float, default=600.0, help="seconds per solve before it is stopped")
     parser.add_argument("--sizes", type=int, nargs="+", help="library sizes (default: the config's)")
     args = parser.parse_args()

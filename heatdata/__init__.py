@@ -65,6 +65,7 @@ from heatdata.descriptors import (
     view_time_scale,
 )
 from heatdata.errors import (
+    ConfigError,
     HeatdataError,
     ModelError,
     RenderError,
@@ -116,6 +117,7 @@ __all__ = [
     "DESCRIPTORS",
     "Alignment",
     "AppearanceModel",
+    "ConfigError",
     "Descriptor",
     "DescriptorSpec",
     "ExhaustiveFilter",

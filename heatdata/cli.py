@@ -12,7 +12,6 @@ import logging
 import os
 import sys
 import time
-from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
@@ -31,9 +30,7 @@ from heatdata.descriptors import (
 from heatdata.errors import HeatdataError
 from heatdata.experiments.demo import (
     DEMO_SPECS,
-    _classify_job,
-    _describe_catalog_object,
-    _one_thread,
+    describe_and_classify,
 )
 from heatdata.experiments.views import view_plan
 from heatdata.io.catalog import embedded_catalog, read_catalog
@@ -88,32 +85,7 @@ def cmd_demo(args: argparse.Namespace) -> None:
         distance=args.distance,
         seed=args.seed,
     )
-    jobs = [
-        (row.to_dict(), plan[plan["object"] == row["object"]], DEMO_SPECS, not args.no_noise)
-        for _, row in catalog.iterrows()
-    ]
-    log.info(
-        "describing %d views of %d objects (%d descriptors each) with %d processes",
-        len(plan),
-        len(catalog),
-        len(DEMO_SPECS),
-        args.jobs,
-    )
-    with get_context("spawn").Pool(args.jobs, initializer=_one_thread) as pool:
-        described = pool.imap(_describe_catalog_object, jobs, chunksize=1)
-        descriptors = pd.concat(
-            progress(described, total=len(jobs), desc="describing", unit="object"), ignore_index=True
-        )
-        log.info(
-            "classifying %d test views per descriptor against %d library views",
-            (plan["split"] == "test").sum(),
-            (plan["split"] == "train").sum(),
-        )
-        subsets = [(descriptors[descriptors["descriptor"] == spec.name], spec.name) for spec in DEMO_SPECS]
-        classified = pool.imap(_classify_job, subsets, chunksize=1)
-        predictions = pd.concat(
-            progress(classified, total=len(subsets), desc="classifying", unit="descriptor"), ignore_index=True
-        )
+    descriptors, predictions = describe_and_classify(catalog, plan, DEMO_SPECS, noise=not args.no_noise, jobs=args.jobs)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     run = {k: v for k, v in vars(args).items() if k != "func"}

@@ -29,9 +29,9 @@ Choices the thesis leaves open, decided here:
   positions are in metres), so that heat spreads sqrt(4t) = 7.6 cm at 1/700 and 63 cm at
   1/10 over a rump some 20 cm long.
 - The heat is eq. 5.2 on the Laplacian of eq. 2.2-2.3, with as many eigenpairs as make
-  it exact to 1e-8 at the first time (``exp(-lambda_k t_1)``; the thesis used 300): the
-  whole of Alg. 8.1 on a 7,598-vertex rump takes 2.4 s and agrees with the dense
-  Laplacian's whole spectrum (79 s) to 2e-10 (``benchmarks/bench_hbrd.py``).
+  it exact to 1e-8 at the first time (``exp(-lambda_k t_1)``; the thesis used 300): it
+  agrees with the dense Laplacian's whole spectrum to 2e-10, at a small fraction of its cost
+  (``benchmarks/bench_hbrd.py``; timings in ``benchmarks/README.md``).
   ``expm_multiply`` costs t ||L||, about 3e6 t on a rump's 2 mm edges: it is not a usable
   reference here. Temperatures are divided by the equilibrium temperature (1/n).
 """
@@ -205,6 +205,12 @@ def rump_heat(
         ``extent`` about its centre (default: all of it, as the thesis: a goat's body falls
         away beyond its hip and pin bones; a human's buttocks do not).
 
+    Returns
+    -------
+    RumpHeat
+        The normalized rump, its heat source and path, and the HBRD (``descriptor``) at
+        :func:`hbrd_times`.
+
     Raises
     ------
     RumpError
@@ -320,6 +326,22 @@ def hbrd(vertices: np.ndarray, faces: np.ndarray, landmarks: np.ndarray, **kwarg
     """HBRD (eq. 8.1, Algorithm 8.1): (K,) maximum temperature difference, rump minus its planar twin.
 
     ``landmarks`` (4, 3): hip left, hip right, pin left, pin right. Keywords as :func:`rump_heat`.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float
+        The rump scan's vertices, metres.
+    faces : (f, 3) int
+        Its triangles.
+    landmarks : (4, 3) float
+        Hip left, hip right, pin left, pin right.
+    **kwargs
+        As for :func:`rump_heat`.
+
+    Returns
+    -------
+    (K,) float64
+        The HBRD at the K times of :func:`hbrd_times`.
     """
     return rump_heat(vertices, faces, landmarks, **kwargs).descriptor
 

@@ -1,6 +1,6 @@
 """Ablation of the similarity bootstrap (thresholds, newcomers) and the appearance model's alpha (thesis 4.3, 4.4.6).
 
-Reads a multi-view run's descriptor table (``snakemake --configfile config/multiview.yaml``),
+Reads a multi-view run's descriptor table (``snakemake --configfile config/experiments/multiview.yaml``),
 rebuilds its library, similarity and ambiguous starts as the rule does, and runs the
 trials for each alpha, (sigma_min, tau_boot) pair and newcomer rule (their starting
 weight and place, :class:`heatdata.ParticleFilter`) with fewer repetitions (Fig. 4.8b).

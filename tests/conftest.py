@@ -66,3 +66,30 @@ def catalog():
 @pytest.fixture(scope="session")
 def mug(catalog) -> hd.Model:
     return hd.load_catalog_model(catalog[catalog["object"] == "beer-mug"].iloc[0])
+
+
+def write_textured_quad(folder):
+    """A 1 x 1 quad whose texture is red on the left half and blue on the right."""
+    from PIL import Image
+
+    texture = np.zeros((4, 4, 3), np.uint8)
+    texture[:, :2] = [255, 0, 0]
+    texture[:, 2:] = [0, 0, 255]
+    Image.fromarray(texture).save(folder / "tex.png")
+    (folder / "quad.mtl").write_text("newmtl skin\nKd 1 1 1\nmap_Kd tex.png\n")
+    (folder / "quad.obj").write_text(
+        "mtllib quad.mtl\n"
+        "v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0.5 0.5 0\nv -0.5 0.5 0\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+        "usemtl skin\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n"
+    )
+    return folder / "quad.obj"
+
+
+def colored_box(extents=(0.2, 0.2, 0.2)):
+    """A box with every face one red."""
+    import trimesh
+
+    box = trimesh.creation.box(extents=extents)
+    box.visual.face_colors = np.tile([200, 50, 50, 255], (len(box.faces), 1))
+    return box

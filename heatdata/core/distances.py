@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.typing import DTypeLike
 from scipy.spatial.distance import cdist
 
 from heatdata.errors import HeatdataError
@@ -110,6 +111,11 @@ def mhd(z1: np.ndarray, z2: np.ndarray) -> float:
     z1 : (M,) float
     z2 : (M',) float
         Descriptors; the lengths may differ (each is parameterized on (0, 1]).
+
+    Returns
+    -------
+    float
+        The distance, >= 0.
     """
     return weighted_mhd(z1, z2, np.ones(len(z1)), np.ones(len(z2)))
 
@@ -127,6 +133,11 @@ def weighted_mhd(z1: np.ndarray, z2: np.ndarray, w1: np.ndarray, w2: np.ndarray)
     w1 : (M,) float
     w2 : (M',) float
         Non-negative part weights (:func:`heatdata.part_weights`).
+
+    Returns
+    -------
+    float
+        The weighted distance (eq. 5.14), >= 0.
     """
     z1, z2 = np.asarray(z1, float), np.asarray(z2, float)
     if z1.ndim != 1 or z2.ndim != 1 or len(z1) == 0 or len(z2) == 0:
@@ -151,7 +162,7 @@ def mhd_matrix(
     query_weights: np.ndarray | None = None,
     library_weights: np.ndarray | None = None,
     chunk_elements: int = 2**16,
-    dtype=np.float32,
+    dtype: DTypeLike = np.float32,
 ) -> np.ndarray:
     """Eq. 3.1 (or, with weights, eq. 5.14) between every query and every library descriptor.
 
@@ -300,7 +311,7 @@ def _mhd_tensor(a: np.ndarray, b: np.ndarray, wa: np.ndarray, wb: np.ndarray) ->
 
 
 def nearest_pair_mhd(
-    queries: np.ndarray, library: np.ndarray, *, shortlist: int | None = SHORTLIST, dtype=np.float32
+    queries: np.ndarray, library: np.ndarray, *, shortlist: int | None = SHORTLIST, dtype: DTypeLike = np.float32
 ) -> NearestPair:
     """The closest (query, library) pair under eq. 3.1, searched on the ``shortlist`` pairs nearest in L1.
 

@@ -127,22 +127,64 @@ class HeatOperator:
 
     def shifted(self, sigma: float) -> HeatOperator:
         """The same operator factorized at shift ``sigma``: ``sigma ~ 1/t`` suits early times t,
+
         where the Krylov space of the default (tiny) shift converges slowly. The pattern is the same, so the
-        fill-reducing ordering and symbolic analysis of this factorization are reused."""
+        fill-reducing ordering and symbolic analysis of this factorization are reused.
+
+        Parameters
+        ----------
+        sigma : float
+            The new shift, > 0.
+
+        Returns
+        -------
+        HeatOperator
+            The same L, C and rates, factorized at ``sigma``.
+        """
         return HeatOperator(self.L, self.c, self.name, sigma=sigma, analysis=self.factor)
 
     def apply_inverse(self, y: np.ndarray) -> np.ndarray:
-        """``(S + sigma I)^{-1} y`` restricted to the complement of the null vector."""
+        """``(S + sigma I)^{-1} y`` restricted to the complement of the null vector.
+
+        Parameters
+        ----------
+        y : (n,) float
+            A vector in symmetric coordinates.
+
+        Returns
+        -------
+        (n,) float64
+        """
         out = self.sqrt_c * self.factor.solve_A(self.sqrt_c * y)
         return out - self.null * (self.null @ out)
 
     def apply_S(self, y: np.ndarray) -> np.ndarray:
-        """``S y = C^{-1/2} L C^{-1/2} y`` for (n,) or (n, k) ``y``."""
+        """``S y = C^{-1/2} L C^{-1/2} y`` for (n,) or (n, k) ``y``.
+
+        Parameters
+        ----------
+        y : (n,) or (n, k) float
+            Vectors in symmetric coordinates.
+
+        Returns
+        -------
+        (n,) or (n, k) float64
+        """
         scale = self.sqrt_c if y.ndim == 1 else self.sqrt_c[:, None]
         return (self.L @ (y / scale)) / scale
 
     def pulse(self, source: int) -> np.ndarray:
-        """``C^{1/2} e_s``: the unit pulse of eq. 2.5 in symmetric coordinates."""
+        """``C^{1/2} e_s``: the unit pulse of eq. 2.5 in symmetric coordinates.
+
+        Parameters
+        ----------
+        source : int
+            The vertex.
+
+        Returns
+        -------
+        (n,) float64
+        """
         v = np.zeros(self.n)
         v[source] = self.sqrt_c[source]
         return v
@@ -195,6 +237,22 @@ def lambda2(op: HeatOperator, *, rtol: float = 1e-8, max_steps: int = 60, seed: 
 
     Lanczos on ``(S + sigma I)^{-1}`` from a seeded random start, deflated of the null
     vector, until the smallest Ritz value changes by less than ``rtol``.
+
+    Parameters
+    ----------
+    op : HeatOperator
+        The operator (L, C) of one connected component.
+    rtol : float
+        Relative change of the smallest Ritz value that stops the iteration.
+    max_steps : int
+        Lanczos steps at most.
+    seed : int
+        Seed of the random start.
+
+    Returns
+    -------
+    float
+        lambda_2 > 0.
     """
     if op.n < 3:
         raise SpectrumError(f"{op.name}: too few vertices for a spectrum")
@@ -274,6 +332,11 @@ def heat_model(
     check_every : int
         Steps between convergence checks (each costs a small eigenproblem and the
         temperatures at ``times``): more than 1 pays when many steps are expected.
+
+    Returns
+    -------
+    HeatModel
+        Temperatures at ``at`` as a function of time, from the Krylov space.
     """
     times = np.atleast_1d(np.asarray(times, dtype=np.float64))
     if np.any(times <= 0) or not np.all(np.isfinite(times)):
@@ -322,6 +385,21 @@ def krylov_heat(
     -------
     (k, b) float64
         Temperatures divided by the equilibrium temperature.
+
+    Parameters
+    ----------
+    op : HeatOperator
+        The view's operator.
+    source : int
+        The vertex the unit pulse starts at.
+    times : (k,) float
+        Diffusion times, > 0.
+    at : (b,) int, optional
+        The vertices reported (default all).
+    tol : float
+        Relative accuracy of the Krylov approximation.
+    max_steps : int
+        Lanczos steps at most.
     """
     return heat_model(op, source, times, at, tol=tol, max_steps=max_steps)(np.asarray(times, dtype=np.float64))
 
@@ -343,6 +421,19 @@ def first_crossings(
     (b,) float64
         Crossing times; NaN where the threshold is not reached by ``t_end``, or is
         already reached at ``t_start`` (no crossing from below in the window).
+
+    Parameters
+    ----------
+    model : HeatModel
+        Temperatures at the reported vertices as a function of time (:func:`heat_model`).
+    threshold : float
+        T_a, a fraction of the equilibrium temperature.
+    t_start, t_end : float
+        The window searched, 0 < t_start < t_end.
+    grid : int
+        Log-spaced times that bracket the crossings.
+    rtol : float
+        Relative accuracy of the bisection in log t.
     """
     times = np.geomspace(t_start, t_end, grid)
     above = model(times) >= threshold  # (grid, b)
@@ -389,7 +480,18 @@ class Spectrum:
         return float(self.values[1])
 
     def truncation(self, time: float) -> float:
-        """``exp(-lambda_k t)``: the weight of the first mode left out at ``time``."""
+        """``exp(-lambda_k t)``: the weight of the first mode left out at ``time``.
+
+        Parameters
+        ----------
+        time : float
+            A diffusion time.
+
+        Returns
+        -------
+        float
+            In (0, 1]: small means the kept modes suffice at ``time``.
+        """
         return float(np.exp(-self.values[-1] * time))
 
     def heat(self, sources: np.ndarray, time: float, at: np.ndarray | None = None) -> np.ndarray:
@@ -399,6 +501,15 @@ class Spectrum:
         -------
         (len(sources), b) float64
             ``Phi_at diag(exp(-lambda t)) Phi_S^T C_S`` divided by the equilibrium.
+
+        Parameters
+        ----------
+        sources : (s,) int
+            Source vertices.
+        time : float
+            The diffusion time.
+        at : (b,) int, optional
+            The vertices reported (default all).
         """
         sources = np.atleast_1d(sources)
         rows = slice(None) if at is None else at
@@ -419,6 +530,13 @@ class Spectrum:
         (b,) float64
             At the vertices ``at`` (default all).
 
+        Parameters
+        ----------
+        time : float
+            The diffusion time (t_global = 1/lambda_2 in the thesis).
+        at : (b,) int, optional
+            The vertices reported (default all).
+
         Raises
         ------
         SpectrumError
@@ -438,7 +556,22 @@ class Spectrum:
 
 
 def eigen_spectrum(op: HeatOperator, k: int = 30, *, tol: float = 1e-10) -> Spectrum:
-    """The ``k`` smallest eigenpairs by ARPACK shift-invert with the CHOLMOD factor."""
+    """The ``k`` smallest eigenpairs by ARPACK shift-invert with the CHOLMOD factor.
+
+    Parameters
+    ----------
+    op : HeatOperator
+        The operator (L, C) of the view.
+    k : int
+        Eigenpairs, the first (lambda_1 = 0) included.
+    tol : float
+        ARPACK's relative tolerance.
+
+    Returns
+    -------
+    Spectrum
+        ``values`` (k,) ascending, ``vectors`` (n, k) C-orthonormal, and the rates.
+    """
     n = op.n
     k = min(k, n - 2)
     if k < 2:

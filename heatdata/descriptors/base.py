@@ -274,6 +274,17 @@ class DescriptorSpec:
     option the kind does not have is ignored. A fitted kind's spec carries what
     :func:`fit_spec` learned in :attr:`fitted` (not part of its name or equality).
 
+    Parameters
+    ----------
+    kind : str
+        A registered kind (:data:`heatdata.DESCRIPTORS`).
+    *args
+        Its options in the kind's order (``heatdata kinds`` lists them).
+    fitted : mapping of str to array, optional
+        What the kind learned from library views.
+    **given
+        Options by name.
+
     Attributes
     ----------
     kind : str
@@ -284,7 +295,7 @@ class DescriptorSpec:
 
     __slots__ = ("fitted", "kind", "options")
 
-    def __init__(self, kind: str = "pvhk", *args, fitted: Mapping | None = None, **given):
+    def __init__(self, kind: str = "pvhk", *args: Any, fitted: Mapping | None = None, **given: Any) -> None:
         impl = kind_of(kind)
         names = [o.name for o in impl.options]
         if len(args) > len(names):
@@ -326,8 +337,21 @@ class DescriptorSpec:
     def __reduce__(self):  # pickled for process pools: rebuilt (and re-validated) from kind and options
         return _rebuild, (self.kind, self.options, self.fitted)
 
-    def get(self, name: str, default=None):
-        """The option ``name``, or ``default`` if the kind has no such option."""
+    def get(self, name: str, default: Any = None) -> Any:
+        """The option ``name``, or ``default`` if the kind has no such option.
+
+        Parameters
+        ----------
+        name : str
+            An option's name.
+        default : object
+            What to return when the kind has no such option.
+
+        Returns
+        -------
+        object
+            The option's value.
+        """
         return self.options.get(name, default)
 
     @property
@@ -341,10 +365,28 @@ class DescriptorSpec:
         return self.impl.label(self.options)
 
     def replace(self, **changes) -> DescriptorSpec:
-        """A copy with some options changed (what was fitted is kept)."""
+        """A copy with some options changed (what was fitted is kept).
+
+        Returns
+        -------
+        DescriptorSpec
+            The copy, validated like a new spec.
+        """
         return DescriptorSpec(self.kind, fitted=self.fitted, **{**self.options, **changes})
 
     def with_fitted(self, fitted: Mapping) -> DescriptorSpec:
+        """A copy that carries what the kind learned from library views (:func:`fit_spec`).
+
+        Parameters
+        ----------
+        fitted : mapping of str to array
+            What :meth:`Kind.fit` learned (e.g. SI-HKS's codebook).
+
+        Returns
+        -------
+        DescriptorSpec
+            The same kind and options with ``fitted`` (part of its identity and of its JSON).
+        """
         return DescriptorSpec(self.kind, fitted=fitted, **self.options)
 
     def _key(self):
@@ -373,7 +415,20 @@ def _rebuild(kind: str, options: dict, fitted) -> DescriptorSpec:
 
 
 def fit_spec(spec: DescriptorSpec, library_views: list) -> DescriptorSpec:
-    """Fit a learned kind on library views (e.g. SI-HKS's codebook); other kinds come back as they are."""
+    """Fit a learned kind on library views (e.g. SI-HKS's codebook); other kinds come back as they are.
+
+    Parameters
+    ----------
+    spec : DescriptorSpec
+        What to compute.
+    library_views : list of View
+        The views it may learn from (for SI-HKS, its codebook).
+
+    Returns
+    -------
+    DescriptorSpec
+        ``spec`` with its fitted state (:meth:`DescriptorSpec.with_fitted`), or ``spec`` itself.
+    """
     if not spec.impl.fitted:
         return spec
     views = list(library_views)
@@ -421,7 +476,18 @@ def stack_values(items, what: str = "descriptors") -> np.ndarray:
 
 
 def distance(a: Descriptor, b: Descriptor) -> float:
-    """The kind's own distance between two descriptors of one kind (eq. 3.1, 5.14 or a histogram distance)."""
+    """The kind's own distance between two descriptors of one kind (eq. 3.1, 5.14 or a histogram distance).
+
+    Parameters
+    ----------
+    a, b : Descriptor
+        Two descriptors of one kind (and one length).
+
+    Returns
+    -------
+    float
+        Their distance under the kind's :meth:`Kind.distance_matrix`.
+    """
     if a.kind != b.kind:
         raise HeatdataError(
             f"no distance between {article(a.kind)} {a.kind} and {article(b.kind)} {b.kind} "

@@ -64,6 +64,18 @@ def source_vertex(view: View, rule: str | int = "closest") -> int:
     on it, as the PVST needs (Lemma 1), and on the view's largest part. On a chair, the
     image centre often falls between the legs or the back's slats, and ``"center"`` then
     picks a vertex of the outline.
+
+    Parameters
+    ----------
+    view : View
+        A partial view (thesis 2.1).
+    rule : {"closest", "center", "interior"} or int
+        The rule, or a vertex index (checked).
+
+    Returns
+    -------
+    int
+        The source's vertex index.
     """
     if isinstance(rule, (int, np.integer)):
         if not 0 <= rule < view.n_vertices:

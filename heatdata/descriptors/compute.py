@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+
 from heatdata.descriptors.base import Descriptor, DescriptorSpec
 from heatdata.descriptors.work import ViewWork
 from heatdata.views.view import View
@@ -13,7 +15,7 @@ def describe(
     *,
     method: str = "krylov",
     modes: int = 30,
-    times=None,
+    times: Sequence[float] | Mapping[str, Sequence[float]] | None = None,
     part_weights: bool = True,
     t_final: float | None = None,
 ) -> list[Descriptor]:

@@ -14,7 +14,7 @@ eigen-decomposition (6.2.1).
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -177,7 +177,13 @@ class HeatKind(BoundaryKind):
         return (1.0 / spectrum.lambda2,)
 
     def candidates(
-        self, view: View, sources: np.ndarray, spec: DescriptorSpec, *, times=None, modes: int = 32
+        self,
+        view: View,
+        sources: np.ndarray,
+        spec: DescriptorSpec,
+        *,
+        times: Sequence[float] | None = None,
+        modes: int = 32,
     ) -> list[Descriptor]:
         """One descriptor per source from one eigen-decomposition per connected component (6.2.1).
 
@@ -356,6 +362,31 @@ def c_pvhk(
     ``sat-hue``) or a function from (n, 3) RGB in [0, 1] to (n,) positive rates.
     ``clock="shape"`` stops at the colourless view's 1/lambda_2 instead of the coloured
     one's (:class:`ColorPVHK`). Other parameters as :func:`pvhk`.
+
+    Parameters
+    ----------
+    view : View
+        A partial view (thesis 2.1).
+    samples : int or None
+        Boundary samples M; None keeps every boundary vertex.
+    color_map : str or callable
+        One of :data:`COLOR_MAPS` (``c1``..``c4`` of 3.4.2, ``hue``, ``sat-hue``), or a function
+        from (n, 3) RGB in [0, 1] to (n,) positive diffusion rates.
+    source : str or int
+        The heat source: a rule of :func:`source_vertex` or a vertex index.
+    sampling : {"arclength", "polar"}
+        How the boundary is sampled (2.5).
+    clock : {"color", "shape"}
+        Whose 1/lambda_2 stops the diffusion: the coloured operator's (eq. 2.11) or the colourless one's.
+    method : {"krylov", "eigen"}
+        Heat by a Krylov solve or by ``modes`` eigenpairs.
+    modes : int
+        Eigenpairs for ``method="eigen"``.
+
+    Returns
+    -------
+    Descriptor
+        Kind ``c-pvhk``: ``values`` (M,) temperatures at t_s = 1/lambda_2, equilibrium 1.
     """
     spec = DescriptorSpec("c-pvhk", samples, source, sampling, color_map, clock)
     return describe(view, [spec], method=method, modes=modes)[0]
@@ -375,6 +406,20 @@ def ft_pvhk(
 
     Costs one heat solve and no lambda_2 (``Descriptor.lambda2`` is NaN); its part weights
     come from :func:`part_weights`. Other parameters as :func:`pvhk`.
+
+    Parameters
+    ----------
+    view : View
+        A partial view (thesis 2.1).
+    time : float
+        The fixed diffusion time (e.g. :func:`object_time_scale`), > 0.
+    samples, source, sampling, method, modes
+        As for :func:`c_pvhk`.
+
+    Returns
+    -------
+    Descriptor
+        Kind ``ft-pvhk``: ``values`` (M,) temperatures at ``time``; ``weights`` (M,) the part weights.
     """
     spec = DescriptorSpec("ft-pvhk", samples, source, sampling)
     return describe(view, [spec], method=method, modes=modes, times=[time], part_weights=False)[0]
@@ -396,6 +441,13 @@ def part_weights(
     Returns
     -------
     (M,) float64
+
+    Parameters
+    ----------
+    view : View
+        A partial view (thesis 2.1).
+    samples, sampling, source
+        As for :func:`pvhk`: the weights are at that descriptor's samples.
     """
     work = ViewWork(view, "krylov", 30)
     connected, _, _ = work.component(source)
@@ -407,6 +459,20 @@ def global_derivative(view: View, source: str | int = "closest", time: float | N
     """Source-position global derivative (eq. 5.12) at every vertex of the source's component (Fig. 5.7).
 
     ``time`` defaults to t_global = 1/lambda_2. Returns (n_component,) float64.
+
+    Parameters
+    ----------
+    view : View
+        A partial view (thesis 2.1).
+    source : str or int
+        As for :func:`source_vertex`: it chooses the connected component.
+    time : float, optional
+        Diffusion time; default t_global = 1/lambda_2.
+
+    Returns
+    -------
+    (n_component,) float64
+        The derivative at every vertex of the source's component, 1/m^2.
     """
     work = ViewWork(view, "eigen", WEIGHT_MODES)
     connected, _, _ = work.component(source)
@@ -416,19 +482,37 @@ def global_derivative(view: View, source: str | int = "closest", time: float | N
 
 
 def view_time_scale(view: View, source: str | int = "closest") -> float:
-    """t_global = 1/lambda_2 of the component holding the source (2.3.1)."""
+    """t_global = 1/lambda_2 of the component holding the source (2.3.1).
+
+    Parameters
+    ----------
+    view : View
+        A partial view (thesis 2.1).
+    source : str or int
+        As for :func:`source_vertex`: it chooses the connected component.
+
+    Returns
+    -------
+    float
+        1/lambda_2 of that component, in the mesh's units squared (m^2 for a view in metres).
+    """
     work = ViewWork(view, "krylov", 30)
     connected, _, _ = work.component(source)
     return 1.0 / work.lambda2(work.operator(connected, None))
 
 
-def object_time_scale(views, source: str | int = "closest") -> float:
+def object_time_scale(views: Iterable[View], source: str | int = "closest") -> float:
     """Main-part time scale of an object (Alg. 5.1): the smallest 1/lambda_2 over its views.
 
     Parameters
     ----------
     views : iterable of View
         Partial views of one object from several view angles.
+
+    Returns
+    -------
+    float
+        The smallest t_global = 1/lambda_2 among the views (Alg. 5.1).
     """
     scales = {view.name: view_time_scale(view, source) for view in views}
     if not scales:

@@ -9,6 +9,7 @@ sources, found by simplifying the view's mesh (the thesis: library views simplif
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -98,7 +99,7 @@ def candidate_sources(view: View, count: int | None = 250) -> np.ndarray:
 
 
 def candidate_descriptors(
-    view: View, sources: np.ndarray, spec: DescriptorSpec, *, times=None, modes: int = 32
+    view: View, sources: np.ndarray, spec: DescriptorSpec, *, times: Sequence[float] | None = None, modes: int = 32
 ) -> list[Descriptor]:
     """One descriptor per source of a view (6.2.1), computed the way the spec's kind shares work.
 
@@ -107,9 +108,8 @@ def candidate_descriptors(
     the heat kernel's symmetry), with eigenpairs doubled until the first mode left out
     weighs less than 1e-7 at the earliest time. A PVST's crossing times need early
     times, where a truncated expansion is not accurate: its sources share the
-    factorizations and lambda_2, and each gets its own heat models (64 take ~2 s on a
-    4,263-vertex chair view). Kinds without a source (the histogram baselines) are an
-    error.
+    factorizations and lambda_2, and each gets its own heat models (``benchmarks/README.md``
+    times them). Kinds without a source (the histogram baselines) are an error.
 
     Parameters
     ----------

@@ -197,8 +197,8 @@ class PVST(BoundaryKind):
         self, view: View, sources: np.ndarray, spec: DescriptorSpec, *, times=None, modes: int = 32
     ) -> list[Descriptor]:
         """A PVST's crossing times need early times, where a truncated expansion is not accurate: the
-        sources share the factorizations and lambda_2, and each gets its own heat models (~30 ms; building
-        them in lockstep did not pay, ``benchmarks/README.md``)."""
+        sources share the factorizations and lambda_2, and each gets its own heat models (building them
+        in lockstep did not pay: ``benchmarks/README.md``)."""
         return describe(view, [spec.replace(source=int(s)) for s in sources])
 
 

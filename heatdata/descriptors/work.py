@@ -9,6 +9,7 @@ of a view cost little more than one).
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -50,7 +51,12 @@ def checked_times(times, what: str) -> tuple:
 
 
 def heat_kernel(
-    view: View, source: int | str = "closest", times=None, *, color_map=None, tol: float = 1e-7
+    view: View,
+    source: int | str = "closest",
+    times: Sequence[float] | None = None,
+    *,
+    color_map: str | Callable[[np.ndarray], np.ndarray] | None = None,
+    tol: float = 1e-7,
 ) -> np.ndarray:
     """Temperatures over the whole view after a unit pulse at ``source`` (eq. 2.5-2.6, 2.11).
 

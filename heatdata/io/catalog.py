@@ -56,6 +56,11 @@ def embedded_catalog() -> Path:
     """The catalogue of the embedded CC0 models: ``data/models/`` of the repository, or of an installed wheel.
 
     A wheel ships the repository's ``data/`` folder as ``heatdata/embedded/`` (pyproject.toml).
+
+    Returns
+    -------
+    Path
+        ``.../models/catalog.csv``.
     """
     package = Path(__file__).resolve().parents[1]
     for folder in (package / "embedded", package.parent / "data"):
@@ -66,6 +71,17 @@ def embedded_catalog() -> Path:
 
 def read_catalog(path: str | Path) -> pd.DataFrame:
     """Read and check a catalogue CSV.
+
+    Parameters
+    ----------
+    path : str or Path
+        A catalogue CSV (columns as in this module's docstring).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Every column of :data:`CATALOG_COLUMNS` (empty where the file lacks it) and ``path``, each
+        model's file resolved against the catalogue's folder.
 
     Raises
     ------
@@ -96,6 +112,18 @@ def catalog_from_folder(models_dir: str | Path, scale: float = 1.0) -> pd.DataFr
     ``models_dir/mugs/red.obj`` becomes object ``mugs-red`` of class ``mugs``; files
     directly in ``models_dir`` get the class ``unlabelled``. File units times ``scale``
     are metres.
+
+    Parameters
+    ----------
+    models_dir : str or Path
+        A folder of mesh files, optionally one subfolder per class.
+    scale : float
+        File units times ``scale`` are metres.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The catalogue's columns (:data:`CATALOG_COLUMNS`) and ``path``, one row per file.
 
     Raises
     ------
@@ -151,7 +179,19 @@ def _number(value: Any, default: float | None = None) -> float | None:
 
 
 def load_catalog_model(row: pd.Series | dict) -> Model:
-    """Load the model of one catalogue row, scaled to its real size."""
+    """Load the model of one catalogue row, scaled to its real size.
+
+    Parameters
+    ----------
+    row : pandas.Series or dict
+        A catalogue row (:func:`read_catalog`): ``path``, ``object``, ``label`` and the optional
+        ``width``/``height``/``depth``, ``rotation``, ``scale`` and ``hue``.
+
+    Returns
+    -------
+    Model
+        The model in metres, turned by ``hue`` degrees when the row is a colour twin.
+    """
     width = _number(row.get("width"))
     size = None if width is None else (width, float(row["height"]), float(row["depth"]))
     rotation = None

@@ -14,9 +14,11 @@ from __future__ import annotations
 import logging
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import trimesh
+from numpy.typing import ArrayLike
 
 from heatdata.errors import ModelError, StitchError
 
@@ -67,9 +69,36 @@ class Model:
     repairs: list = field(default_factory=list)
 
     @classmethod
-    def untextured(cls, name: str, vertices: np.ndarray, faces: np.ndarray, colors=DEFAULT_GREY, **fields) -> Model:
+    def untextured(
+        cls,
+        name: str,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        colors: ArrayLike = DEFAULT_GREY,
+        **fields: Any,
+    ) -> Model:
         """A model without textures: ``colors`` one RGB for every face, or (m, 3, 3) per face corner; ``fields``:
-        the other attributes (``label``, ``source``, ...)."""
+
+        the other attributes (``label``, ``source``, ...).
+
+        Parameters
+        ----------
+        name : str
+            The model's name.
+        vertices : (n, 3) float
+            Metres.
+        faces : (m, 3) int
+            Triangles.
+        colors : (3,) or (m, 3, 3) float in [0, 1]
+            One RGB for every face, or one per face corner.
+        **fields
+            The other attributes (``label``, ``source``, ...).
+
+        Returns
+        -------
+        Model
+            With no texture and the given corner colours.
+        """
         faces = np.asarray(faces, np.int64)
         corner_colors = np.broadcast_to(np.asarray(colors, np.float32), (len(faces), 3, 3)).copy()
         return cls(
@@ -294,7 +323,23 @@ def vertex_colors(model: Model) -> np.ndarray:
 
 def hue_rotated(model: Model, degrees: float, name: str | None = None) -> Model:
     """A colour twin of ``model``: the same mesh, its colours and textures turned by ``degrees`` around the hue
-    circle (saturation and value kept: greys stay grey), the twins of thesis 3.4 that only colour tells apart."""
+
+    circle (saturation and value kept: greys stay grey), the twins of thesis 3.4 that only colour tells apart.
+
+    Parameters
+    ----------
+    model : Model
+        Any model.
+    degrees : float
+        The turn around the hue circle.
+    name : str, optional
+        The twin's name; default ``{model.name}-hue{degrees}``.
+
+    Returns
+    -------
+    Model
+        The same mesh with turned corner colours and textures.
+    """
     from matplotlib.colors import hsv_to_rgb, rgb_to_hsv
 
     if not np.isfinite(degrees):
@@ -340,7 +385,22 @@ def reversed_faces(model: Model) -> Model:
 
 
 def transformed(model: Model, rotation: np.ndarray, translation: np.ndarray) -> Model:
-    """``model`` moved rigidly: ``x -> rotation @ x + translation``."""
+    """``model`` moved rigidly: ``x -> rotation @ x + translation``.
+
+    Parameters
+    ----------
+    model : Model
+        Any model.
+    rotation : (3, 3) float
+        A rotation (or any linear map: a reflection or a scale).
+    translation : (3,) float
+        Metres.
+
+    Returns
+    -------
+    Model
+        The model with moved vertices; faces and colours unchanged.
+    """
     return replace(model, vertices=model.vertices @ np.asarray(rotation).T + np.asarray(translation))
 
 

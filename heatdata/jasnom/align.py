@@ -160,6 +160,12 @@ def align(
         Receives ``(rotation, translation, J)`` at every pose evaluated (for tests that the
         cost prefers the truth).
 
+    Returns
+    -------
+    Alignment
+        The best pose (``rotation``, ``translation`` moving ``second`` onto ``first``), its cost
+        and terms, the runner-up's cost, the seam's mean gap and the candidates tried.
+
     Raises
     ------
     StitchError

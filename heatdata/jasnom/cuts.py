@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from heatdata.core.mesh import (
     boundary_loops,
@@ -36,7 +37,7 @@ def _submodel(model: Model, keep: np.ndarray, name: str) -> Model:
 
 
 def split_model(
-    model: Model, normal, *, offset: float = 0.0, amplitude: float = 0.0, waves: int = 3
+    model: Model, normal: ArrayLike, *, offset: float = 0.0, amplitude: float = 0.0, waves: int = 3
 ) -> tuple[Model, Model]:
     """Cut a model in two along its edges: the ground truth of the JASNOM experiments.
 
@@ -44,16 +45,34 @@ def split_model(
     amplitude * sin(waves * phi))`` its centroid c lies on (a plane for ``amplitude`` 0, a
     wavy cut otherwise; phi is the angle about ``n``, size the bounding-box diagonal). The
     halves share their boundary vertices' positions exactly.
+
+    Parameters
+    ----------
+    model : Model
+        A closed mesh.
+    normal : (3,) float
+        The cut's normal n (any length).
+    offset : float
+        The cut's distance from the centre, a fraction of the bounding-box diagonal.
+    amplitude : float
+        The wave's height, the same fraction (0: a plane).
+    waves : int
+        Periods of the wave around n.
+
+    Returns
+    -------
+    first, second : Model
+        The faces on the positive side of the cut, and the rest.
     """
-    normal = np.asarray(normal, dtype=np.float64)
-    normal = normal / np.linalg.norm(normal)
+    n = np.asarray(normal, dtype=np.float64)
+    n = n / np.linalg.norm(n)
     centroids = model.vertices[model.faces].mean(axis=1) - model.center
-    u = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
     u /= np.linalg.norm(u)
-    v = np.cross(normal, u)
+    v = np.cross(n, u)
     phi = np.arctan2(centroids @ v, centroids @ u)
     size = float(np.linalg.norm(model.extents))
-    side = centroids @ normal > size * (offset + amplitude * np.sin(waves * phi))
+    side = centroids @ n > size * (offset + amplitude * np.sin(waves * phi))
     if side.all() or not side.any():
         raise StitchError(f"{model.name}: the cut leaves every face on one side")
     return _submodel(model, side, f"{model.name}-a"), _submodel(model, ~side, f"{model.name}-b")
@@ -65,6 +84,18 @@ def closed_part(model: Model, tolerance: float = 1e-6) -> Model:
     Vertices closer than ``tolerance`` times the bounding-box diagonal are merged (files
     split vertices at texture seams), faces that collapse are dropped, and the connected
     piece with the most faces is kept if every edge of it has exactly two faces.
+
+    Parameters
+    ----------
+    model : Model
+        Any mesh.
+    tolerance : float
+        Vertices closer than this fraction of the bounding-box diagonal are one.
+
+    Returns
+    -------
+    Model
+        The piece, named ``model.name``.
     """
     size = float(np.linalg.norm(model.extents))
     keys = np.round(model.vertices / (tolerance * size)).astype(np.int64)

@@ -426,8 +426,8 @@ def consecutive_costs(views: list[np.ndarray], distance: str = "l1") -> list[np.
     ``"l1"`` (the default) is the distance rho takes (:func:`other_object_distances`), so
     that alpha in eq. 6.11 mixes terms of one unit; for the near matches of neighbouring
     views it is close to the MHD (which it bounds from above), at a fraction of the cost.
-    ``"mhd"`` is the descriptor distance of the thesis (eq. 3.1), ~12 us a pair: 250 x 250
-    candidates cost ~0.8 s per pair of views.
+    ``"mhd"`` is the descriptor distance of the thesis (eq. 3.1), some hundred times dearer
+    (``benchmarks/bench_compact_lp.py``).
 
     Parameters
     ----------
@@ -457,9 +457,9 @@ def other_object_distances(
     Eq. 6.3-6.4 and 6.10 write a norm, ``min_z ||z_v - z||``. heatdata's default is the L1
     norm, ``sum_i |z_i - z'_i|`` (an upper bound of the MHD of eq. 3.1, in its units), the
     default for c too; ``"l2"`` is the Euclidean norm.
-    The exact MHD over an extended library of 40 views x 250 candidates per object costs
-    ~12 us per pair, ~40 min per chair, and a shortlist by L1 misses the MHD's nearest
-    for ~30% of the candidates (``benchmarks/bench_nearest_mhd.py``).
+    The exact MHD over an extended library (40 views x 250 candidates per object) takes tens of
+    minutes per chair, and a shortlist by L1 misses the MHD's nearest for ~30% of the
+    candidates (``benchmarks/bench_nearest_mhd.py``; its numbers in ``benchmarks/README.md``).
 
     Parameters
     ----------
@@ -504,6 +504,11 @@ def combined_costs(consecutive: list[np.ndarray], rho: list[np.ndarray], alpha: 
         The object's entries of :func:`other_object_distances`.
     alpha : float in [0, 1]
         1: penalize local variability only (Alg. 6.2); 0: reward distance to other objects only.
+
+    Returns
+    -------
+    list of K (n_i, n_{i+1}) float64
+        The edge costs of eq. 6.11 for :func:`select_sources`.
     """
     if not 0.0 <= alpha <= 1.0:
         raise HeatdataError(f"the mixing parameter alpha must be in [0, 1], got {alpha}")

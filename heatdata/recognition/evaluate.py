@@ -374,6 +374,20 @@ def evaluate_compact(
 def library_subset(descriptors: pd.DataFrame, size: int, split: str = "train") -> pd.DataFrame:
     """The ``size`` library views per object evenly spaced in azimuth among the ``split`` views (3.4.1).
 
+    Parameters
+    ----------
+    descriptors : pandas.DataFrame
+        Rows of ``descriptors.parquet`` (``object``, ``split``, ``azimuth``, ...).
+    size : int
+        Library views per object, >= 1.
+    split : str
+        The split they are chosen among.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The chosen rows (every descriptor of each chosen view).
+
     Raises
     ------
     HeatdataError

@@ -7,7 +7,20 @@ import pandas as pd
 
 
 def confusion_matrix(true: pd.Series, predicted: pd.Series, labels: list | None = None) -> pd.DataFrame:
-    """Counts of (true, predicted) pairs: rows are true objects, columns predicted."""
+    """Counts of (true, predicted) pairs: rows are true objects, columns predicted.
+
+    Parameters
+    ----------
+    true, predicted : (N,) pandas.Series
+        Labels (objects or classes).
+    labels : list, optional
+        Rows and columns, in this order; default the sorted union of both.
+
+    Returns
+    -------
+    pandas.DataFrame
+        (L, L) int counts.
+    """
     labels = sorted(set(true) | set(predicted)) if labels is None else labels
     table = pd.crosstab(pd.Categorical(true, labels), pd.Categorical(predicted, labels), dropna=False)
     table.index.name, table.columns.name = "true", "predicted"
@@ -15,7 +28,18 @@ def confusion_matrix(true: pd.Series, predicted: pd.Series, labels: list | None 
 
 
 def precision_by(true: pd.Series, predicted: pd.Series) -> pd.Series:
-    """Precision: the fraction of correct predictions per true label, plus ``"all"``."""
+    """Precision: the fraction of correct predictions per true label, plus ``"all"``.
+
+    Parameters
+    ----------
+    true, predicted : (N,) pandas.Series
+        Labels; precision is counted per value of ``true``.
+
+    Returns
+    -------
+    pandas.Series
+        Fraction correct per label, and ``"all"`` over every prediction.
+    """
     correct = pd.Series(np.asarray(true) == np.asarray(predicted), index=np.asarray(true))
     per = correct.groupby(level=0).mean()
     per["all"] = correct.mean()

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -11,7 +13,9 @@ from heatdata.descriptors import stack_values
 from heatdata.errors import HeatdataError
 
 
-def nearest_neighbors(queries: np.ndarray, library: np.ndarray, *, distance=None, **kwargs) -> Nearest:
+def nearest_neighbors(
+    queries: np.ndarray, library: np.ndarray, *, distance: Callable[..., np.ndarray] | None = None, **kwargs: Any
+) -> Nearest:
     """Nearest library descriptor of each query (the first of equals), under eq. 3.1 or a kind's own distance.
 
     Parameters

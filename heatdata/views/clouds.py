@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from heatdata.errors import ViewError
+from heatdata.typing import StrPath
 from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view
 from heatdata.views.view import View
 
@@ -31,7 +32,7 @@ def fit_intrinsics(points: np.ndarray) -> dict:
 
 
 def read_organized_cloud(
-    path,
+    path: StrPath,
     *,
     scale: float = 1.0,
     max_depth_jump: float = MAX_DEPTH_JUMP,

@@ -26,12 +26,14 @@ from __future__ import annotations
 import json
 import logging
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import yaml
 from PIL import Image
 
 from heatdata.errors import ViewError
+from heatdata.typing import StrPath
 from heatdata.views.view import View
 
 log = logging.getLogger(__name__)
@@ -260,11 +262,35 @@ def read_intrinsics(path) -> dict:
     return check_intrinsics(data, name=str(path))
 
 
-def read_depth(path, intrinsics_path, rgb_path=None, mask_path=None, **kwargs) -> View:
+def read_depth(
+    path: StrPath,
+    intrinsics_path: StrPath,
+    rgb_path: StrPath | None = None,
+    mask_path: StrPath | None = None,
+    **kwargs: Any,
+) -> View:
     """:func:`view_from_depth` of files: a 16-bit PNG in millimetres or a float ``.npy`` in metres.
 
     ``rgb_path``: a colour image of the same size; ``mask_path``: an image whose non-zero
     pixels are the object's. Other keywords go to :func:`view_from_depth`.
+
+    Parameters
+    ----------
+    path : str or Path
+        A 16-bit PNG (millimetres) or a float ``.npy`` (metres).
+    intrinsics_path : str or Path
+        JSON or YAML with ``fx, fy, cx, cy, width, height``.
+    rgb_path : str or Path, optional
+        A colour image of the same size.
+    mask_path : str or Path, optional
+        An image whose non-zero pixels are the object's.
+    **kwargs
+        As for :func:`view_from_depth`.
+
+    Returns
+    -------
+    View
+        The view in the camera's frame.
     """
     path = Path(path)
     if not path.is_file():
@@ -298,11 +324,20 @@ def _image(path, mode: str) -> np.ndarray:
         raise ViewError(f"{path}: cannot read the image ({error})") from error
 
 
-def write_depth(view: View, path, intrinsics_path=None) -> None:
+def write_depth(view: View, path: StrPath, intrinsics_path: StrPath | None = None) -> None:
     """The depth image a view corresponds to: a 16-bit PNG in millimetres, and its intrinsics as JSON.
 
     Each vertex is written at its pixel (``view.pixels``, rounded); pixels without a vertex
     are 0. ``intrinsics_path`` defaults to the PNG's name with ``.json``.
+
+    Parameters
+    ----------
+    view : View
+        A view with pixel coordinates (rendered, or read from a depth frame).
+    path : str or Path
+        The PNG to write.
+    intrinsics_path : str or Path, optional
+        Its intrinsics' JSON; default ``path`` with ``.json``.
     """
     k = check_intrinsics(view.intrinsics, name=view.name)
     pixels = np.round(view.pixels).astype(np.int64)

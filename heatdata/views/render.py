@@ -36,6 +36,15 @@ def camera_pose(center: np.ndarray, azimuth: float, elevation: float, distance: 
     (4, 4) float64
         Columns 0-2 are the camera's x (right), y (down), z (forward) axes in the model
         frame; column 3 is the camera position.
+
+    Parameters
+    ----------
+    center : (3,) float
+        The point the camera looks at, model frame.
+    azimuth, elevation : float
+        Degrees: azimuth about the model's up (y) axis, elevation above its x-z plane.
+    distance : float
+        Camera to ``center``, metres.
     """
     if not -89.0 <= elevation <= 89.0:
         raise RenderError(f"elevation {elevation} deg is outside [-89, 89] (the up direction is undefined)")

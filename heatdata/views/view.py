@@ -19,6 +19,7 @@ import logging
 import zipfile
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
@@ -29,6 +30,7 @@ from heatdata.core.mesh import (
     mesh_edges,
 )
 from heatdata.errors import ViewError
+from heatdata.typing import StrPath
 
 log = logging.getLogger(__name__)
 
@@ -38,7 +40,18 @@ KINECT_INTRINSICS = {"fx": 580.0, "fy": 580.0, "cx": 319.5, "cy": 239.5, "width"
 
 
 def kinect_intrinsics(image_scale: float = 1.0) -> dict:
-    """The Kinect's intrinsics for an image scaled by ``image_scale`` (0.5: its 320x240 mode)."""
+    """The Kinect's intrinsics for an image scaled by ``image_scale`` (0.5: its 320x240 mode).
+
+    Parameters
+    ----------
+    image_scale : float
+        The image's size relative to 640 x 480.
+
+    Returns
+    -------
+    dict
+        ``fx, fy, cx, cy, width, height`` in pixels.
+    """
     if not image_scale > 0:
         raise ViewError(f"image_scale must be positive, got {image_scale}")
     k = KINECT_INTRINSICS
@@ -91,11 +104,29 @@ class View:
     repairs: list = field(default_factory=list)
 
     @classmethod
-    def from_arrays(cls, vertices, faces, colors=None, **kwargs) -> View:
+    def from_arrays(
+        cls, vertices: np.ndarray, faces: np.ndarray, colors: np.ndarray | None = None, **kwargs: Any
+    ) -> View:
         """Build a view from raw arrays, checking and cleaning them.
 
         NaN or infinite coordinates raise :class:`ViewError`; duplicate vertices are
         merged and faces that repeat a vertex are dropped, each logged and recorded.
+
+        Parameters
+        ----------
+        vertices : (n, 3) float
+            Metres, in the camera's frame (x right, y down, z forward).
+        faces : (m, 3) int
+            Triangles (whole numbers; floats that are whole are accepted).
+        colors : (n, 3) float in [0, 1], optional
+            Per-vertex RGB (default grey).
+        **kwargs
+            The other fields of :class:`View` (``view_id``, ``pixels``, ...).
+
+        Returns
+        -------
+        View
+            The cleaned view; ``repairs`` lists what was changed.
         """
         name = kwargs.get("view_id") or "view"
         vertices = np.asarray(vertices, dtype=np.float64)
@@ -165,15 +196,27 @@ class View:
         view.check_size()
         return view
 
-    def to_ply(self, path) -> None:
-        """Write the view as a binary PLY with vertex colours (MeshLab, Open3D and PCL open it), camera frame."""
+    def to_ply(self, path: StrPath) -> None:
+        """Write the view as a binary PLY with vertex colours (MeshLab, Open3D and PCL open it), camera frame.
+
+        Parameters
+        ----------
+        path : str or Path
+            The ``.ply`` to write.
+        """
         import trimesh
 
         colors = np.round(np.clip(self.colors, 0.0, 1.0) * 255).astype(np.uint8)
         trimesh.Trimesh(self.vertices, self.faces, vertex_colors=colors, process=False).export(path, file_type="ply")
 
-    def save(self, path) -> None:
-        """Write the view to a ``.npz`` file (arrays plus identifiers and intrinsics)."""
+    def save(self, path: StrPath) -> None:
+        """Write the view to a ``.npz`` file (arrays plus identifiers and intrinsics).
+
+        Parameters
+        ----------
+        path : str or Path
+            The ``.npz`` to write.
+        """
         np.savez_compressed(
             path,
             vertices=self.vertices,
@@ -187,8 +230,18 @@ class View:
         )
 
     @classmethod
-    def load(cls, path) -> View:
-        """Read a view written by :meth:`save`."""
+    def load(cls, path: StrPath) -> View:
+        """Read a view written by :meth:`save`.
+
+        Parameters
+        ----------
+        path : str or Path
+            An ``.npz`` of :meth:`save`.
+
+        Returns
+        -------
+        View
+        """
         if not zipfile.is_zipfile(path):
             raise ViewError(
                 f"{path}: not a readable .npz view file (not a zip archive: truncated, or not written by "
@@ -248,6 +301,18 @@ class View:
         """A copy keeping the vertices where ``keep`` is true (and faces among them).
 
         The repair ``reason`` is logged and recorded in the copy's ``repairs``.
+
+        Parameters
+        ----------
+        keep : (n,) bool
+            The vertices to keep; faces with every corner kept stay.
+        reason : str
+            A note for ``repairs`` (why vertices were dropped).
+
+        Returns
+        -------
+        View
+            The kept part, its pixels and colours with it.
         """
         keep = np.asarray(keep, bool)
         face_keep = keep[self.faces].all(axis=1)
@@ -271,7 +336,13 @@ class View:
         return view
 
     def largest_component(self) -> View:
-        """The view itself if connected, else its largest connected component (a repair)."""
+        """The view itself if connected, else its largest connected component (a repair).
+
+        Returns
+        -------
+        View
+            The connected component with the most vertices (the view itself if it has one).
+        """
         if self.n_components == 1:
             return self
         sizes = np.bincount(self.component_labels)
@@ -281,7 +352,20 @@ class View:
         )
 
     def component_of(self, vertex: int) -> tuple[View, int]:
-        """The connected component containing ``vertex``, and that vertex's new index."""
+        """The connected component containing ``vertex``, and that vertex's new index.
+
+        Parameters
+        ----------
+        vertex : int
+            A vertex of the view.
+
+        Returns
+        -------
+        component : View
+            The connected component that holds it.
+        index : int
+            ``vertex``'s index in it.
+        """
         if self.n_components == 1:
             return self, vertex
         keep = self.component_labels == self.component_labels[vertex]

@@ -10,6 +10,7 @@ from heatdata.errors import ConfigError
 from heatdata.experiments.config import (CONFUSION_PATTERN, check_stages, descriptor_specs, multiview_descriptor,
                                          run_captures, run_catalog, stitched_objects)
 from snakemake.exceptions import WorkflowError
+from snakemake.utils import validate
 
 RESULTS = config["results"]
 VERSION = heatdata.__version__
@@ -17,6 +18,11 @@ VERSION = heatdata.__version__
 try:
     SPECS = descriptor_specs(config)
     CATALOG = run_catalog(config)
+    for row in CATALOG.drop(columns="path").to_dict("records"):  # every row, before any job
+        try:
+            validate(row, "../schemas/catalog.schema.yaml")
+        except WorkflowError as exc:
+            raise (schema_error(exc, f"catalogue row {row['object']}") or exc) from None
     STITCHED = {pair["object"]: pair for pair in config["stitch"]["pairs"]}
     if STITCHED:
         CATALOG = pd.concat([CATALOG, stitched_objects(config, CATALOG)])

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import TypeAlias
 
 import numpy as np
 import pandas as pd
@@ -14,6 +16,8 @@ from heatdata.errors import HeatdataError
 log = logging.getLogger(__name__)
 
 
+#: a set of observed descriptors: Descriptors, (M,) arrays, or one (n, M) array
+Observations: TypeAlias = Sequence[Descriptor] | Sequence[np.ndarray] | np.ndarray
 SIMILARITY_COLUMNS = ["object", "azimuth", "similar_object", "similar_azimuth", "similarity", "similar_alpha"]
 
 
@@ -62,8 +66,19 @@ class AppearanceModel:
     def objects(self) -> list[str]:
         return sorted(self.labels["object"].unique())
 
-    def distances(self, observations) -> np.ndarray:
-        """(S,) eq. 4.4 between the set of ``observations`` and every label's set Z_s."""
+    def distances(self, observations: Observations) -> np.ndarray:
+        """(S,) eq. 4.4 between the set of ``observations`` and every label's set Z_s.
+
+        Parameters
+        ----------
+        observations : list of (M,) arrays or of Descriptor, or an (n, M) array
+            The descriptors of the views taken at one stop (a set Z, eq. 4.4).
+
+        Returns
+        -------
+        (S,) float64
+            d(Z, Z_s) for every library label s.
+        """
         kinds = {d.kind for d in as_list(observations) if isinstance(d, Descriptor)}
         if kinds - {self.kind}:
             raise HeatdataError(f"observations are {', '.join(sorted(kinds))} descriptors, the library's {self.kind}")
@@ -79,13 +94,35 @@ class AppearanceModel:
         backward = np.add.reduceat(d.min(axis=0), starts)  # sum over Z_s of the nearest in Z
         return np.minimum(forward, backward)  # eq. 4.4 for every label at once
 
-    def nearest(self, rows) -> np.ndarray:
-        """(V, S) eq. 4.4 between each single observation and every label's set: its nearest member of Z_s."""
+    def nearest(self, rows: Observations) -> np.ndarray:
+        """(V, S) eq. 4.4 between each single observation and every label's set: its nearest member of Z_s.
+
+        Parameters
+        ----------
+        rows : list of (M,) arrays or of Descriptor, or a (V, M) array
+            Single observations.
+
+        Returns
+        -------
+        (V, S) float64
+            Each observation's distance to every label's set.
+        """
         d = kind_of(self.kind).distance_matrix(stack_values(rows, "observations"), self.values)
         return np.minimum.reduceat(d, np.searchsorted(self.members, np.arange(len(self.labels))), axis=1)
 
-    def log_likelihood(self, observations) -> np.ndarray:
-        """(S,) log p(Z | s) = -d(Z, Z_s) / alpha_s - log alpha_s (4.3)."""
+    def log_likelihood(self, observations: Observations) -> np.ndarray:
+        """(S,) log p(Z | s) = -d(Z, Z_s) / alpha_s - log alpha_s (4.3).
+
+        Parameters
+        ----------
+        observations : list of (M,) arrays or of Descriptor, or an (n, M) array
+            The descriptors of the views taken at one stop (a set Z, eq. 4.4).
+
+        Returns
+        -------
+        (S,) float64
+            log p(Z | s) for every library label s.
+        """
         return -self.distances(observations) / self.alpha - np.log(self.alpha)
 
 
@@ -110,6 +147,11 @@ def appearance_model(
         a single descriptor takes the distance to the nearest neighbouring library angle of
         its object (how much the appearance changes over one library step; not in the
         thesis), or, for an object with one view, the median of the others.
+
+    Returns
+    -------
+    AppearanceModel
+        The library's descriptor sets per label and each object's alpha.
 
     Raises
     ------

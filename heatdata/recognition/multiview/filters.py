@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 from abc import ABC, abstractmethod
+from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
@@ -236,7 +237,20 @@ class ParticleFilter(HypothesisFilter):
         self.log_w = np.full(self.n, -np.log(self.n))
 
     def labels(self, obj: np.ndarray | None = None, azimuth: np.ndarray | None = None) -> np.ndarray:
-        """The library label of each particle: its object's library view at the nearest azimuth."""
+        """The library label of each particle: its object's library view at the nearest azimuth.
+
+        Parameters
+        ----------
+        obj : (N,) int, optional
+            Objects (default the particles').
+        azimuth : (N,) float, optional
+            View angles in degrees (default the particles').
+
+        Returns
+        -------
+        (N,) int
+            The library label (row of the model's ``labels``) of each.
+        """
         return _nearest_labels(
             self._angles, self.object if obj is None else obj, self.azimuth if azimuth is None else azimuth
         )
@@ -248,7 +262,16 @@ class ParticleFilter(HypothesisFilter):
 
     # --- Algorithm 4.1 ----------------------------------------------------------------------------------------------
     def update(self, log_p: np.ndarray, displacement_deg: float = 0.0) -> None:
-        """:meth:`step` from the observations' log p(Z | s) of every library label (precomputed, e.g. cached)."""
+        """:meth:`step` from the observations' log p(Z | s) of every library label (precomputed, e.g. cached).
+
+        Parameters
+        ----------
+        log_p : (S,) float
+            log p(Z | s) of the stop's observations for every library label
+            (:meth:`AppearanceModel.log_likelihood`).
+        displacement_deg : float
+            The azimuth moved since the last stop (odometry).
+        """
         self._move(displacement_deg)
         self.position = (self.position + displacement_deg) % 360.0
         self.visited.append(self.position)
@@ -318,7 +341,11 @@ class ParticleFilter(HypothesisFilter):
 
     # --- beyond the thesis: where to look next ----------------------------------------------------------------------
     def best_move(
-        self, candidates_deg=(-90.0, -45.0, -15.0, 15.0, 45.0, 90.0), *, per_degree: bool = True, revisit: float = 7.5
+        self,
+        candidates_deg: Sequence[float] = (-90.0, -45.0, -15.0, 15.0, 45.0, 90.0),
+        *,
+        per_degree: bool = True,
+        revisit: float = 7.5,
     ) -> float:
         """The step whose expected observation most reduces the posterior entropy over objects.
 
@@ -332,6 +359,20 @@ class ParticleFilter(HypothesisFilter):
         A step back to within ``revisit`` degrees of a stop already made (by odometry) is
         expected to teach nothing: the views there were seen, and seeing them again is
         not independent evidence.
+
+        Parameters
+        ----------
+        candidates_deg : sequence of float
+            The steps to choose among, degrees (any sign).
+        per_degree : bool
+            Maximize the expected reduction per degree travelled, else the reduction itself.
+        revisit : float
+            Degrees within which a stop already made teaches nothing.
+
+        Returns
+        -------
+        float
+            The chosen step, degrees.
         """
         candidates = np.asarray(list(candidates_deg), dtype=np.float64)
         if not len(candidates) or not np.isfinite(candidates).all():
@@ -389,7 +430,14 @@ class ExhaustiveFilter(HypothesisFilter):
         A fixed alpha (default: the library's own, :func:`appearance_model`).
     """
 
-    def __init__(self, library, *, resolution: float = 1.0, confidence: float = 0.99, alpha: float | None = None):
+    def __init__(
+        self,
+        library: pd.DataFrame | AppearanceModel,
+        *,
+        resolution: float = 1.0,
+        confidence: float = 0.99,
+        alpha: float | None = None,
+    ):
         if not 0.0 < resolution <= 360.0:
             raise HeatdataError(f"resolution must be in (0, 360] degrees, got {resolution}")
         if not 0.5 < confidence < 1.0:
@@ -406,7 +454,15 @@ class ExhaustiveFilter(HypothesisFilter):
         self.restarts = 0  # never: no hypothesis is ever dropped
 
     def update(self, log_p: np.ndarray, displacement_deg: float = 0.0) -> None:
-        """As :meth:`ParticleFilter.update`: move every hypothesis, weigh it, normalize (eq. 4.8)."""
+        """As :meth:`ParticleFilter.update`: move every hypothesis, weigh it, normalize (eq. 4.8).
+
+        Parameters
+        ----------
+        log_p : (S,) float
+            log p(Z | s) of the stop's observations for every library label.
+        displacement_deg : float
+            The azimuth moved since the last stop.
+        """
         self._move(displacement_deg)
         log_w = self.log_w + log_p[_nearest_labels(self._angles, self.object, self.azimuth)]
         self.log_w = log_w - logsumexp(log_w)

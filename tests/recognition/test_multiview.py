@@ -1,0 +1,400 @@
+"""Multi-view recognition (thesis ch. 4) on small synthetic libraries with known answers.
+
+The library: a cup and a mug whose curves are identical except where the mug's handle
+shows (azimuths 90-180 deg), the ambiguity of thesis Fig. 4.2-4.3.
+"""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import heatdata as hd
+from heatdata.experiments.multiview import ambiguous_starts, multiview_trials
+from heatdata.recognition.multiview.appearance import (
+    angle_gap,
+    appearance_model,
+    learn_similarity,
+    set_distance,
+    similarity_matrix,
+)
+from heatdata.recognition.multiview.filters import ExhaustiveFilter, _label_cells, stochastic_universal_sampling
+from heatdata.recognition.multiview.robot import TableRobot, recognize, robot_views
+
+ANGLES = np.arange(0.0, 360.0, 30.0)
+SAMPLES = 16
+
+
+def curve(obj: str, azimuth: float, noise: float = 0.0, rng=None) -> np.ndarray:
+    x = np.arange(SAMPLES) / SAMPLES
+    values = 1.0 + 0.1 * np.cos(2 * np.pi * x) + 0.02 * np.cos(np.radians(azimuth))
+    if obj == "mug" and 90 <= azimuth % 360 <= 180:
+        values = values + 0.3 * np.exp(-(((x - 0.5) / 0.08) ** 2))  # the handle
+    if noise:
+        values = values + rng.normal(0, noise, SAMPLES)
+    return values
+
+
+def table(objects=("cup", "mug"), copies: int = 2, noise: float = 0.002, seed: int = 0) -> pd.DataFrame:
+    rng = np.random.default_rng(seed)
+    return pd.DataFrame(
+        [
+            {"object": o, "azimuth": a, "kind": "pvhk", "values": curve(o, a, noise, rng)}
+            for o in objects
+            for a in ANGLES
+            for _ in range(copies)
+        ]
+    )
+
+
+@pytest.fixture(scope="module")
+def library():
+    return table(seed=0)
+
+
+@pytest.fixture(scope="module")
+def similarity(library):
+    return learn_similarity(library, table(seed=1))
+
+
+def observe(obj, azimuth, seed):
+    rng = np.random.default_rng(seed)
+    return [curve(obj, azimuth, 0.002, rng) for _ in range(2)]
+
+
+def test_set_distance_is_eq_4_4():
+    assert set_distance(np.array([[1.0, 2.0], [3.0, 0.5]])) == pytest.approx(1.5)
+    assert set_distance(np.array([[1.0, 3.0]])) == pytest.approx(1.0)  # min(1, 1 + 3): sets of other sizes
+
+
+def test_alpha_is_the_mean_leave_one_out_distance_eq_4_5():
+    rows = pd.DataFrame({"object": "a", "azimuth": 0.0, "values": [np.zeros(8), np.full(8, 0.1)]})
+    model = appearance_model(pd.concat([rows, rows.assign(azimuth=90.0)]))
+    mhd = hd.mhd(np.zeros(8), np.full(8, 0.1))
+    np.testing.assert_allclose(model.alpha, [mhd, mhd])
+    single = appearance_model(
+        pd.DataFrame(
+            {"object": "a", "azimuth": [0.0, 90.0, 180.0], "values": [np.zeros(8), np.full(8, 0.1), np.full(8, 0.3)]}
+        )
+    )
+    # one view per angle: the distance to the nearest neighbouring angle
+    np.testing.assert_allclose(single.alpha, [mhd, mhd, hd.mhd(np.full(8, 0.1), np.full(8, 0.3))])
+    assert appearance_model(rows, alpha=0.08).alpha.tolist() == [0.08]
+
+
+def test_alpha_learned_from_independent_views_is_their_mean_distance_to_the_library_view():
+    library = pd.DataFrame({"object": "a", "azimuth": [0.0, 180.0], "values": [np.zeros(8), np.ones(8)]})
+    views = pd.DataFrame(
+        {"object": "a", "azimuth": [2.0, 358.0, 181.0], "values": [np.full(8, 0.1), np.full(8, 0.3), np.full(8, 1.2)]}
+    )
+    model = appearance_model(library, views=views)
+    expected = [
+        (hd.mhd(np.zeros(8), np.full(8, 0.1)) + hd.mhd(np.zeros(8), np.full(8, 0.3))) / 2,
+        hd.mhd(np.ones(8), np.full(8, 1.2)),
+    ]
+    np.testing.assert_allclose(model.alpha, expected, rtol=1e-6)  # mhd_matrix works in float32 chunks
+    two = pd.concat([library, library.assign(object="b")])
+    similarity = learn_similarity(two, pd.concat([views, views.assign(object="b")]))
+    f = hd.ParticleFilter(two, similarity, particles=4, seed=0)
+    np.testing.assert_allclose(f.model.alpha, expected * 2, rtol=1e-6)  # the filter takes the learned alpha
+    assert hd.ParticleFilter(two, similarity, particles=4, alpha=0.5, seed=0).model.alpha.tolist() == [0.5] * 4
+
+
+def test_similarity_is_high_between_look_alike_views(library, similarity):
+    model = appearance_model(library)
+    mu = similarity_matrix(model, similarity)
+    at = {(o, a): k for k, (o, a) in enumerate(zip(model.labels["object"], model.labels["azimuth"]))}
+    assert mu[at["mug", 0.0], at["cup", 0.0]] > 0.5 * mu[at["mug", 0.0], at["mug", 0.0]]  # handle hidden
+    assert mu[at["mug", 120.0], at["cup", 120.0]] < 1e-6 * mu[at["mug", 120.0], at["mug", 120.0]]  # handle seen
+    assert list(similarity.columns) == [
+        "object",
+        "azimuth",
+        "similar_object",
+        "similar_azimuth",
+        "similarity",
+        "similar_alpha",
+    ]
+
+
+def test_a_library_of_one_object_converges_at_once():
+    one = table(objects=("cup",))
+    f = hd.ParticleFilter(one, learn_similarity(one, table(objects=("cup",), seed=1)), particles=20, seed=0)
+    assert f.converged and f.estimate == "cup" and f.posterior() == {"cup": 1.0}
+    f.step(observe("cup", 60.0, 0), 0.0)
+    assert f.converged and f.estimate == "cup"
+
+
+def test_the_true_object_keeps_particles_while_ambiguous_then_wins(library, similarity):
+    f = hd.ParticleFilter(library, similarity, particles=60, seed=3)
+    azimuth = 270.0
+    f.step(observe("mug", azimuth, 10), 0.0)
+    for k in range(3):  # 270 -> 360: the handle stays hidden
+        azimuth += 30.0
+        f.step(observe("mug", azimuth, 11 + k), 30.0)
+        assert not f.converged and f.posterior()["mug"] > 0.2
+    for k in range(5):  # 30 -> 180: the handle comes into view
+        azimuth += 30.0
+        f.step(observe("mug", azimuth, 20 + k), 30.0)
+        if f.converged:
+            break
+    assert f.converged and f.estimate == "mug" and azimuth >= 90.0
+
+
+def test_the_baseline_bootstrap_replaces_particles_near_survivors_and_is_seeded(library, similarity):
+    def bootstrapped(seed):
+        f = hd.ParticleFilter(library, similarity, particles=40, bootstrap="angular", seed=seed)
+        f.object = np.repeat([f.objects.index("mug"), f.objects.index("cup")], 20)
+        f.azimuth = np.tile(np.arange(20) * 18.0, 2)
+        f.log_w = np.where(f.object == f.objects.index("mug"), 0.0, -50.0)  # the cups far below the best hypothesis
+        f.log_w -= np.log(np.exp(f.log_w).sum())
+        survivors = f.azimuth[:20].copy()
+        f._bootstrap()
+        return f, survivors
+
+    f, survivors = bootstrapped(5)
+    assert (f.object == f.objects.index("mug")).all()  # every cup was replaced by a newcomer of a survivor's object
+    np.testing.assert_array_equal(f.azimuth[:20], survivors)  # the survivors stay where they were
+    gap = np.abs((f.azimuth[20:, None] - survivors[None, :] + 180.0) % 360.0 - 180.0).min(axis=1)
+    assert gap.max() <= 30.0 and gap.max() > 0  # within `neighbourhood` degrees of a survivor, not on it
+    assert np.exp(f.log_w).sum() == pytest.approx(1.0)
+    again, _ = bootstrapped(5)
+    np.testing.assert_array_equal(f.azimuth, again.azimuth)  # seeded
+    assert not np.array_equal(f.azimuth, bootstrapped(6)[0].azimuth)
+
+
+def test_an_unexplained_observation_restarts_instead_of_dividing_by_zero(library, similarity):
+    f = hd.ParticleFilter(library, similarity, particles=30, seed=0)
+    f.object[:] = f.objects.index("cup")  # every particle on the cup: none explains the handle
+    f.step(observe("mug", 120.0, 1), 0.0)
+    assert f.restarts >= 1 and np.isfinite(f.log_w).all() and f.weights.sum() == pytest.approx(1.0)
+    far = [np.full(SAMPLES, 1e6)]  # nothing in the library is near: every likelihood underflows
+    f.step(far, 0.0)
+    assert np.isfinite(f.log_w).all() and f.weights.sum() == pytest.approx(1.0)
+
+
+def test_odometry_wraps_around_360(library, similarity):
+    a = hd.ParticleFilter(library, similarity, particles=10, seed=1)
+    b = hd.ParticleFilter(library, similarity, particles=10, seed=1)
+    obs = observe("cup", 0.0, 0)
+    a.step(obs, 370.0)
+    b.step(obs, -350.0)
+    np.testing.assert_allclose(a.azimuth, b.azimuth)
+    assert ((a.azimuth >= 0) & (a.azimuth < 360)).all()
+    with pytest.raises(hd.HeatdataError, match="finite angle"):
+        a.step(obs, float("nan"))
+
+
+def test_bad_observations_and_tables_are_clear_errors(library, similarity):
+    f = hd.ParticleFilter(library, similarity, particles=10, seed=0)
+    with pytest.raises(hd.HeatdataError, match="observations have 8 values, the library's pvhk descriptors 16"):
+        f.step([np.ones(8)], 0.0)
+    esf = hd.Descriptor(
+        kind="esf",
+        values=np.ones(SAMPLES),
+        positions=np.zeros(SAMPLES),
+        source=-1,
+        time=np.nan,
+        lambda2=np.nan,
+        sampling=None,
+    )
+    with pytest.raises(hd.HeatdataError, match="observations are esf descriptors, the library's pvhk"):
+        f.step([esf], 0.0)
+    with pytest.raises(hd.HeatdataError, match="does not match the library"):
+        hd.ParticleFilter(library[library["azimuth"] < 300], similarity)
+    with pytest.raises(hd.HeatdataError, match="lack library object"):
+        learn_similarity(library, table(objects=("cup",), seed=1))
+    with pytest.raises(hd.HeatdataError, match="whole number"):
+        hd.ParticleFilter(library, similarity, particles=0)
+    with pytest.raises(hd.HeatdataError, match="lacks column"):
+        hd.ParticleFilter(library.drop(columns="values"), similarity)
+
+
+def test_best_move_looks_where_the_handle_shows(library, similarity):
+    f = hd.ParticleFilter(library, similarity, particles=80, seed=2)
+    f.step(observe("mug", 270.0, 0), 0.0)  # handle hidden: cup or mug
+    assert not f.converged
+    # -90 deg reaches 180 (handle in view); +90 deg reaches 0 (still hidden)
+    assert f.best_move([90.0, -90.0]) == -90.0
+
+
+def test_stochastic_universal_sampling_is_proportional():
+    rng = np.random.default_rng(0)
+    counts = np.bincount(stochastic_universal_sampling(np.array([1.0, 0.0, 3.0]), 8, rng), minlength=3)
+    assert counts.tolist() == [2, 0, 6]
+
+
+def views_every_3_degrees(objects=("cup", "mug"), seed=4) -> pd.DataFrame:
+    rng = np.random.default_rng(seed)
+    return pd.DataFrame(
+        [
+            {"object": o, "azimuth": a, "kind": "pvhk", "values": curve(o, a, 0.002, rng)}
+            for o in objects
+            for a in np.arange(1.5, 360.0, 3.0)
+        ]
+    )
+
+
+def test_recognize_fixed_steps_and_the_active_policy(library, similarity):
+    tests = views_every_3_degrees()
+    model = appearance_model(library)
+    robot = TableRobot(model, tests[tests["object"] == "mug"], per_stop=2)
+    assert robot.views(270.0) == robot.views(270.0 + 720.0) and len(robot.views(0.0)) == 2
+    fixed = recognize(hd.ParticleFilter(model, similarity, particles=60, seed=1), robot, 270.0, step=30.0)
+    assert fixed["converged"] and fixed["estimate"] == "mug" and 180.0 <= fixed["degrees"] <= 270.0
+    active = recognize(
+        hd.ParticleFilter(model, similarity, particles=60, seed=1),
+        robot,
+        270.0,
+        policy="active",
+        candidates=(-90.0, -30.0, 30.0, 90.0),
+    )
+    assert active["converged"] and active["estimate"] == "mug" and active["degrees"] < fixed["degrees"]
+    with pytest.raises(hd.HeatdataError, match="policy"):
+        recognize(hd.ParticleFilter(model, similarity, seed=1), robot, 0.0, policy="greedy")
+    with pytest.raises(hd.HeatdataError, match="one object"):
+        TableRobot(model, tests)
+
+
+def test_ambiguous_starts_are_the_mugs_hidden_handle_views(library):
+    starts = ambiguous_starts(library, views_every_3_degrees(), count=3)
+    mug = starts[starts["object"] == "mug"]
+    assert len(starts) == 6 and not mug["azimuth"].between(90, 180).any()
+    assert (mug["nearest_other"] == "cup").all()
+
+
+def test_trials_cover_every_setting(library, similarity):
+    starts = pd.DataFrame({"object": ["mug"], "azimuth": [270.0]})
+    trials = multiview_trials(
+        library,
+        similarity,
+        views_every_3_degrees(),
+        starts,
+        particles=(10, 30),
+        policies=("fixed", "active"),
+        repetitions=2,
+        step=30.0,
+    )
+    # 2 particle counts x (2 bootstraps fixed + similarity active) x 2 repetitions, and one exhaustive run
+    assert len(trials) == 2 * 3 * 2 + 1
+    exact = trials[trials["bootstrap"] == "exhaustive"].iloc[0]
+    assert exact["particles"] == 2 * 360 and exact["policy"] == "fixed" and exact["identified"]
+    assert {"correct", "degrees", "comparisons", "exhaustive"} <= set(trials.columns)
+    particles = trials[trials["bootstrap"] != "exhaustive"]
+    assert (particles["comparisons"] == particles["particles"] * particles["stops"]).all()
+    assert exact["comparisons"] == exact["exhaustive"]
+    assert (trials["exhaustive"] == 24 * trials["stops"]).all()
+    again = multiview_trials(
+        library,
+        similarity,
+        views_every_3_degrees(),
+        starts,
+        particles=(10, 30),
+        policies=("fixed", "active"),
+        repetitions=2,
+        step=30.0,
+    )
+    pd.testing.assert_frame_equal(trials.drop(columns="seconds"), again.drop(columns="seconds"))
+
+
+def test_the_robot_renders_noisy_views_along_its_path(mug):
+    spec = hd.DescriptorSpec("pvhk", 16, "center", "polar")
+    path = robot_views(mug, 30.0, [15.0, -45.0], spec, per_stop=2)
+    assert [move for _, move in path] == [0.0, 15.0, -45.0]
+    first, _ = path[0]
+    assert len(first) == 2 and all(len(d.values) == 16 for d in first)
+    assert not np.array_equal(first[0].values, first[1].values)  # two noise draws per stop
+
+
+def test_best_move_keeps_circling_when_no_step_can_tell_twins_apart():
+    twins = pd.concat([table(objects=("cup",)), table(objects=("cup",)).assign(object="twin")])
+    f = hd.ParticleFilter(
+        twins,
+        learn_similarity(
+            twins, table(objects=("cup",), seed=1).pipe(lambda t: pd.concat([t, t.assign(object="twin")]))
+        ),
+        particles=40,
+        seed=0,
+    )
+    half = f.n // 2  # the same angles on both twins: no step can move mass between them
+    f.object[:half], f.object[half:] = 0, 1
+    f.azimuth[half:] = f.azimuth[:half]
+    assert not f.converged
+    assert f.best_move([-90.0, -15.0, 15.0, 90.0]) == 15.0
+    f.visited, f.position = [0.0, 15.0, 345.0], 345.0  # stops at 0, +15, then back to -15 (odometry)
+    assert f.best_move([-15.0, 15.0]) == -15.0  # +15 returns to the first stop's views: onwards to new ones
+    assert f.best_move([15.0]) == 15.0  # nothing new in reach: keep circling anyway
+
+
+def test_best_move_does_not_return_to_views_already_seen(library, similarity):
+    f = hd.ParticleFilter(library, similarity, particles=80, seed=2)
+    f.step(observe("mug", 270.0, 0), 0.0)
+    f.step(observe("mug", 180.0, 1), -90.0)  # the handle seen: now at -90 by odometry
+    assert f.visited == [0.0, 270.0]
+    assert f.best_move([90.0, -90.0]) == -90.0  # +90 goes back to the first stop
+
+
+def test_a_run_stops_before_travelling_past_max_degrees(library, similarity):
+    twins_tests = views_every_3_degrees()
+    robot = TableRobot(appearance_model(library), twins_tests[twins_tests["object"] == "cup"])
+    f = hd.ParticleFilter(library, similarity, particles=30, seed=0)
+    result = recognize(f, robot, 0.0, step=45.0, max_degrees=100.0)
+    assert result["degrees"] <= 100.0
+
+
+def test_newcomers_start_at_the_survivors_mean_or_least_weight(library, similarity):
+    for rule, summary in (("mean", np.mean), ("least", np.min)):
+        f = hd.ParticleFilter(library, similarity, particles=60, seed=3, newcomer=rule)
+        f.step(observe("mug", 270.0, 10), 0.0)
+        best = f.labels()[0]
+        survivors = int((f.labels() == best).sum())
+        f.update(np.where(np.arange(len(f.model.labels)) == best, 0.0, -50.0), 0.0)  # only one label explains it
+        assert survivors < f.n  # the survivors come first, then the newcomers
+        np.testing.assert_allclose(f.weights[survivors:], summary(f.weights[:survivors]))
+    with pytest.raises(hd.HeatdataError, match="newcomer is 'mean' or 'least'"):
+        hd.ParticleFilter(library, similarity, newcomer="max")
+
+
+def test_newcomers_start_anywhere_in_their_labels_cell_or_at_its_view(library, similarity):
+    lopsided = pd.DataFrame({"object": "a", "azimuth": [0.0, 90.0, 120.0]})
+    np.testing.assert_allclose(_label_cells(lopsided), [[120, 45], [45, 15], [15, 120]])
+    for rule in ("cell", "view"):
+        f = hd.ParticleFilter(library, similarity, particles=60, seed=3, repopulate=rule)
+        f.step(observe("mug", 270.0, 10), 0.0)
+        best = f.labels()[0]
+        survivors = int((f.labels() == best).sum())
+        f.update(np.where(np.arange(len(f.model.labels)) == best, 0.0, -50.0), 0.0)
+        newcomers = f.azimuth[survivors:]
+        offset = angle_gap(newcomers, f.model.labels["azimuth"].to_numpy()[f.labels()[survivors:]])
+        assert (offset <= 15.0 + 1e-9).all()  # the library is 30 deg apart: a cell is +-15 deg
+        assert (offset > 0.5).any() if rule == "cell" else (offset == 0).all()
+    with pytest.raises(hd.HeatdataError, match="repopulate is 'cell' or 'view'"):
+        hd.ParticleFilter(library, similarity, repopulate="near")
+
+
+def test_the_exhaustive_filter_is_the_exact_bayes_posterior(library):
+    model = appearance_model(library)
+    f = ExhaustiveFilter(model, resolution=30.0)  # start azimuths on the library's own angles
+    assert len(f.object) == 2 * 12 and f.posterior() == {"cup": 0.5, "mug": 0.5}
+    log_p = [model.log_likelihood(observe("mug", a, k)) for k, a in enumerate((270.0, 300.0, 120.0))]
+    for p, move in zip(log_p, (0.0, 30.0, 180.0), strict=True):
+        f.update(p, move)
+    # by hand: hypothesis (object, start) sums log p at start, start + 30, start + 210
+    labels = model.labels
+    index = {(o, a): k for k, (o, a) in enumerate(zip(labels["object"], labels["azimuth"], strict=True))}
+    score = {
+        o: [sum(p[index[(o, (a + off) % 360)]] for p, off in zip(log_p, (0, 30, 210), strict=True)) for a in ANGLES]
+        for o in ("cup", "mug")
+    }
+    mug = np.exp(np.logaddexp.reduce(score["mug"]) - np.logaddexp.reduce(score["cup"] + score["mug"]))
+    assert f.posterior()["mug"] == pytest.approx(mug) and f.estimate == "mug" and f.converged
+    g = ExhaustiveFilter(model)
+    g.update(log_p[0], 370.0)
+    h = ExhaustiveFilter(model)
+    h.update(log_p[0], 10.0)
+    assert g.posterior() == pytest.approx(h.posterior())  # odometry wraps
+    with pytest.raises(hd.HeatdataError, match="resolution"):
+        ExhaustiveFilter(model, resolution=0.0)
+    with pytest.raises(hd.HeatdataError, match="confidence"):
+        ExhaustiveFilter(model, confidence=1.0)
+    robot = TableRobot(model, views_every_3_degrees().query("object == 'mug'"))
+    with pytest.raises(hd.HeatdataError, match="active policy needs a ParticleFilter"):
+        recognize(f, robot, 0.0, policy="active")

@@ -1,0 +1,76 @@
+"""What ``import heatdata as hd`` offers: every name resolves, is documented (numpy style) and typed."""
+
+import dataclasses
+import inspect
+import subprocess
+import sys
+
+import pytest
+
+import heatdata as hd
+
+
+def test_import_heatdata_loads_no_renderer_no_mesh_reader_and_no_plotting():
+    heavy = "{'open3d', 'trimesh', 'matplotlib', 'numba', 'cvxpy'}"
+    code = f"import sys, heatdata; print(sorted({{m.split('.')[0] for m in sys.modules}} & {heavy}))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
+
+
+def test_every_public_name_resolves_and_none_shadows_a_module():
+    for name in hd.__all__:
+        value = getattr(hd, name)
+        assert not inspect.ismodule(value), f"hd.{name} is a module"
+    assert inspect.isfunction(hd.stitch) and inspect.isfunction(hd.distance)
+    assert inspect.isfunction(hd.descriptors.pvst)  # the function; its module is heatdata.descriptors.stochastic_time
+    assert sorted(hd.__all__, key=str.lower) == sorted(set(hd.__all__), key=str.lower)
+    with pytest.raises(AttributeError, match="no attribute 'nearest_neighbours'"):
+        hd.nearest_neighbours  # noqa: B018 (renamed: nearest_neighbors)
+
+
+def test_every_error_is_in_errors_and_derives_from_heatdataerror():
+    from heatdata import errors
+
+    raised = {name for name in hd.__all__ if name.endswith("Error")}
+    assert raised == {n for n, v in vars(errors).items() if inspect.isclass(v) and issubclass(v, Exception)}
+    for name in raised:
+        assert getattr(hd, name).__module__ == "heatdata.errors" and issubclass(getattr(hd, name), hd.HeatdataError)
+
+
+def _problems(obj, name):
+    doc = inspect.getdoc(obj) or ""
+    sig = inspect.signature(obj)
+    params = [
+        p
+        for p in sig.parameters.values()
+        if p.name not in ("self", "cls") and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)
+    ]
+    found = []
+    if params and "Parameters\n---" not in doc:
+        found.append(f"{name}: no Parameters section")
+    if sig.return_annotation is inspect.Signature.empty:
+        found.append(f"{name}: no return hint")
+    elif sig.return_annotation not in (None, "None") and "Returns\n---" not in doc and "Yields\n---" not in doc:
+        found.append(f"{name}: no Returns section")
+    found += [f"{name}({p.name}): no hint" for p in params if p.annotation is inspect.Parameter.empty]
+    return found
+
+
+def test_every_public_function_and_method_has_parameters_returns_and_hints():
+    problems = []
+    for name in hd.__all__:
+        value = getattr(hd, name)
+        if inspect.isfunction(value):
+            problems += _problems(value, name)
+        elif inspect.isclass(value) and not issubclass(value, BaseException):
+            for attr, member in vars(value).items():
+                if attr == "__init__" and inspect.isfunction(member):
+                    given = [p for p in inspect.signature(member).parameters.values() if p.name != "self"]
+                    if given and not dataclasses.is_dataclass(value):
+                        if "Parameters\n---" not in (inspect.getdoc(value) or ""):
+                            problems.append(f"{name}: no Parameters section in the class docstring")
+                elif not attr.startswith("_") and isinstance(member, (classmethod, staticmethod)):
+                    problems += _problems(member.__func__, f"{name}.{attr}")
+                elif not attr.startswith("_") and inspect.isfunction(member):
+                    problems += _problems(member, f"{name}.{attr}")
+    assert problems == []
