@@ -42,6 +42,7 @@ def demo_run(tmp_path_factory):
     return code, out
 
 
+@pytest.mark.slow
 def test_demo_writes_tables_figures_and_summary(demo_run):
     code, out = demo_run
     assert code == 0
@@ -66,6 +67,7 @@ def test_demo_writes_tables_figures_and_summary(demo_run):
     assert "not real sensor data" in summary and "accuracy" not in summary.lower()
 
 
+@pytest.mark.slow
 def test_demo_is_reproducible(demo_run, tmp_path):
     _, out = demo_run
     assert (
@@ -144,6 +146,7 @@ def test_classify_library_sizes(demo_run, tmp_path, capsys):
     assert main(["classify", table, "--library-size", "7"]) == 1  # more than the 6 train views
 
 
+@pytest.mark.slow
 def test_long_commands_show_a_progress_bar_on_a_terminal_only(demo_run):
     _, out = demo_run
     command = [sys.executable, "-m", "heatdata.cli", "classify", str(out / "descriptors.parquet")]

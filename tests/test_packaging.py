@@ -8,6 +8,7 @@ import tomllib
 import venv
 from pathlib import Path
 
+import pytest
 import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -100,6 +101,7 @@ def test_the_sdist_carries_the_workflow_config_and_data(tmp_path):
         assert name in names, name
 
 
+@pytest.mark.slow
 def test_a_wheel_runs_the_demo_in_a_fresh_venv(tmp_path):
     """The wheel carries the embedded models; the venv shares only the pinned dependencies."""
     wheels, env = tmp_path / "wheels", tmp_path / "env"

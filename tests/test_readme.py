@@ -5,6 +5,7 @@ import re
 import subprocess
 import sys
 
+import pytest
 from conftest import ROOT
 
 
@@ -14,6 +15,7 @@ def readme_example() -> str:
     return re.search(r"```python\n(.*?)```", section, re.S).group(1)
 
 
+@pytest.mark.slow
 def test_the_using_the_library_example_runs_as_written(tmp_path):
     script = tmp_path / "example.py"
     script.write_text(readme_example())

@@ -34,6 +34,7 @@ def test_a_flat_rump_is_its_own_planar_twin():
     assert z.shape == (32,) and np.abs(z).max() < 1e-9
 
 
+@pytest.mark.slow
 def test_rounder_rumps_keep_heat_at_their_centre_longer():
     descriptors = [hd.hbrd(*rump(h)) for h in (0.005, 0.01, 0.02, 0.04)]
     peaks = [d.max() for d in descriptors]
@@ -53,6 +54,7 @@ def test_a_hollow_rump_keeps_the_surface_between_its_bones():
     assert np.isfinite(heat.descriptor).all() and heat.descriptor.max() > 0
 
 
+@pytest.mark.slow
 def test_the_descriptor_does_not_depend_on_where_the_rump_is_or_how_it_is_turned():
     vertices, faces, landmarks = rump(0.02)
     turn, shift = Rotation.from_rotvec([0.4, -0.3, 1.1]), np.array([0.2, -0.5, 0.3])
@@ -86,6 +88,7 @@ def test_the_heat_is_exact_against_expm_multiply():
     np.testing.assert_allclose(ours, reference, atol=1e-6 * reference.max())
 
 
+@pytest.mark.slow
 def test_an_extent_keeps_only_the_surface_around_the_bones():
     vertices, faces, landmarks = rump(0.02)
     whole, near = rump_heat(vertices, faces, landmarks), rump_heat(vertices, faces, landmarks, extent=1.2)

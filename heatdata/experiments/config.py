@@ -26,7 +26,7 @@ from heatdata.io.tables import read_ablation
 #: the confusion figures' paths under ``figures/confusion/`` (rule evaluate's report patterns)
 CONFUSION_PATTERN = "{descriptor}/{level}_{size}_views.png"
 
-#: config keys spelled another way before 0.4 (dotted: a key inside a section), and their one spelling now
+#: config keys spelled another way until 0.1.0 (dotted: a key inside a section), and their one spelling now
 ALIASES = {
     "colour_twins": "color_twins",
     "rump.neighbours": "rump.n_neighbors",

@@ -1,9 +1,7 @@
-"""View sets: which views of which objects to render, and their descriptor rows (thesis 3.3-3.4).
+"""Descriptor rows of a run's views: every spec of every view, the candidates, time scales, fitted kinds.
 
-A view plan lists, per object, the training views (the library, evenly spaced in
-azimuth) and the test views (offset by half a test step, so no test view repeats a
-library angle), each with its own noise seed derived from the object id, split and
-index - the same plan always renders the same views.
+The workflow's describe, candidates, time_scale and fit steps (thesis 3.3-3.4, 5.4, 6.2): views of
+:mod:`heatdata.experiments.views` in, rows of ``descriptors.parquet`` out.
 """
 
 from __future__ import annotations

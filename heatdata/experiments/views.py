@@ -1,4 +1,10 @@
-"""View plans and the render loop: which views of each object the run renders, and rendering them."""
+"""View plans and the render loop: which views of each object the run renders, and rendering them.
+
+A view plan lists, per object, the training views (the library, evenly spaced in
+azimuth) and the test views (offset by half a test step, so no test view repeats a
+library angle), each with its own noise seed derived from the object id, split and
+index - the same plan always renders the same views.
+"""
 
 from __future__ import annotations
 

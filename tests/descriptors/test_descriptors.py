@@ -22,6 +22,7 @@ def test_disc_with_central_source_gives_flat_pvhk(disc, sampling):
     assert np.std(off.values) / np.mean(off.values) > 5 * np.std(d.values) / np.mean(d.values)
 
 
+@pytest.mark.slow
 def test_pvhk_matches_expm_reference(mug):
     view = hd.render_view(mug, 40.0, 30.0, 1.4, seed=3)
     d = hd.pvhk(view, samples=None)

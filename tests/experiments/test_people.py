@@ -105,6 +105,7 @@ def test_the_twin_experiment_tells_the_twins_apart_by_colour():
     assert len(predictions) == 2 * 6
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not REALLUSION.exists(), reason="Debian's sweethome3d-furniture is not installed")
 def test_reallusion_s_people_are_imported_posed_and_one_is_set_against_its_hue_rotated_twin(tmp_path):
     people = reallusion_people(str(REALLUSION), str(tmp_path))

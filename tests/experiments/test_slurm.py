@@ -19,6 +19,8 @@ from test_workflow import SNAKEFILE, SNAKEMAKE, tiny_config, yaml
 
 from heatdata.io.tables import read_table
 
+pytestmark = pytest.mark.workflow  # every test here runs snakemake
+
 ROOT = Path(__file__).resolve().parents[2]
 SLURM_CONF = Path("/etc/slurm/slurm.conf")
 BINARIES = ("munged", "slurmctld", "slurmd", "sbatch", "squeue", "sinfo")
@@ -105,6 +107,7 @@ def slurm(tmp_path_factory):
         SLURM_CONF.unlink(missing_ok=True)
 
 
+@pytest.mark.slow
 def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
     workdir = tmp_path / "run"
     (workdir / "config").mkdir(parents=True)

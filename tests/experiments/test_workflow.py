@@ -15,6 +15,8 @@ import yaml
 from heatdata.descriptors import DescriptorSpec, file_name
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, PREDICTION_SCHEMA, TRIAL_SCHEMA, VIEW_SCHEMA, read_table
 
+pytestmark = pytest.mark.workflow  # every test here runs snakemake
+
 ROOT = Path(__file__).resolve().parents[2]
 SNAKEFILE = ROOT / "Snakefile"
 SNAKEMAKE = Path(sys.executable).parent / "snakemake"
@@ -90,6 +92,7 @@ def tiny_run(tmp_path_factory):
     return workdir
 
 
+@pytest.mark.slow
 def test_dag_writes_tables_with_their_schemas(tiny_run):
     results = tiny_run / "results"
     views, meta = read_table(results / "views" / "beer-mug.parquet")
@@ -202,6 +205,7 @@ def test_multiview_trials_and_their_figure(tiny_run):
     assert "<table" in (results / "figures" / "multiview.html").read_text()
 
 
+@pytest.mark.slow
 def test_the_protocol_and_time_scale_scripts_read_a_run_s_table(tiny_run, tmp_path):
     """scripts/protocols.py and scripts/ft_time_scales.py (issue 17) on the tiny run's descriptor table."""
     table = tiny_run / "results/descriptors.parquet"
@@ -262,6 +266,7 @@ def test_the_protocol_and_time_scale_scripts_read_a_run_s_table(tiny_run, tmp_pa
     assert np.allclose(nearest.loc[[8, 4], "precision"], workflow.loc[[8, 4], "precision"], atol=1e-4)
 
 
+@pytest.mark.slow
 def test_the_value_scale_script_reads_a_run_s_table(tiny_run, tmp_path):
     """scripts/value_scales.py (issue 17): x1 is the workflow's MHD; a log scale for the PVST's times."""
     table, out = tiny_run / "results/descriptors.parquet", tmp_path / "scales.csv"
@@ -319,6 +324,7 @@ def test_the_value_scale_script_reads_a_run_s_table(tiny_run, tmp_path):
     assert result.returncode != 0 and "unknown transform 'sqrt'" in result.stderr
 
 
+@pytest.mark.slow
 def test_the_complex_ablation_script_reads_a_run_s_views(tiny_run, tmp_path):
     """scripts/complex_ablation.py (issue 28): its PVHK and ESF rows are the workflow's precision on the same views."""
     out = tmp_path / "steps.csv"
@@ -376,6 +382,7 @@ def test_the_complex_ablation_script_reads_a_run_s_views(tiny_run, tmp_path):
     assert empty.returncode != 0 and "no views in" in empty.stderr
 
 
+@pytest.mark.slow
 def test_the_combination_script_scores_kinds_alone_as_the_workflow_does(tiny_run, tmp_path):
     """scripts/combine_kinds.py (issue 28): each kind alone is the workflow's precision; weights from the library."""
     table, out = tiny_run / "results/descriptors.parquet", tmp_path / "combined.csv"
@@ -463,12 +470,14 @@ def test_colour_share_splits_the_hgd_colour_option_into_its_parts(tiny_run, tmp_
         assert np.allclose([share[variant, 8], share[variant, 4]], 100 * theirs.loc[[8, 4]], atol=0.05)
 
 
+@pytest.mark.slow
 def test_rerun_with_nothing_changed_runs_no_job(tiny_run):
     result = snakemake(tiny_run, tiny_config(**EXPERIMENTS), "--dry-run")
     assert result.returncode == 0
     assert "Nothing to be done" in result.stdout + result.stderr
 
 
+@pytest.mark.slow
 def test_report_is_self_contained_html(tiny_run):
     result = snakemake(tiny_run, tiny_config(**EXPERIMENTS), "--report", "results/report.html")
     assert result.returncode == 0, result.stderr[-2000:]
@@ -536,6 +545,7 @@ def test_report_is_self_contained_html(tiny_run):
         ),
     ],
 )
+@pytest.mark.slow
 def test_bad_config_is_rejected_before_any_job(tmp_path, overrides, message):
     result = snakemake(tmp_path, tiny_config(**overrides), "--dry-run")
     assert result.returncode != 0
@@ -543,6 +553,7 @@ def test_bad_config_is_rejected_before_any_job(tmp_path, overrides, message):
     assert not (tmp_path / "results").exists()
 
 
+@pytest.mark.slow
 def test_config_from_the_command_line_is_read_by_the_schema_and_errors_are_one_line(tmp_path):
     """Snakemake hands nested --config values over as strings: '4' failed 'is not of type integer'. A misspelled
     key printed the whole schema (over 500 lines)."""
@@ -575,6 +586,7 @@ def make_models_dir(root: Path, classes: dict) -> Path:
     return root
 
 
+@pytest.mark.slow
 def test_models_dir_checks(tmp_path):
     empty = tmp_path / "empty"
     empty.mkdir()
@@ -582,6 +594,7 @@ def test_models_dir_checks(tmp_path):
     assert result.returncode != 0 and "no mesh files" in result.stdout + result.stderr
 
 
+@pytest.mark.slow
 def test_one_object_per_class_recognizes_objects_and_says_so(tmp_path):
     models = make_models_dir(tmp_path / "models", {"boxes": ["a"], "crates": ["c"], "bins": ["e"]})
     config = tiny_config(objects=[], models_dir=str(models), views={"train": 4, "test": 3}, library_sizes=[4])
@@ -595,6 +608,7 @@ def test_one_object_per_class_recognizes_objects_and_says_so(tmp_path):
     assert precision.groupby("level")["precision"].first().nunique() == 1  # class precision = object precision
 
 
+@pytest.mark.slow
 def test_a_corrupt_model_fails_its_jobs_and_keep_going_finishes_the_rest(tmp_path):
     models = make_models_dir(tmp_path / "models", {"boxes": ["a", "b"], "crates": ["c", "d"]})
     (models / "crates" / "d.ply").write_bytes(b"ply\ngarbage")
@@ -609,6 +623,7 @@ def test_a_corrupt_model_fails_its_jobs_and_keep_going_finishes_the_rest(tmp_pat
         assert (tmp_path / "run" / "results" / "descriptors" / f"{obj}.parquet").is_file()
 
 
+@pytest.mark.slow
 def test_the_root_snakefile_plans_the_whole_run_with_the_default_profile(tmp_path):
     """`snakemake` from the repository root runs the workflow, as the layout promises (not "Nothing to be done")."""
     result = snakemake(tmp_path, tiny_config(), "--dry-run")
@@ -618,6 +633,7 @@ def test_the_root_snakefile_plans_the_whole_run_with_the_default_profile(tmp_pat
     assert "render" in text and "report_figures" in text
 
 
+@pytest.mark.slow
 def test_lint_has_only_the_conda_warning(tmp_path):
     result = snakemake(tmp_path, tiny_config(), "--lint")
     text = result.stdout + result.stderr
@@ -627,6 +643,7 @@ def test_lint_has_only_the_conda_warning(tmp_path):
     assert all(item.startswith("* Specify a conda environment or container") for item in items), items
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("profile", ["default", "slurm"])
 def test_every_profile_key_is_an_option_of_this_snakemake(profile):
     """A profile key snakemake does not know fails every run that uses the profile: each must be an option."""
@@ -643,6 +660,7 @@ def test_every_profile_key_is_an_option_of_this_snakemake(profile):
 SH3F = Path("/usr/share/sweethome3d/furniture/BlendSwap-CC-0.sh3f")
 
 
+@pytest.mark.slow
 def test_a_catalogue_row_the_schema_refuses_is_one_line_naming_it(tmp_path):
     """workflow/schemas/catalog.schema.yaml checks every row of the run's catalogue before any job."""
     shutil.copytree(ROOT / "data" / "models", tmp_path / "models")
@@ -656,12 +674,14 @@ def test_a_catalogue_row_the_schema_refuses_is_one_line_naming_it(tmp_path):
     assert "config error: catalogue row plastic-cup: width: -0.079 is not valid" in result.stdout + result.stderr
 
 
+@pytest.mark.slow
 def test_missing_sweet_home_library_is_a_config_error(tmp_path):
     config = tiny_config(objects=[], sh3f={"files": [str(tmp_path / "none.sh3f")]})
     result = snakemake(tmp_path, config, "--dry-run")
     assert result.returncode != 0 and "apt-get install sweethome3d-furniture" in result.stdout + result.stderr
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not SH3F.exists(), reason="Debian's sweethome3d-furniture is not installed")
 def test_objects_from_a_sweet_home_library(tmp_path):
     config = tiny_config(
@@ -696,6 +716,7 @@ def test_config_readme_describes_every_key_and_file():
     assert [p.name for p in (ROOT / "config").glob("*.yaml")] == ["config.yaml"]  # the rest in experiments/
 
 
+@pytest.mark.slow
 def test_the_twins_config_plans_22_objects(tmp_path):
     result = subprocess.run(
         [
@@ -721,6 +742,7 @@ def test_the_twins_config_plans_22_objects(tmp_path):
     assert f"{tmp_path}/twins/views/bread-hue120.parquet" in result.stdout
 
 
+@pytest.mark.slow
 def test_smoke_config_plans_a_small_run(tmp_path):
     result = subprocess.run(
         [
@@ -746,6 +768,7 @@ def test_smoke_config_plans_a_small_run(tmp_path):
     assert re.search(r"describe +3\b", result.stdout) and re.search(r"classify +4\b", result.stdout)
 
 
+@pytest.mark.slow
 def test_captured_depth_images_are_recognized_against_the_library(tmp_path):
     """Rule capture_views (thesis 2.1): a folder of depth PNGs, one subfolder per object, as test views."""
     import json
@@ -797,6 +820,7 @@ def test_captured_depth_images_are_recognized_against_the_library(tmp_path):
     assert "folder(s) ['unicorn'] are not among the run's objects" in stray.stdout + stray.stderr
 
 
+@pytest.mark.slow
 def test_the_rump_proxy_orders_bodies_and_says_they_are_not_goats(tmp_path):
     """Rule rump (thesis ch. 8): HBRD of a small MakeHuman population, its Isomap and classifier, in the report."""
     config = tiny_config(rump={"enabled": True, "bodies": 8, "image_scale": 0.5, "n_neighbors": 3})
@@ -812,6 +836,7 @@ def test_the_rump_proxy_orders_bodies_and_says_they_are_not_goats(tmp_path):
     assert small.returncode != 0 and "4 is less than the minimum of 8" in small.stdout + small.stderr
 
 
+@pytest.mark.slow
 def test_people_s_poses_and_colour_twins_reach_the_report(tmp_path):
     """Rule people (thesis 3.5): one body's poses in the Isomap and two people of one shape told apart by colour."""
     shape = {"kind": "pvhk", "samples": 64, "source": "center", "sampling": "polar"}
@@ -841,6 +866,7 @@ def test_people_s_poses_and_colour_twins_reach_the_report(tmp_path):
     assert missing.returncode != 0 and "people.reallusion: no.sh3f does not exist" in missing.stdout + missing.stderr
 
 
+@pytest.mark.slow
 def test_colour_twins_join_the_run_and_only_colour_tells_them_apart(tmp_path):
     """Key color_twins (thesis 3.4): a twin, the same mesh in turned colours, is rendered and described like any
     object."""
@@ -889,6 +915,7 @@ def test_colour_twins_join_the_run_and_only_colour_tells_them_apart(tmp_path):
     assert picture.stat().st_size > 10_000
 
 
+@pytest.mark.slow
 def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
     """Rule stitch (thesis ch. 7): two halves of a model, one moved, are stitched and rendered like any object."""
     from scipy.spatial.transform import Rotation

@@ -224,6 +224,7 @@ def test_an_lp_that_ends_infeasible_is_an_error_naming_the_object():
         library._solve(graph, [set(), set()], None, [], "chair-7")  # no edge at all
 
 
+@pytest.mark.slow
 def test_solver_output_goes_to_the_log_not_to_stdout():
     """HiGHS prints a banner from C once per process: a fresh process shows whether it reaches stdout."""
     code = (

@@ -115,6 +115,7 @@ def test_an_organized_pcd_gives_the_grid_back_with_its_intrinsics(rendered, tmp_
         hd.read_organized_cloud(tmp_path / "flat.pcd")
 
 
+@pytest.mark.slow
 def test_a_real_range_scan_loads_on_its_grid_and_is_described():
     view = hd.read_organized_cloud(FACE, scale=0.001)  # MeshLab's range map of a face, millimetres
     assert view.n_vertices > 80_000 and view.n_components == 1

@@ -22,7 +22,7 @@ try:
         try:
             validate(row, "../schemas/catalog.schema.yaml")
         except WorkflowError as exc:
-            raise (schema_error(exc, f"catalogue row {row['object']}") or exc) from None
+            raise (schema_error(exc, f"catalogue row {row['object']}: ") or exc) from None
     STITCHED = {pair["object"]: pair for pair in config["stitch"]["pairs"]}
     if STITCHED:
         CATALOG = pd.concat([CATALOG, stitched_objects(config, CATALOG)])

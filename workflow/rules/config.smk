@@ -34,18 +34,18 @@ try:
 except ConfigError as exc:
     raise WorkflowError(f"config error: {exc}") from None
 config.update(typed(dict(config), SCHEMA))
-def schema_error(exc, where):
-    """A schema's WorkflowError as one line naming the key (``where``: what was validated), or None."""
+def schema_error(exc, where=""):
+    """A schema's WorkflowError as one line naming the key (``where``: what was validated, before it), or None."""
     cause = exc.__cause__ or exc.__context__
     while cause is not None and not isinstance(cause, jsonschema.ValidationError):
         cause = cause.__cause__ or cause.__context__
     if cause is None:
         return None
-    key = ".".join(str(part) for part in cause.absolute_path) or where
-    return WorkflowError(f"config error: {where + ': ' if key != where else ''}{key}: {cause.message}")
+    key = ".".join(str(part) for part in cause.absolute_path) or "the config"
+    return WorkflowError(f"config error: {where}{key}: {cause.message}")
 
 
 try:
     validate(config, "../schemas/config.schema.yaml")
 except WorkflowError as exc:  # one line naming the key, not the whole schema
-    raise (schema_error(exc, "the config") or exc) from None
+    raise (schema_error(exc) or exc) from None

@@ -1,6 +1,6 @@
-"""Figures a person would rather look at than read (thesis Fig. 2.3/2.4, 2.11, 3.5, 3.7, 5.7).
+"""Figures a person would rather look at than read, one module per chapter; none is imported by a stage below.
 
-The object confusion matrix, the view-angle confusion of Fig. 3.5, precision against
-library size, Isomaps of the library descriptors, and partial views coloured by
-temperature with the source marked.
+``recognition`` (precision, confusion, Fig. 3.5, Isomaps), ``views`` (temperature, Fig. 2.3/2.4, 5.7),
+``holes`` (3.6), ``multiview`` (ch. 4), ``jasnom`` (ch. 7), ``rump`` (ch. 8), ``people`` (3.4-3.5);
+``common`` holds their notes and saving.
 """
