@@ -144,7 +144,19 @@ SIMILARITY_SCHEMA = pa.schema(
 
 
 def write_table(frame: pd.DataFrame, path: str | Path, schema: pa.Schema, metadata: dict | None = None) -> None:
-    """Write ``frame`` as Parquet with ``schema`` and JSON-encoded ``metadata``."""
+    """Write ``frame`` as Parquet with ``schema`` and JSON-encoded ``metadata``.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        The rows, with the schema's columns.
+    path : str or Path
+        The ``.parquet`` to write.
+    schema : pyarrow.Schema
+        One of this module's schemas (:data:`DESCRIPTOR_SCHEMA`, ...).
+    metadata : dict, optional
+        The run's settings, stored as JSON (:func:`read_metadata`).
+    """
     from heatdata.version import __version__
 
     missing = [name for name in schema.names if name not in frame.columns]
@@ -167,8 +179,24 @@ def read_table(
 
     ``columns`` and ``filters`` (pyarrow's, e.g. ``[("descriptor", "==", name)]``) read
     only part of a large table; filtered, it is read one row group at a time, so memory
-    holds one group and the rows kept (``pq.read_table`` with filters decoded them all:
-    1.2 GB for the chairs' 9,280 PVHK rows of 406,000, 450 MB now).
+    holds one group and the rows kept (``pq.read_table`` with filters decodes them all;
+    ``benchmarks/README.md`` measures the difference).
+
+    Parameters
+    ----------
+    path : str or Path
+        A table heatdata wrote.
+    columns : list of str, optional
+        The columns to read (default all).
+    filters : list of tuple, optional
+        pyarrow's row filters, e.g. ``[("descriptor", "==", name)]``.
+
+    Returns
+    -------
+    frame : pandas.DataFrame
+        The rows kept.
+    metadata : dict
+        The run's settings and heatdata's version.
     """
     file = _open(path)
     try:
@@ -190,6 +218,15 @@ def iter_table(
     For tables larger than memory: a run's descriptor table has one row group per object
     (:func:`concat_tables` writes each object's table as it comes), so this yields one
     object's rows at a time. Groups with no row kept are skipped.
+
+    Parameters
+    ----------
+    path : str or Path
+        A table heatdata wrote.
+    columns : list of str, optional
+        The columns to read (default all).
+    filters : list of tuple, optional
+        pyarrow's row filters, e.g. ``[("descriptor", "==", name)]``.
     """
     file = _open(path)
     try:
@@ -201,7 +238,17 @@ def iter_table(
 
 
 def read_metadata(path: str | Path) -> dict:
-    """The run metadata of a heatdata table (as :func:`read_table` returns it), without reading its rows."""
+    """The run metadata of a heatdata table (as :func:`read_table` returns it), without reading its rows.
+
+    Parameters
+    ----------
+    path : str or Path
+        A table heatdata wrote.
+
+    Returns
+    -------
+    dict
+    """
     return _run_metadata(_open(path))
 
 
@@ -249,6 +296,13 @@ def concat_tables(paths: list[str | Path], out: str | Path) -> None:
     """Concatenate heatdata tables of one schema into ``out``, one input in memory at a time.
 
     The output keeps the first table's metadata.
+
+    Parameters
+    ----------
+    paths : list of str or Path
+        Tables of one schema.
+    out : str or Path
+        The table to write, one row group per input.
     """
     if not paths:
         raise HeatdataError(f"{out}: no tables to concatenate")
@@ -267,6 +321,16 @@ ABLATION_COLUMNS = ("factor", "measured", "effect", "command")
 
 def read_ablation(path: str | Path) -> pd.DataFrame:
     """A measured ablation table (one row per factor: ``factor, measured, effect, command``) from a CSV.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV (``docs/results/chairs_ablation.csv``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Its four columns, as strings.
 
     Raises
     ------

@@ -230,6 +230,22 @@ def evaluate_library_sizes(
     """Nearest-neighbour predictions of the test views for libraries of several sizes.
 
     Returns the rows of :func:`classify` (with ``time_rule``) with a ``library_size`` column.
+
+    Parameters
+    ----------
+    descriptors : pandas.DataFrame
+        As for :func:`classify`.
+    descriptor : str
+        The descriptor's name.
+    sizes : list of int
+        Library views per object (:func:`library_subset`).
+    time_rule : {"plausible", "every"}
+        As for :func:`classify`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        :func:`classify`'s rows with ``library_size``.
     """
     rows = descriptors[descriptors["descriptor"] == descriptor]
     tests = rows[rows["split"] == "test"]
@@ -256,6 +272,24 @@ def evaluate_table(
     each library view is also a query that finds itself. The default keeps them apart:
     the library comes from the ``train`` views, rendered at other angles with other noise.
     ``time_rule``: as :func:`classify`.
+
+    Parameters
+    ----------
+    path : str or Path
+        A run's ``descriptors.parquet``.
+    descriptor : str
+        The descriptor's name.
+    sizes : list of int
+        Library views per object.
+    library_split : {"train", "test"}
+        Where the library views are chosen.
+    time_rule : {"plausible", "every"}
+        As for :func:`classify`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        As :func:`evaluate_library_sizes`.
     """
     columns = [*CLASSIFY_COLUMNS, *TIME_SCALED_COLUMNS]
     rows = [("descriptor", "==", descriptor)]

@@ -52,6 +52,17 @@ def precision_table(predictions: pd.DataFrame) -> pd.DataFrame:
     Object precision: the fraction of an object's test views whose nearest library view
     is of that object. Class precision: the fraction whose nearest view has its class.
     Rows with ``group = "all"`` aggregate every test view.
+
+    Parameters
+    ----------
+    predictions : pandas.DataFrame
+        Rows of :data:`heatdata.io.tables.PREDICTION_SCHEMA`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``level`` (object or class), ``group`` (an object, a class or ``all``), ``descriptor``,
+        ``library_size``, ``precision``.
     """
     frames = []
     keys = ["descriptor", "library_size"]
@@ -65,7 +76,18 @@ def precision_table(predictions: pd.DataFrame) -> pd.DataFrame:
 
 
 def precision_by_object(predictions: pd.DataFrame) -> pd.DataFrame:
-    """Object precision per object (rows) for each descriptor (columns), with an ``all`` row."""
+    """Object precision per object (rows) for each descriptor (columns), with an ``all`` row.
+
+    Parameters
+    ----------
+    predictions : pandas.DataFrame
+        Rows of :data:`heatdata.io.tables.PREDICTION_SCHEMA` (one library size).
+
+    Returns
+    -------
+    pandas.DataFrame
+        (objects + 1, descriptors) precisions.
+    """
     per = predictions.pivot_table(index="object", columns="descriptor", values="correct", aggfunc="mean")
     per.loc["all"] = predictions.groupby("descriptor")["correct"].mean()
     return per

@@ -9,7 +9,20 @@ import pandas as pd
 
 
 def views_to_frame(views: list, plan: pd.DataFrame) -> pd.DataFrame:
-    """Views as rows of :data:`VIEW_SCHEMA` (flattened arrays); ``plan`` gives split and seed in order."""
+    """Views as rows of :data:`VIEW_SCHEMA` (flattened arrays); ``plan`` gives split and seed in order.
+
+    Parameters
+    ----------
+    views : list of View
+        Rendered or captured views, in the plan's order.
+    plan : pandas.DataFrame
+        Their plan rows (:func:`heatdata.experiments.views.view_plan`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per view.
+    """
     return pd.DataFrame(
         [
             {
@@ -35,7 +48,17 @@ def views_to_frame(views: list, plan: pd.DataFrame) -> pd.DataFrame:
 
 
 def frame_to_views(frame: pd.DataFrame) -> list:
-    """The views of a :data:`VIEW_SCHEMA` table, in row order."""
+    """The views of a :data:`VIEW_SCHEMA` table, in row order.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        Rows of ``views.parquet``.
+
+    Returns
+    -------
+    list of View
+    """
     from heatdata.views.view import View
 
     return [

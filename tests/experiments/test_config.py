@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 import yaml
 from snakemake.utils import validate
+from test_workflow import tiny_config
 
 from heatdata.errors import ConfigError
 from heatdata.experiments import config as checks
@@ -24,6 +25,69 @@ def run_config(**overrides) -> dict:
     checks.accept_aliases(config)
     validate(config, str(SCHEMA))
     return config
+
+
+def checked(config: dict) -> None:
+    """Every check of common.smk, in its order."""
+    specs = checks.descriptor_specs(config)
+    catalog = checks.run_catalog(config)
+    if config["stitch"]["pairs"]:
+        catalog = checks.stitched_objects(config, catalog)
+    checks.check_stages(config, catalog.index.tolist(), specs)
+    checks.run_captures(config, catalog.index.tolist())
+
+
+def tiny(**overrides) -> dict:
+    """The workflow tests' tiny config with ``overrides``, validated: the schema's defaults filled in."""
+    config = tiny_config(**overrides)
+    validate(config, str(SCHEMA))
+    return config
+
+
+@pytest.mark.parametrize(
+    "overrides, message",
+    [
+        ({"library_sizes": [8, 50]}, "library_sizes [50] exceed views.train = 8"),
+        ({"color_twins": {"objects": ["bread"]}}, "color_twins: colour twins of ['bread']: not in the catalogue"),
+        ({"primary_descriptor": "pvhk/polar/center/64"}, "primary_descriptor 'pvhk/polar/center/64' is not one"),
+        ({"compact": {"enabled": True}, "library_sizes": [8, 1]}, "two or more views around the circle"),
+        ({"compact": {"enabled": True}, "objects": ["beer-mug"]}, "give two or more objects"),
+        ({"descriptors": [{"kind": "shot"}]}, "descriptors[0]: unknown descriptor kind 'shot'"),
+        ({"multiview": {"enabled": True, "descriptor": "ft-pvhk/polar/center/32"}}, "a time-scaled kind"),
+        (
+            {"multiview": {"enabled": True, "library_views": [12]}},
+            "multiview.library_views [12] exceed views.train = 8",
+        ),
+        ({"descriptors": [{"kind": "esf", "samples": 64}]}, "descriptors[0]: an esf takes no samples"),
+        (
+            {"compact": {"enabled": True, "descriptor": {"kind": "esf"}}},
+            "compact.descriptor: an esf has no heat source",
+        ),
+        ({"comparison": {"enabled": True, "isomap_objects": ["unicorn"]}}, "comparison.isomap_objects: ['unicorn']"),
+        ({"ablation": "/no/ablation.csv"}, "ablation: /no/ablation.csv: not a readable ablation table"),
+        (
+            {
+                "stitch": {
+                    "pairs": [
+                        {
+                            "object": "x",
+                            "first": str(ROOT / "README.md"),
+                            "second": str(ROOT / "README.md"),
+                            "motion": [[1, 0, 0, 0], [0, -1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],
+                        }
+                    ]
+                }
+            },
+            "stitch.pairs[0].motion is not a rigid motion",
+        ),
+        ({"stitch": {"pairs": [{"object": "beer-mug", "first": "README.md", "second": "README.md"}]}}, "already one"),
+        ({"captures": {"dir": str(ROOT / "tests")}}, "captures.dir: "),
+    ],
+)
+def test_a_bad_run_is_one_config_error_naming_its_key(overrides, message):
+    with pytest.raises(ConfigError) as caught:
+        checked(tiny(**overrides))
+    assert message in str(caught.value) and "\n" not in str(caught.value)
 
 
 def test_the_default_config_passes_and_names_its_objects():
@@ -57,13 +121,17 @@ def test_each_check_names_its_key(overrides, message):
 
 def test_old_spellings_are_renamed_with_a_warning():
     config = {"colour_twins": {"objects": ["beer-mug"]}, "rump": {"neighbours": 4}, "people": {}}
-    with pytest.warns(DeprecationWarning, match="colour_twins is deprecated: spell it color_twins"):
+    with pytest.warns(DeprecationWarning) as warned:
         notes = checks.accept_aliases(config)
     assert config == {"color_twins": {"objects": ["beer-mug"]}, "rump": {"n_neighbors": 4}, "people": {}}
-    assert notes == [
-        "config key colour_twins is deprecated: spell it color_twins",
-        "config key rump.neighbours is deprecated: spell it rump.n_neighbors",
-    ]
+    assert (
+        notes
+        == [str(w.message) for w in warned]
+        == [
+            "config key colour_twins is deprecated: spell it color_twins",
+            "config key rump.neighbours is deprecated: spell it rump.n_neighbors",
+        ]
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # the one spelling warns about nothing
         assert checks.accept_aliases(config) == []

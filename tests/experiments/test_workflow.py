@@ -495,50 +495,17 @@ def test_report_is_self_contained_html(tiny_run):
     "overrides, message",
     [
         ({"colour": 1}, "colour"),
-        ({"library_sizes": [8, 50]}, "library_sizes [50] exceed views.train = 8"),
         ({"objects": ["unicorn"]}, "unicorn"),
-        ({"color_twins": {"objects": ["bread"]}}, "color_twins: colour twins of ['bread']: not in the catalogue"),
         ({"time_scale_rule": "label"}, "time_scale_rule: 'label' is not one of ['plausible', 'every']"),
         ({"views": {"train": 8, "test": 6, "elevation": 95}}, "95"),
-        ({"primary_descriptor": "pvhk/polar/center/64"}, "primary_descriptor"),
-        ({"compact": {"enabled": True}, "library_sizes": [8, 1]}, "two or more views around the circle"),
-        ({"compact": {"enabled": True}, "objects": ["beer-mug"]}, "give two or more objects"),
         ({"compact": {"enabled": True, "alphas": [1.5]}}, "1.5"),
-        ({"descriptors": [{"kind": "shot"}]}, "descriptors[0]: unknown descriptor kind 'shot'"),
-        ({"multiview": {"enabled": True, "descriptor": "ft-pvhk/polar/center/32"}}, "a time-scaled kind"),
-        (
-            {"multiview": {"enabled": True, "library_views": [12]}},
-            "multiview.library_views [12] exceed views.train = 8",
-        ),
         ({"multiview": {"enabled": True, "policies": ["greedy"]}}, "greedy"),
-        ({"descriptors": [{"kind": "esf", "samples": 64}]}, "descriptors[0]: an esf takes no samples"),
-        (
-            {"compact": {"enabled": True, "descriptor": {"kind": "esf"}}},
-            "compact.descriptor: an esf has no heat source",
-        ),
-        ({"comparison": {"enabled": True, "isomap_objects": ["unicorn"]}}, "comparison.isomap_objects: ['unicorn']"),
         (
             {"stitch": {"pairs": [{"object": "x", "first": "/no/top.ply", "second": "/no/bottom.ply"}]}},
             "stitch.pairs[0]: /no/top.ply, /no/bottom.ply do(es) not exist",
         ),
         ({"stitch": {"pairs": [{"object": "x", "first": "a.ply"}]}}, "'second' is a required property"),
         ({"captures": {"dir": "/no/captures"}}, "captures.dir: /no/captures: no such folder of captures"),
-        ({"ablation": "/no/ablation.csv"}, "ablation: /no/ablation.csv: not a readable ablation table"),
-        (
-            {
-                "stitch": {
-                    "pairs": [
-                        {
-                            "object": "x",
-                            "first": str(ROOT / "README.md"),
-                            "second": str(ROOT / "README.md"),
-                            "motion": [[1, 0, 0, 0], [0, -1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],
-                        }
-                    ]
-                }
-            },
-            "stitch.pairs[0].motion is not a rigid motion",
-        ),
         (
             {"stitch": {"pairs": [{"object": "x", "first": "a.ply", "second": "b.ply", "motion": [[1, 0, 0]]}]}},
             "motion",
@@ -547,6 +514,8 @@ def test_report_is_self_contained_html(tiny_run):
 )
 @pytest.mark.slow
 def test_bad_config_is_rejected_before_any_job(tmp_path, overrides, message):
+    """The schema's errors and a few of heatdata.experiments.config's, through snakemake (the rest of the checks:
+    tests/experiments/test_config.py, without snakemake)."""
     result = snakemake(tmp_path, tiny_config(**overrides), "--dry-run")
     assert result.returncode != 0
     assert message in result.stdout + result.stderr
