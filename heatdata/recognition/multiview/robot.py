@@ -13,7 +13,7 @@ from heatdata.recognition.multiview.filters import (
 )
 
 
-# --- the robot and the experiments of 4.5 -------------------------------------------------------------------------
+# --- the robot of 4.5 and Algorithm 4.1 run along its moves ------------------------------------------------
 def robot_views(
     model,
     start_azimuth: float,
