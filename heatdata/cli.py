@@ -257,32 +257,15 @@ def cmd_stitch(args: argparse.Namespace) -> None:
             "poor: the seam's mean gap is %.1f%% of the size: the boundaries are not one curve here",
             100 * a.gap / a.size,
         )
-    print(
-        json.dumps(
-            {
-                "model": str(out),
-                "vertices": len(result.model.vertices),
-                "faces": len(result.model.faces),
-                "rotation": np.round(a.rotation, 6).tolist(),
-                "translation": np.round(a.translation, 6).tolist(),
-                "cost": a.cost,
-                "edge_cost": a.edge_cost,
-                "crossing_cost": a.crossing_cost,
-                "crease_cost": a.crease_cost,
-                "runner_up": None if np.isnan(a.runner_up) else a.runner_up,
-                "ambiguous": a.ambiguous,
-                "mean_gap": a.gap,
-                "mean_gap_of_size": a.gap / a.size,
-                "poor": a.poor,
-                "boundaries": [len(result.first.loop), len(result.second.loop)],
-                "loop_pairs": result.loop_pairs,
-                "open_loops": result.open_loops,
-                "welded": result.welded,
-                "strip_faces": result.strip_faces,
-                "seconds": round(a.seconds, 2),
-            }
-        )
-    )
+    summary = {"model": str(out), "vertices": len(result.model.vertices), "faces": len(result.model.faces)}
+    summary |= result.summary()
+    del summary["facing"]  # a found motion always faces away (align's constraint)
+    summary |= {
+        "rotation": np.round(a.rotation, 6).tolist(),
+        "translation": np.round(a.translation, 6).tolist(),
+        "seconds": round(a.seconds, 2),
+    }
+    print(json.dumps(summary))
 
 
 def cmd_describe(args: argparse.Namespace) -> None:

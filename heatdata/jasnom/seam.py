@@ -173,6 +173,37 @@ class Stitched:
     welded: int
     strip_faces: int
 
+    def summary(self) -> dict[str, Any]:
+        """What ``heatdata stitch`` prints and rule ``stitch`` records: the motion, J and its terms, the
+        runner-up, the seam's gap and what was stitched (JSON types; ``runner_up`` None when nothing else was
+        tried).
+
+        Returns
+        -------
+        dict
+        """
+        a = self.alignment
+        return {
+            "rotation": a.rotation.tolist(),
+            "translation": a.translation.tolist(),
+            "cost": a.cost,
+            "edge_cost": a.edge_cost,
+            "crossing_cost": a.crossing_cost,
+            "crease_cost": a.crease_cost,
+            "runner_up": None if np.isnan(a.runner_up) else a.runner_up,
+            "ambiguous": a.ambiguous,
+            "mean_gap": a.gap,
+            "mean_gap_of_size": a.gap / a.size,
+            "poor": a.poor,
+            "facing": a.facing,
+            "boundaries": [len(self.first.loop), len(self.second.loop)],
+            "loop_pairs": self.loop_pairs,
+            "open_loops": self.open_loops,
+            "welded": self.welded,
+            "strip_faces": self.strip_faces,
+            "seconds": a.seconds,
+        }
+
 
 def stitch(
     first: Model,

@@ -29,34 +29,8 @@ if a.ambiguous:
 if a.poor:
     log.warning("%s: poor: the seam's mean gap is %.1f%% of the size", pair["object"], 100 * a.gap / a.size)
 with open(snakemake.output.summary, "w") as out:
-    json.dump(
-        {
-            "object": pair["object"],
-            "first": pair["first"],
-            "second": pair["second"],
-            "rotation": a.rotation.tolist(),
-            "translation": a.translation.tolist(),
-            "cost": a.cost,
-            "edge_cost": a.edge_cost,
-            "crossing_cost": a.crossing_cost,
-            "crease_cost": a.crease_cost,
-            "runner_up": None if np.isnan(a.runner_up) else a.runner_up,
-            "ambiguous": a.ambiguous,
-            "mean_gap": a.gap,
-            "mean_gap_of_size": a.gap / a.size,
-            "poor": a.poor,
-            "facing": a.facing,
-            "boundaries": [len(result.first.loop), len(result.second.loop)],
-            "loop_pairs": result.loop_pairs,
-            "open_loops": result.open_loops,
-            "welded": result.welded,
-            "strip_faces": result.strip_faces,
-            "seconds": a.seconds,
-            "version": snakemake.params.version,
-        },
-        out,
-        indent=1,
-    )
+    pair_names = {"object": pair["object"], "first": pair["first"], "second": pair["second"]}
+    json.dump({**pair_names, **result.summary(), "version": snakemake.params.version}, out, indent=1)
 plot_stitch(
     first,
     second,
