@@ -34,6 +34,7 @@ from heatdata.experiments.demo import (
 )
 from heatdata.experiments.views import view_plan
 from heatdata.io.catalog import embedded_catalog, read_catalog
+from heatdata.io.files import atomic, check_folder, check_output
 from heatdata.io.models import SUPPORTED_SUFFIXES, load_model, save_model
 from heatdata.io.sh3f import import_sh3f
 from heatdata.io.tables import (
@@ -70,6 +71,9 @@ def cmd_demo(args: argparse.Namespace) -> None:
     """Render the embedded objects, describe every view, classify the test views."""
     start = time.perf_counter()
     args.catalog = args.catalog or embedded_catalog()
+    out = check_folder(args.out, inputs=[args.catalog])
+    for name in ("descriptors.parquet", "predictions.parquet", "precision.csv", "views.png", "summary.md"):
+        check_output(out / name, inputs=[args.catalog])
     catalog = read_catalog(args.catalog)
     if args.objects:
         wanted = args.objects.split(",")
@@ -86,13 +90,12 @@ def cmd_demo(args: argparse.Namespace) -> None:
         seed=args.seed,
     )
     descriptors, predictions = describe_and_classify(catalog, plan, DEMO_SPECS, noise=not args.no_noise, jobs=args.jobs)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     run = {k: v for k, v in vars(args).items() if k != "func"}
     write_table(descriptors, out / "descriptors.parquet", DESCRIPTOR_SCHEMA, run)
     write_table(predictions, out / "predictions.parquet", PREDICTION_SCHEMA, run)
     precision = precision_by_object(predictions)
-    precision.to_csv(out / "precision.csv")
+    with atomic(out / "precision.csv") as temporary:
+        precision.to_csv(temporary)
     for spec in DEMO_SPECS:
         subset = predictions[predictions["descriptor"] == spec.name]
         plot_confusion(subset, out / f"confusion_objects_{file_name(spec.name)}.png", spec.name)
@@ -106,7 +109,8 @@ def cmd_demo(args: argparse.Namespace) -> None:
         seed=args.seed,
     )
     summary = _summary_markdown(precision, descriptors, args, time.perf_counter() - start)
-    (out / "summary.md").write_text(summary)
+    with atomic(out / "summary.md") as temporary:
+        temporary.write_text(summary)
     print(summary)
 
 
@@ -140,12 +144,9 @@ def _summary_markdown(
 
 def cmd_render(args: argparse.Namespace) -> None:
     """Render one partial view of a model file to a .npz view file."""
-    out = Path(args.out)
-    if out.suffix != ".npz" or out.is_dir():
-        raise HeatdataError(f"{out}: the view is written to a .npz file; give a file name ending in .npz")
+    out = check_output(args.out, inputs=[args.model], suffixes=(".npz",), what="the view")
     model = load_model(args.model, size=tuple(args.size) if args.size else None, scale=args.scale)
     view = render_view(model, args.azimuth, args.elevation, args.distance, noise=not args.no_noise, seed=args.seed)
-    out.parent.mkdir(parents=True, exist_ok=True)
     view.save(out)
     print(
         json.dumps(
@@ -163,10 +164,10 @@ def cmd_render(args: argparse.Namespace) -> None:
 def cmd_view_from_depth(args: argparse.Namespace) -> None:
     """A view from real data: a depth image (16-bit PNG in mm, float .npy in m) with intrinsics, or an organized
     cloud (PCD, range-map PLY); written as a .npz view, a coloured .ply, or both."""
-    outs = [Path(p) for p in args.out]
-    bad = [str(p) for p in outs if p.suffix.lower() not in (".npz", ".ply") or p.is_dir()]
-    if bad:
-        raise HeatdataError(f"{', '.join(bad)}: a view is written to a .npz (for heatdata) or a .ply (to look at)")
+    inputs = [args.input, args.intrinsics, args.rgb, args.mask]
+    outs = [check_output(p, inputs=inputs, suffixes=(".npz", ".ply"), what="the view") for p in args.out]
+    if len({p.resolve() for p in outs}) < len(outs):
+        raise HeatdataError(f"{' '.join(map(str, outs))}: an output is given twice")
     source = Path(args.input)
     if source.suffix.lower() in (".pcd", ".ply"):
         if args.intrinsics or args.rgb or args.mask or args.depth_range:
@@ -189,7 +190,6 @@ def cmd_view_from_depth(args: argparse.Namespace) -> None:
             max_depth_jump=args.max_depth_jump,
         )
     for out in outs:
-        out.parent.mkdir(parents=True, exist_ok=True)
         if out.suffix.lower() == ".npz":
             view.save(out)
         else:
@@ -213,14 +213,9 @@ def cmd_stitch(args: argparse.Namespace) -> None:
     The output is in the first mesh's frame. It prints the motion, J and its terms, the runner-up's J and the
     seam's mean gap, and warns when another pose is nearly as cheap (ambiguous) or the seam is wide (poor).
     """
-    out = Path(args.out)
-    if out.suffix.lower() not in SUPPORTED_SUFFIXES or out.is_dir():
-        raise HeatdataError(
-            f"{out}: the stitched model is written to a mesh file, one of {', '.join(SUPPORTED_SUFFIXES)}"
-        )
-    for given in (args.first, args.second):
-        if out.resolve() == Path(given).resolve():
-            raise HeatdataError(f"{out}: is one of the inputs; write the stitched model to another file")
+    out = check_output(
+        args.out, inputs=[args.first, args.second, args.motion], suffixes=SUPPORTED_SUFFIXES, what="the stitched model"
+    )
     motion = None
     if args.motion is not None:
         try:
@@ -309,7 +304,9 @@ def cmd_describe(args: argparse.Namespace) -> None:
 
 def cmd_classify(args: argparse.Namespace) -> None:
     """Classify the test rows of a descriptor table against its training rows."""
-    descriptors, _ = read_table(args.descriptors)
+    if args.out:
+        check_output(args.out, inputs=[args.descriptors], suffixes=(".parquet",), what="the predictions")
+    descriptors, _ = read_table(args.descriptors, schema=DESCRIPTOR_SCHEMA)
     names = sorted(descriptors["descriptor"].unique()) if args.descriptor is None else [args.descriptor]
     unknown = sorted(set(names) - set(descriptors["descriptor"]))
     if unknown:
@@ -384,8 +381,8 @@ def _number(low: float | None = None, *, positive: bool = False, whole: bool = F
         except ValueError:
             raise argparse.ArgumentTypeError(f"{text!r} is not a {'whole ' if whole else ''}number") from None
         if not np.isfinite(value) or (positive and value <= 0) or (low is not None and value < low):
-            need = "a positive" if positive else "a finite" if low is None else f"a number >= {low:g}:"
-            raise argparse.ArgumentTypeError(f"{text!r}: need {need} number")
+            need = "a positive number" if positive else "a finite number" if low is None else f"a number >= {low:g}"
+            raise argparse.ArgumentTypeError(f"{text!r}: need {need}")
         return value
 
     return parse
@@ -618,6 +615,9 @@ def main(argv: list[str] | None = None) -> int:
         with logging_redirect_tqdm(loggers=[logging.root]):  # log lines print above a progress bar
             args.func(args)
     except HeatdataError as exc:
+        log.error("%s", exc)
+        return 1
+    except OSError as exc:  # the system refused a file operation: its own message names the file
         log.error("%s", exc)
         return 1
     return 0

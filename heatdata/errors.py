@@ -35,3 +35,7 @@ class RumpError(HeatdataError):
 
 class ConfigError(HeatdataError):
     """The workflow's config asks for something the run cannot do (the message names the key)."""
+
+
+class OutputError(HeatdataError):
+    """An output cannot be written: its folder is missing or read-only, it is a folder, or it is one of the inputs."""

@@ -1,5 +1,6 @@
 """Shared fixtures: small meshes with known answers, written without the renderer."""
 
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -93,3 +94,37 @@ def colored_box(extents=(0.2, 0.2, 0.2)):
     box = trimesh.creation.box(extents=extents)
     box.visual.face_colors = np.tile([200, 50, 50, 255], (len(box.faces), 1))
     return box
+
+
+def make_sh3f(tmp_path, extra: tuple[str, ...] = ()) -> Path:
+    """A two-model Sweet Home 3D library in the real layout; ``extra``: more lines of its properties."""
+    src = tmp_path / "src"
+    src.mkdir(exist_ok=True)
+    write_textured_quad(src)
+    path = tmp_path / "Mini.sh3f"
+    props = "\n".join(
+        [
+            "# a comment",
+            "name#1=Coffee mug",
+            "category#1=Kitchen",
+            "model#1=/mini/mug/quad.obj",
+            "width#1=12",
+            "depth#1=8",
+            "height#1=10",
+            "creator#1=Someone",
+            "name#2=Caf\\u00e9 chair",
+            "category#2=Living room",
+            "model#2=/mini/chair/quad.obj",
+            "width#2=40",
+            "depth#2=40",
+            "height#2=80",
+            "modelRotation#2=1 0 0 0 0 1 0 -1 0",
+            "creator#2=Other",
+        ]
+    )
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as archive:
+        archive.writestr("PluginFurnitureCatalog.properties", props + "".join(f"\n{line}" for line in extra))
+        for folder in ("mini/mug", "mini/chair"):
+            for f in ("quad.obj", "quad.mtl", "tex.png"):
+                archive.write(src / f, f"{folder}/{f}")
+    return path

@@ -475,23 +475,46 @@ def stack_values(items, what: str = "descriptors") -> np.ndarray:
     return values
 
 
+def _evenly_sampled(d: Descriptor) -> bool:
+    """Whether ``d`` was sampled at a fixed number of evenly spaced positions (or bins), not once per vertex."""
+    m = len(d.positions)
+    return m > 0 and np.allclose(d.positions, np.arange(m) / m)
+
+
 def distance(a: Descriptor, b: Descriptor) -> float:
     """The kind's own distance between two descriptors of one kind (eq. 3.1, 5.14 or a histogram distance).
 
     Parameters
     ----------
     a, b : Descriptor
-        Two descriptors of one kind (and one length).
+        Two descriptors of one kind, sampling and colour map, and of one number of samples (unless both were
+        sampled once per boundary vertex, ``samples=None``).
 
     Returns
     -------
     float
         Their distance under the kind's :meth:`Kind.distance_matrix`.
+
+    Raises
+    ------
+    HeatdataError
+        The descriptors differ in kind, sampling, colour map or number of samples.
     """
     if a.kind != b.kind:
         raise HeatdataError(
             f"no distance between {article(a.kind)} {a.kind} and {article(b.kind)} {b.kind} "
             "descriptor: compare one kind"
+        )
+    for field_name in ("sampling", "color_map"):
+        if getattr(a, field_name) != getattr(b, field_name):
+            raise HeatdataError(
+                f"no distance between {a.kind} descriptors of {field_name} {getattr(a, field_name)!r} and "
+                f"{getattr(b, field_name)!r}: describe both with one spec"
+            )
+    if len(a.values) != len(b.values) and (_evenly_sampled(a) or _evenly_sampled(b)):
+        raise HeatdataError(
+            f"no distance between {a.kind} descriptors of {len(a.values)} and {len(b.values)} samples: "
+            "describe both with one number of samples"
         )
     impl = kind_of(a.kind)
     weights = {}

@@ -64,6 +64,31 @@ def accept_aliases(config: dict[str, Any]) -> list[str]:
     return notes
 
 
+def check_numbers(value: Any, where: str = "") -> None:
+    """Every number in the config is finite: JSON Schema's ``number`` admits YAML's ``.nan`` and ``.inf``.
+
+    Parameters
+    ----------
+    value : dict, list or scalar
+        The validated config (or a part of it).
+    where : str
+        The key of ``value``, for the message.
+
+    Raises
+    ------
+    ConfigError
+        A NaN or infinite number, naming its key (``views.distance``).
+    """
+    if isinstance(value, dict):
+        for key, item in value.items():
+            check_numbers(item, f"{where}.{key}" if where else str(key))
+    elif isinstance(value, list):
+        for k, item in enumerate(value):
+            check_numbers(item, f"{where}[{k}]")
+    elif isinstance(value, float) and not np.isfinite(value):
+        raise ConfigError(f"{where}: {value} is not a finite number")
+
+
 def run_catalog(config: dict[str, Any]) -> pd.DataFrame:
     """The catalogue rows of the objects the run uses, indexed by object id.
 
@@ -266,6 +291,11 @@ def check_stages(config: dict[str, Any], objects: list[str], specs: list[Descrip
         The first check that fails, naming its key.
     """
     views = config["views"]
+    if len(objects) * views["train"] < 4:
+        raise ConfigError(
+            f"views.train: the Isomap of the library views (figures/isomap.png) needs four or more; "
+            f"{len(objects)} object(s) x {views['train']} view(s) give {len(objects) * views['train']}"
+        )
     if config["compact"]["enabled"]:
         compact = checked_spec(config["compact"]["descriptor"], "compact.descriptor")
         if not compact.impl.multi_source:

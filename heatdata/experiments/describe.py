@@ -25,6 +25,7 @@ from heatdata.descriptors.heat import color_name
 from heatdata.descriptors.sources import candidate_descriptors, candidate_sources
 from heatdata.errors import HeatdataError, SpectrumError, ViewError
 from heatdata.experiments.views import render_views
+from heatdata.io.files import atomic
 from heatdata.io.models import Model
 from heatdata.views.view import View
 
@@ -312,7 +313,8 @@ def fit_view_tables(
 
 def save_fitted(spec: DescriptorSpec, path) -> None:
     """What a fitted spec learned, as a ``.npz`` of its named arrays."""
-    np.savez(path, **spec.fitted)
+    with atomic(path) as temporary:
+        np.savez(temporary, **spec.fitted)
 
 
 def load_fitted(specs: list[DescriptorSpec], paths: dict) -> list[DescriptorSpec]:

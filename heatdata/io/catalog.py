@@ -196,7 +196,12 @@ def load_catalog_model(row: pd.Series | dict) -> Model:
     size = None if width is None else (width, float(row["height"]), float(row["depth"]))
     rotation = None
     if str(row.get("rotation", "")).strip():
-        rotation = np.array([float(x) for x in str(row["rotation"]).split()]).reshape(3, 3)
+        try:
+            rotation = np.array([float(x) for x in str(row["rotation"]).split()]).reshape(3, 3)
+        except ValueError:
+            raise ModelError(
+                f"{row['object']}: rotation {row['rotation']!r} is not 9 numbers (a row-major 3x3)"
+            ) from None
     model = load_model(
         row["path"],
         size=size,

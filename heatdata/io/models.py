@@ -11,21 +11,30 @@ The model frame is the file's own, with +y up (the OBJ and Sweet Home 3D convent
 
 from __future__ import annotations
 
+import io
 import logging
+import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+import PIL.Image
 import trimesh
 from numpy.typing import ArrayLike
 
 from heatdata.errors import ModelError, StitchError
+from heatdata.io.files import atomic
 
 log = logging.getLogger(__name__)
 
 SUPPORTED_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
 DEFAULT_GREY = (0.7, 0.7, 0.7)
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".gif", ".tga", ".tif", ".tiff", ".webp")
+MAX_FILE_BYTES = 256 * 2**20  # a model file, or a file it names (MTL, texture, glTF buffer)
+TEXTURE_PIXELS = 2048 * 2048  # larger textures are downscaled: a view samples them at Kinect resolution
+MAX_TEXTURE_PIXELS = 4096 * 4096  # larger ones are refused before they are decoded (the material's colour stands)
+LARGE_MODEL = 20.0  # metres: a model larger than this, with no size given, is probably not in metres
 
 
 @dataclass
@@ -67,6 +76,9 @@ class Model:
     label: str = ""
     source: str = ""
     repairs: list = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.faces = checked_faces(self.faces, len(self.vertices), self.name)
 
     @classmethod
     def untextured(
@@ -122,25 +134,50 @@ class Model:
         return 0.5 * (self.vertices.max(axis=0) + self.vertices.min(axis=0))
 
 
-def _image_to_array(image) -> np.ndarray | None:
+def _texture_size_note(name: str, size: tuple[int, int]) -> str | None:
+    """Why a texture of ``size`` (w, h) pixels is refused before it is decoded, or None."""
+    if size[0] * size[1] > MAX_TEXTURE_PIXELS:
+        return (
+            f"refused texture {name!r}: {size[0]}x{size[1]} pixels, above the cap of "
+            f"{MAX_TEXTURE_PIXELS / 1e6:.0f} Mpixel"
+        )
+    return None
+
+
+def _image_to_array(image, notes: list[str]) -> np.ndarray | None:
+    """A texture as (h, w, 3) float32 in [0, 1], downscaled to at most ``TEXTURE_PIXELS``; None (with a note in
+    ``notes``) when it is refused or cannot be decoded."""
     if image is None:
         return None
-    array = np.asarray(image.convert("RGB"), dtype=np.float32) / 255.0
+    name = getattr(image, "filename", "") or "embedded image"
+    refused = _texture_size_note(name, image.size)
+    if refused:
+        notes.append(f"{refused}; the material's colour is used instead")
+        return None
+    try:
+        if image.size[0] * image.size[1] > TEXTURE_PIXELS:
+            factor = int(np.ceil(np.sqrt(image.size[0] * image.size[1] / TEXTURE_PIXELS)))
+            notes.append(f"texture {name!r} of {image.size[0]}x{image.size[1]} pixels downscaled {factor}x")
+            image = image.convert("RGB").reduce(factor)
+        array = np.asarray(image.convert("RGB"), dtype=np.float32) / 255.0
+    except (OSError, ValueError, SyntaxError) as error:  # Pillow's errors on a corrupt image
+        notes.append(f"cannot decode texture {name!r} ({error}); the material's colour is used instead")
+        return None
     return array if array.size else None
 
 
-def _material_color_and_texture(visual) -> tuple[np.ndarray, np.ndarray | None]:
-    """Base RGB colour and texture image of a trimesh TextureVisuals material."""
+def _material_color_and_texture(visual, notes: list[str]) -> tuple[np.ndarray, np.ndarray | None]:
+    """Base RGB colour and texture image of a trimesh TextureVisuals material (what is refused goes to ``notes``)."""
     material = getattr(visual, "material", None)
     if material is None:
         return np.array(DEFAULT_GREY), None
     if isinstance(material, trimesh.visual.material.PBRMaterial):
         factor = material.baseColorFactor
         color = np.asarray(factor[:3], float) / 255.0 if factor is not None else np.array(DEFAULT_GREY)
-        return color, _image_to_array(material.baseColorTexture)
+        return color, _image_to_array(material.baseColorTexture, notes)
     diffuse = getattr(material, "diffuse", None)
     color = np.asarray(diffuse[:3], float) / 255.0 if diffuse is not None else np.array(DEFAULT_GREY)
-    return color, _image_to_array(getattr(material, "image", None))
+    return color, _image_to_array(getattr(material, "image", None), notes)
 
 
 class _FolderResolver(trimesh.resolvers.FilePathResolver):
@@ -155,14 +192,32 @@ class _FolderResolver(trimesh.resolvers.FilePathResolver):
 
     def get(self, name: str):
         clean = name.strip()
-        target = (self.root / clean).resolve()
+        try:
+            target = (self.root / clean).resolve()
+        except (ValueError, OSError) as error:  # a NUL byte, a loop of links
+            return self._refuse(f"refused {clean!r}: not a file name ({error})")
         if not target.is_relative_to(self.root):
-            self.notes.append(f"refused {clean!r}: it is outside the model's folder")
-            raise OSError(self.notes[-1])
+            return self._refuse(f"refused {clean!r}: it is outside the model's folder")
         if not target.is_file():
-            self.notes.append(f"missing {clean!r} in the model's folder")
-            raise OSError(self.notes[-1])
-        return target.read_bytes()
+            return self._refuse(f"missing {clean!r} in the model's folder")
+        if target.stat().st_size > MAX_FILE_BYTES:
+            return self._refuse(f"refused {clean!r}: {target.stat().st_size / 2**20:.0f} MB, above the cap")
+        data = target.read_bytes()
+        if target.suffix.lower() in IMAGE_SUFFIXES:  # checked before trimesh decodes it
+            try:
+                with PIL.Image.open(io.BytesIO(data)) as image:
+                    refused = _texture_size_note(clean, image.size)
+                    if not refused:
+                        image.load()  # decoded once here: trimesh decodes it again, unguarded, when it copies
+            except (OSError, ValueError, SyntaxError, PIL.Image.DecompressionBombError) as error:
+                return self._refuse(f"cannot read texture {clean!r} ({error})")
+            if refused:
+                return self._refuse(refused)
+        return data
+
+    def _refuse(self, note: str):
+        self.notes.append(note)
+        raise OSError(note)
 
 
 def _read_scene(path: Path) -> tuple[trimesh.Scene, list[str]]:
@@ -225,29 +280,38 @@ def load_model(
         )
     if not (np.isfinite(scale) and scale > 0):
         raise ModelError(f"{path}: scale must be a positive number, got {scale}")
+    if rotation is not None:
+        rotation = _checked_rotation(rotation, path)
     if not path.is_file():
         raise ModelError(f"{path}: no such model file")
     if path.suffix.lower() not in SUPPORTED_SUFFIXES:
         raise ModelError(f"{path}: unsupported model type {path.suffix!r} (use one of {', '.join(SUPPORTED_SUFFIXES)})")
     if path.stat().st_size == 0:
         raise ModelError(f"{path}: the model file is empty")
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise ModelError(f"{path}: {path.stat().st_size / 2**20:.0f} MB, above the cap of {MAX_FILE_BYTES >> 20} MB")
     scene, repairs = _read_scene(path)
-    meshes = [g for g in scene.dump(concatenate=False) if isinstance(g, trimesh.Trimesh) and len(g.faces)]
+    try:
+        parts_of_scene = scene.dump(concatenate=False)
+    except Exception as exc:  # trimesh decodes embedded images and applies transforms here
+        raise ModelError(f"{path}: cannot read the model file ({type(exc).__name__}: {exc})") from exc
+    meshes = [g for g in parts_of_scene if isinstance(g, trimesh.Trimesh) and len(g.faces)]
     if not meshes:
         raise ModelError(f"{path}: the model has no triangle faces")
 
     parts: list[np.ndarray] = []
     faces, colors, uvs, face_tex, textures = [], [], [], [], []
     offset = 0
+    texture_notes: list[str] = []
     for mesh in meshes:
         v = np.asarray(mesh.vertices, dtype=np.float64)
-        f = np.asarray(mesh.faces, dtype=np.int64)
+        f = checked_faces(mesh.faces, len(v), str(path))
         n_faces = len(f)
         corner_uv = np.zeros((n_faces, 3, 2), np.float32)
         tex_index = -1
         visual = mesh.visual
         if isinstance(visual, trimesh.visual.texture.TextureVisuals):
-            color, image = _material_color_and_texture(visual)
+            color, image = _material_color_and_texture(visual, texture_notes)
             corner = np.broadcast_to(color.astype(np.float32), (n_faces, 3, 3))
             if image is not None and visual.uv is not None and len(visual.uv) == len(v):
                 textures.append(image)
@@ -270,16 +334,33 @@ def load_model(
     vertices = np.concatenate(parts)
     if not np.all(np.isfinite(vertices)):
         raise ModelError(f"{path}: the model has NaN or infinite vertex coordinates")
+    _check_complete(path, len(vertices), sum(len(f) for f in faces))
+    for note in dict.fromkeys(texture_notes):
+        repairs.append(f"{path.name}: {note}")
+        log.warning("%s", repairs[-1])
     if rotation is not None:
-        vertices = vertices @ np.asarray(rotation, float).T
+        vertices = vertices @ rotation.T
     if center:
         vertices = vertices - 0.5 * (vertices.max(axis=0) + vertices.min(axis=0))
+    extents = vertices.max(axis=0) - vertices.min(axis=0)
     if size is not None:
-        extents = vertices.max(axis=0) - vertices.min(axis=0)
         flat = extents <= 0  # a flat model keeps zero thickness; its other axes are scaled
+        collapsed = [axis for axis, s, e in zip("xyz", size, extents) if s == 0 and e > 0]
+        if collapsed:
+            raise ModelError(
+                f"{path}: size 0 along {', '.join(collapsed)} would flatten a model that has thickness there "
+                f"(extents {np.round(extents, 4).tolist()} in file units)"
+            )
         vertices = vertices * np.where(flat, 1.0, np.asarray(size, float) / np.where(flat, 1.0, extents))
     else:
         vertices = vertices * scale
+        if extents.max() * scale > LARGE_MODEL:
+            log.warning(
+                "%s: the model is %.0f m across: if its file is in millimetres or centimetres, give a scale "
+                "(0.001 or 0.01; heatdata render --scale) or its real size (--size)",
+                path,
+                extents.max() * scale,
+            )
     model = Model(
         name=name or path.stem,
         vertices=vertices,
@@ -301,6 +382,82 @@ def load_model(
         np.round(model.extents, 3),
     )
     return model
+
+
+def checked_faces(faces: ArrayLike, n_vertices: int, name: str) -> np.ndarray:
+    """``faces`` as (m, 3) int64 indices into ``n_vertices`` vertices, or a :class:`ModelError` naming ``name``.
+
+    Every model passes here before native code (open3d's ray caster takes the indices as uint32 and does not
+    check them).
+
+    Parameters
+    ----------
+    faces : (m, 3) int
+        Triangles.
+    n_vertices : int
+        How many vertices they index.
+    name : str
+        The file or model, for the message.
+
+    Returns
+    -------
+    (m, 3) int64
+        The faces.
+
+    Raises
+    ------
+    ModelError
+        Not (m, 3) whole numbers, or an index that is negative or not below ``n_vertices``.
+    """
+    array = np.asarray(faces)
+    if array.ndim != 2 or array.shape[1] != 3 or (len(array) and array.dtype.kind not in "iu"):
+        raise ModelError(f"{name}: faces must be (m, 3) vertex indices, got shape {array.shape} of {array.dtype}")
+    array = array.astype(np.int64)
+    if len(array) and (array.min() < 0 or array.max() >= n_vertices):
+        outside = (array < 0) | (array >= n_vertices)
+        raise ModelError(
+            f"{name}: {int(outside.any(axis=1).sum())} faces index vertices outside 0..{n_vertices - 1} "
+            f"(e.g. {array[outside][0]})"
+        )
+    return array
+
+
+def _checked_rotation(rotation: ArrayLike, path: Path) -> np.ndarray:
+    r = np.asarray(rotation, np.float64)
+    if (
+        r.shape != (3, 3)
+        or not np.all(np.isfinite(r))
+        or not np.allclose(r @ r.T, np.eye(3), atol=1e-3)
+        or np.linalg.det(r) < 0
+    ):
+        raise ModelError(
+            f"{path}: rotation must be a 3x3 rotation matrix (finite, orthonormal, no reflection), got "
+            f"{np.round(r, 4).tolist() if r.size <= 9 else r.shape}"
+        )
+    return r
+
+
+def _check_complete(path: Path, n_vertices: int, n_faces: int) -> None:
+    """Refuse an ASCII OFF or PLY holding fewer vertices or faces than its header declares (a truncated file)."""
+    suffix = path.suffix.lower()
+    if suffix not in (".off", ".ply"):
+        return  # binary PLY, GLB and STL truncations are refused by trimesh; OBJ declares no counts
+    with path.open("rb") as handle:
+        head = handle.read(4096).decode("latin-1", "replace")
+    declared = None
+    if suffix == ".off":
+        words = [w for line in head.splitlines() if not line.lstrip().startswith("#") for w in line.split()]
+        if words and words[0].upper().endswith("OFF") and len(words) >= 3 and words[1].isdigit() and words[2].isdigit():
+            declared = int(words[1]), int(words[2])
+    elif "format ascii" in head:
+        vertex = re.search(r"^element vertex (\d+)", head, re.M)
+        face = re.search(r"^element face (\d+)", head, re.M)
+        declared = int(vertex.group(1)) if vertex else 0, int(face.group(1)) if face else 0
+    if declared and (n_vertices < declared[0] or n_faces < declared[1]):
+        raise ModelError(
+            f"{path}: truncated: its header declares {declared[0]:,} vertices and {declared[1]:,} faces, "
+            f"the file holds {n_vertices:,} and {n_faces:,}"
+        )
 
 
 def vertex_colors(model: Model) -> np.ndarray:
@@ -369,8 +526,8 @@ def save_model(model: Model, path: str | Path) -> Path:
         raise ModelError(f"{path}: write a model as one of {', '.join(SUPPORTED_SUFFIXES)}")
     colors = np.clip(np.round(vertex_colors(model) * 255), 0, 255).astype(np.uint8)
     mesh = trimesh.Trimesh(model.vertices, model.faces, vertex_colors=colors, process=False)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    mesh.export(path)
+    with atomic(path) as temporary:
+        mesh.export(temporary)
     return path
 
 

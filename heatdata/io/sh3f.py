@@ -5,14 +5,19 @@ from __future__ import annotations
 import codecs
 import csv
 import logging
+import posixpath
 import re
 import zipfile
+import zlib
 from pathlib import Path, PurePosixPath
 
+import numpy as np
 import pandas as pd
 
 from heatdata.errors import ModelError
 from heatdata.io.catalog import CATALOG_COLUMNS, SH3F_LICENCES
+from heatdata.io.files import atomic, check_folder, check_output
+from heatdata.log import progress
 
 log = logging.getLogger(__name__)
 
@@ -45,15 +50,26 @@ def sh3f_entries(sh3f_path: str | Path) -> pd.DataFrame:
     sizes converted from centimetres to metres.
     """
     sh3f_path = Path(sh3f_path)
+    if not sh3f_path.is_file():
+        raise ModelError(f"{sh3f_path}: no such Sweet Home 3D furniture library")
     try:
         with zipfile.ZipFile(sh3f_path) as archive:
-            text = archive.read("PluginFurnitureCatalog.properties").decode("latin-1")
-    except (OSError, zipfile.BadZipFile, KeyError) as exc:
-        raise ModelError(f"{sh3f_path}: not a readable Sweet Home 3D furniture library ({exc})") from exc
-    props = parse_properties(text)
-    indices = sorted({int(k.split("#")[1]) for k in props if k.startswith("name#")})
+            data = _read_member(archive, "PluginFurnitureCatalog.properties", sh3f_path, MAX_PROPERTIES_BYTES)
+    except (*UNREADABLE, KeyError) as exc:
+        raise ModelError(f"{sh3f_path}: not a readable Sweet Home 3D furniture library ({exc})") from None
+    props = parse_properties(data.decode("latin-1"))
+    indices, odd = set(), []
+    for key in props:
+        if key.startswith("name#"):
+            number = key.partition("#")[2]
+            if number.isdigit():
+                indices.add(int(number))
+            else:
+                odd.append(key)
+    if odd:
+        log.warning("%s: keys left out, not of a numbered furniture: %s", sh3f_path, ", ".join(odd[:5]))
     rows = []
-    for i in indices:
+    for i in sorted(indices):
         model = props.get(f"model#{i}", "").lstrip("/")
         if ".." in PurePosixPath(model).parts or "\\" in model:  # untrusted: it must stay inside the library
             log.warning(
@@ -71,6 +87,12 @@ def sh3f_entries(sh3f_path: str | Path) -> pd.DataFrame:
                 f"{sh3f_path}: furniture #{i} ({props[f'name#{i}']}) has a missing or non-numeric "
                 f"size ({exc}); width, depth and height are centimetres"
             ) from None
+        if not all(np.isfinite(s) and s > 0 for s in sizes.values()):
+            raise ModelError(
+                f"{sh3f_path}: furniture #{i} ({props[f'name#{i}']}) has a size that is not a positive length: "
+                + ", ".join(f"{key}#{i}={props[f'{key}#{i}']}" for key in sizes)
+                + " (centimetres)"
+            )
         rows.append(
             {
                 "index": i,
@@ -112,10 +134,7 @@ def sh3f_catalog(
     if exclude_pattern:
         entries = entries[~entries["name"].str.contains(exclude_pattern, case=False, regex=True)]
     if entries.empty and not allow_empty:
-        raise ModelError(
-            f"{sh3f_path}: no furniture matches {name_pattern!r}"
-            + (f" without {exclude_pattern!r}" if exclude_pattern else "")
-        )
+        raise ModelError(f"{sh3f_path}: {_nothing_matches(name_pattern, exclude_pattern)}")
     library = sh3f_path.stem
     rows = [
         {
@@ -134,6 +153,15 @@ def sh3f_catalog(
         for entry in entries.itertuples()
     ]
     return pd.DataFrame(rows, columns=CATALOG_COLUMNS)
+
+
+def _nothing_matches(name_pattern: str | None, exclude_pattern: str | None) -> str:
+    if not name_pattern and not exclude_pattern:
+        return "no furniture in the library"
+    return " ".join(
+        ([f"no furniture matches {name_pattern!r}"] if name_pattern else ["no furniture is left"])
+        + ([f"without {exclude_pattern!r}"] if exclude_pattern else [])
+    )
 
 
 def sh3f_catalogs(
@@ -155,30 +183,164 @@ def sh3f_catalogs(
     ]
     table = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame()
     if table.empty:
-        raise ModelError(
-            f"{', '.join(map(str, sh3f_paths)) or 'no library given'}: no furniture matches "
-            f"{name_pattern!r}" + (f" without {exclude_pattern!r}" if exclude_pattern else "")
-        )
+        libraries = ", ".join(map(str, sh3f_paths)) or "no library given"
+        raise ModelError(f"{libraries}: {_nothing_matches(name_pattern, exclude_pattern)}")
     log.info("%d models from %d Sweet Home 3D libraries", len(table), len(sh3f_paths))
     return table
 
 
+# what zipfile raises on a damaged archive: a bad header or CRC, a corrupt stream, an encrypted or unknown method
+UNREADABLE = (OSError, EOFError, zipfile.BadZipFile, zlib.error, NotImplementedError, RuntimeError, ValueError)
+MAX_PROPERTIES_BYTES = 16 * 2**20  # the largest catalogue in Debian's libraries is 0.15 MB
+MAX_MEMBER_BYTES = 64 * 2**20  # the largest model file there is 8.8 MB
+MAX_RATIO = 100  # compression ratio; their models and textures compress at most 11:1
+RATIO_FROM_BYTES = 2**20  # smaller members may compress better (a few zeros): no ratio cap below
+TEXTURE_KEYS = ("map_kd", "map_ka", "map_ks", "map_ns", "map_d", "map_bump", "bump", "disp", "decal", "refl")
+
+
+def _checked_member(
+    archive: zipfile.ZipFile, name: str, sh3f_path: Path, cap: int = MAX_MEMBER_BYTES
+) -> zipfile.ZipInfo:
+    """The archive's entry ``name``, refused when it would inflate beyond ``cap`` or ``MAX_RATIO`` (a zip bomb)."""
+    info = archive.getinfo(name)
+    if info.file_size > cap:
+        raise ModelError(
+            f"{sh3f_path}: member {name!r} inflates to {info.file_size / 2**20:.0f} MB, above the cap of "
+            f"{cap / 2**20:.0f} MB: refused"
+        )
+    if info.file_size > RATIO_FROM_BYTES and info.file_size > MAX_RATIO * max(info.compress_size, 1):
+        raise ModelError(
+            f"{sh3f_path}: member {name!r} is compressed {info.file_size / max(info.compress_size, 1):.0f}:1, "
+            f"above the cap of {MAX_RATIO}:1 (a zip bomb?): refused"
+        )
+    return info
+
+
+def _read_member(archive: zipfile.ZipFile, name: str, sh3f_path: Path, cap: int = MAX_MEMBER_BYTES) -> bytes:
+    """A member's bytes, read no further than its checked size (a header that lies about it is refused)."""
+    info = _checked_member(archive, name, sh3f_path, cap)
+    try:
+        with archive.open(info) as member:
+            data = member.read(info.file_size + 1)
+    except UNREADABLE as exc:
+        raise ModelError(f"{sh3f_path}: member {name!r} cannot be read ({type(exc).__name__}: {exc})") from None
+    if len(data) > info.file_size:
+        raise ModelError(f"{sh3f_path}: member {name!r} holds more than its header says: refused")
+    return data
+
+
+def _named_files(text: str, keys: tuple[str, ...]) -> list[str]:
+    """The file names that ``keys`` lines of an OBJ or MTL text give: the whole rest of the line, and its last word
+    (a texture's options come first: ``map_Kd -s 1 1 1 wood.png``)."""
+    names = []
+    for line in text.splitlines():
+        key, _, rest = line.strip().partition(" ")
+        if key.lower() in keys and rest.strip():
+            names += [rest.strip(), rest.split()[-1]]
+            if key.lower() == "mtllib":
+                names += rest.split()
+    return names
+
+
+def model_members(archive: zipfile.ZipFile, model: str, sh3f_path: str | Path) -> list[str]:
+    """The members a model needs: its OBJ, the MTLs it names, the textures those name, and its folder's licence.
+
+    Parameters
+    ----------
+    archive : zipfile.ZipFile
+        The open ``.sh3f``.
+    model : str
+        The OBJ's path in the archive.
+    sh3f_path : str or Path
+        The archive's path, for messages.
+
+    Returns
+    -------
+    list of str
+        Member names, the OBJ first; names the files give that the archive lacks are left out (loading the model
+        then notes them in its ``repairs``).
+
+    Raises
+    ------
+    ModelError
+        A member is above the size or compression caps.
+    """
+    sh3f_path = Path(sh3f_path)
+    present = {n for n in archive.namelist() if not n.endswith("/")}
+    folder = posixpath.dirname(model)
+
+    def resolve(names: list[str], base: str) -> list[str]:
+        found = (posixpath.normpath(posixpath.join(base, n.replace("\\", "/"))) for n in names)
+        return [n for n in dict.fromkeys(found) if n in present]
+
+    obj = _read_member(archive, model, sh3f_path).decode("latin-1")
+    mtls = resolve(_named_files(obj, ("mtllib",)), folder)
+    textures: list[str] = []
+    for mtl in mtls:
+        text = _read_member(archive, mtl, sh3f_path).decode("latin-1")
+        textures += resolve(_named_files(text, TEXTURE_KEYS), posixpath.dirname(mtl))
+    licences = sorted(
+        n for n in present if posixpath.dirname(n) == folder and re.search("licen[cs]e", posixpath.basename(n), re.I)
+    )
+    return list(dict.fromkeys([model, *mtls, *textures, *licences]))
+
+
 def extract_sh3f_model(sh3f_path: str | Path, model: str, out_dir: str | Path) -> Path:
-    """Extract one model's folder (OBJ, MTL, textures, licence) from a ``.sh3f``; return the OBJ path."""
-    folder = str(Path(model).parent) + "/"
+    """Extract what one model needs (:func:`model_members`) from a ``.sh3f``; return the OBJ path.
+
+    Parameters
+    ----------
+    sh3f_path : str or Path
+        The library.
+    model : str
+        The OBJ's path in it (a catalogue row's ``file``).
+    out_dir : str or Path
+        The folder the model's folder is written into.
+
+    Returns
+    -------
+    Path
+        The extracted OBJ.
+
+    Raises
+    ------
+    ModelError
+        No such model, a member that would be written outside ``out_dir`` or over the library itself, or one
+        above the size or compression caps (nothing of that member is written).
+    """
+    sh3f_path = Path(sh3f_path)
     root = Path(out_dir).resolve()
     try:
         with zipfile.ZipFile(sh3f_path) as archive:
-            members = [n for n in archive.namelist() if n.startswith(folder) and not n.endswith("/")]
-            if model not in members:
+            if model not in archive.namelist():
                 raise ModelError(f"{sh3f_path}: no model {model!r} in the library")
-            for member in members:  # untrusted names: nothing is written outside out_dir
-                if not (root / member).resolve().is_relative_to(root):
+            for member in model_members(archive, model, sh3f_path):  # untrusted names: nothing outside out_dir
+                target = (root / member).resolve()
+                if not target.is_relative_to(root):
                     raise ModelError(f"{sh3f_path}: member {member!r} would be written outside {out_dir}")
-                archive.extract(member, out_dir)
-    except (OSError, zipfile.BadZipFile) as exc:
-        raise ModelError(f"{sh3f_path}: cannot extract {model!r} ({exc})") from exc
+                if target == sh3f_path.resolve():
+                    raise ModelError(f"{sh3f_path}: member {member!r} would be written over the library itself")
+                data = _read_member(archive, member, sh3f_path)
+                with atomic(target) as temporary:
+                    temporary.write_bytes(data)
+    except UNREADABLE as exc:
+        raise ModelError(f"{sh3f_path}: cannot extract {model!r} ({exc})") from None
     return Path(out_dir) / model
+
+
+def _existing_catalog(path: Path) -> pd.DataFrame | None:
+    """The catalogue a former import left in the folder (rows are appended to it), checked before extracting."""
+    if not path.exists():
+        return None
+    try:
+        old = pd.read_csv(path, dtype=str, keep_default_na=False)
+    except (OSError, ValueError, UnicodeDecodeError) as exc:
+        raise ModelError(
+            f"{path}: the folder's catalogue cannot be read ({exc}); move it away or import elsewhere"
+        ) from None
+    if "object" not in old.columns:
+        raise ModelError(f"{path}: the folder holds a catalog.csv without an object column; move it away")
+    return old
 
 
 def import_sh3f(
@@ -210,17 +372,15 @@ def import_sh3f(
     pandas.DataFrame
         The catalogue rows written for this library.
     """
-    out_dir = Path(out_dir)
+    out_dir = check_folder(out_dir, inputs=[sh3f_path])
+    catalog_path = check_output(out_dir / "catalog.csv", inputs=[sh3f_path], what="the catalogue")
     table = sh3f_catalog(sh3f_path, name_pattern=name_pattern, label=label, exclude_pattern=exclude_pattern)
-    if out_dir.exists() and not out_dir.is_dir():
-        raise ModelError(f"{out_dir}: the output folder is a file")
-    out_dir.mkdir(parents=True, exist_ok=True)
-    for model in table["file"]:
+    old = _existing_catalog(catalog_path)
+    for model in progress(table["file"], desc="extracting", unit="model"):
         extract_sh3f_model(sh3f_path, model, out_dir)
-    catalog_path = out_dir / "catalog.csv"
-    if catalog_path.exists():
-        old = pd.read_csv(catalog_path, dtype=str, keep_default_na=False)
+    if old is not None:
         table = pd.concat([old[~old["object"].isin(table["object"])], table.astype(str)])
-    table.to_csv(catalog_path, index=False, quoting=csv.QUOTE_MINIMAL)
+    with atomic(catalog_path) as temporary:
+        table.to_csv(temporary, index=False, quoting=csv.QUOTE_MINIMAL)
     log.info("imported %d models from %s into %s", len(table), sh3f_path, out_dir)
     return table

@@ -17,6 +17,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from heatdata.errors import HeatdataError
+from heatdata.io.files import atomic
 
 DESCRIPTOR_SCHEMA = pa.schema(
     [
@@ -168,12 +169,16 @@ def write_table(frame: pd.DataFrame, path: str | Path, schema: pa.Schema, metada
         b"heatdata_run": json.dumps(metadata or {}, sort_keys=True, default=str).encode(),
     }
     table = table.replace_schema_metadata({**(table.schema.metadata or {}), **meta})
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    pq.write_table(table, path)
+    with atomic(path) as temporary:
+        pq.write_table(table, temporary)
 
 
 def read_table(
-    path: str | Path, *, columns: list[str] | None = None, filters: list | None = None
+    path: str | Path,
+    *,
+    columns: list[str] | None = None,
+    filters: list | None = None,
+    schema: pa.Schema | None = None,
 ) -> tuple[pd.DataFrame, dict]:
     """Read a heatdata Parquet table and its run metadata.
 
@@ -190,6 +195,8 @@ def read_table(
         The columns to read (default all).
     filters : list of tuple, optional
         pyarrow's row filters, e.g. ``[("descriptor", "==", name)]``.
+    schema : pyarrow.Schema, optional
+        The table the caller needs (:data:`DESCRIPTOR_SCHEMA`, ...): a file without its columns is refused.
 
     Returns
     -------
@@ -197,8 +204,17 @@ def read_table(
         The rows kept.
     metadata : dict
         The run's settings and heatdata's version.
+
+    Raises
+    ------
+    HeatdataError
+        No such file, not a Parquet table, or without the columns of ``schema``.
     """
     file = _open(path)
+    if schema is not None:
+        missing = [name for name in schema.names if name not in file.schema_arrow.names]
+        if missing:
+            raise HeatdataError(f"{path}: not the table this needs: it lacks column(s) {', '.join(missing)}")
     try:
         if filters:
             parts = list(_row_groups(file, columns, filters))

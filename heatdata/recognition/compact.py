@@ -307,7 +307,9 @@ def select_sources(edge_costs: list, *, name: str = "object") -> tuple[np.ndarra
     ----------
     edge_costs : list of K arrays
         The i-th of shape (n_i, n_{(i+1) mod K}): the cost of candidate a in view i
-        followed by candidate b in view i+1; the last array closes the circle.
+        followed by candidate b in view i+1; the last array closes the circle. Costs may be
+        negative: eq. 6.11's rewards ``-(1 - alpha)(rho_a + rho_b)`` are, and a constant added to
+        every edge adds K times it to every cycle, so the choice does not change (a test checks it).
     name : str
         The object, for error messages.
 

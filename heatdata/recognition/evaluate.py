@@ -425,9 +425,13 @@ def library_subset(descriptors: pd.DataFrame, size: int, split: str = "train") -
     Raises
     ------
     HeatdataError
-        An object has fewer library views than ``size``.
+        ``size`` is not a whole number >= 1, there is no ``split`` view, or an object has fewer than ``size``.
     """
+    if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or size < 1:
+        raise HeatdataError(f"library size must be a whole number of views per object >= 1, got {size!r}")
     library = descriptors[descriptors["split"] == split]
+    if library.empty:
+        raise HeatdataError(f"no {split} views to choose a library from")
     chosen = []
     for obj, views in library.groupby("object")["azimuth"]:
         angles = np.sort(views.unique())

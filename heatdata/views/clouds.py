@@ -7,8 +7,9 @@ from pathlib import Path
 import numpy as np
 
 from heatdata.errors import ViewError
+from heatdata.io.models import checked_faces
 from heatdata.typing import StrPath
-from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view
+from heatdata.views.depth import MAX_DEPTH_JUMP, MAX_IMAGE_SIDE, grid_view
 from heatdata.views.view import View
 
 
@@ -78,6 +79,8 @@ def read_organized_cloud(
     )
 
 
+MAX_CLOUD_BYTES = 1 << 30  # a 16384 x 16384 grid of x y z rgb floats
+
 PCD_TYPES = {
     ("F", 4): "<f4",
     ("F", 8): "<f8",
@@ -91,6 +94,8 @@ PCD_TYPES = {
 
 
 def _read_pcd(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
+    if path.stat().st_size > MAX_CLOUD_BYTES:
+        raise ViewError(f"{path}: {path.stat().st_size / 2**20:.0f} MB, above the cap of {MAX_CLOUD_BYTES >> 20} MB")
     raw = path.read_bytes()
     header, position = {}, 0
     while True:
@@ -111,10 +116,23 @@ def _read_pcd(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
         width, height, data = int(header["WIDTH"][0]), int(header["HEIGHT"][0]), header["DATA"][0].lower()
     except (KeyError, ValueError, IndexError) as error:
         raise ViewError(f"{path}: not a PCD header ({error})") from error
+    if not len(fields) == len(sizes) == len(types) == len(counts):
+        raise ViewError(
+            f"{path}: the PCD header gives {len(fields)} FIELDS, {len(sizes)} SIZE, {len(types)} TYPE and "
+            f"{len(counts)} COUNT entries; they must match"
+        )
     if height <= 1:
         raise ViewError(f"{path}: the cloud is not organized (HEIGHT {height}): a view needs its pixel grid")
+    if not (1 <= width <= MAX_IMAGE_SIDE and height <= MAX_IMAGE_SIDE) or min(counts) < 1:
+        raise ViewError(
+            f"{path}: a {width}x{height} grid with counts {counts} is not read (sides up to {MAX_IMAGE_SIDE})"
+        )
     if not {"x", "y", "z"} <= set(fields):
         raise ViewError(f"{path}: the cloud has no x y z fields ({' '.join(fields)})")
+    if len(set(fields)) < len(fields):
+        raise ViewError(f"{path}: a field is named twice in FIELDS {' '.join(fields)}")
+    if any(c != 1 for f, c in zip(fields, counts) if f in ("x", "y", "z", "rgb", "rgba")):
+        raise ViewError(f"{path}: x, y, z and rgb must be one number each (COUNT {' '.join(map(str, counts))})")
     unknown = [f"{f} {t}{s}" for f, s, t in zip(fields, sizes, types) if (t, s) not in PCD_TYPES]
     if unknown:
         raise ViewError(f"{path}: PCD field types not read: {', '.join(unknown)}")
@@ -122,13 +140,23 @@ def _read_pcd(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
         [(f, PCD_TYPES[(t, s)], (c,) if c > 1 else ()) for f, s, t, c in zip(fields, sizes, types, counts)]
     )
     if data == "ascii":
-        table = np.loadtxt(raw[position:].decode("ascii").splitlines(), ndmin=2)
+        try:
+            table = np.loadtxt(raw[position:].decode("ascii").splitlines(), ndmin=2)
+        except (ValueError, UnicodeDecodeError) as error:
+            raise ViewError(f"{path}: the PCD's ASCII data are not rows of numbers ({error})") from None
+        if table.shape[1] != sum(counts):
+            raise ViewError(f"{path}: the PCD's rows have {table.shape[1]} numbers, its header {sum(counts)} fields")
         cloud = np.zeros(len(table), dtype)
         column = 0
         for f, c in zip(fields, counts):
             cloud[f] = table[:, column] if c == 1 else table[:, column : column + c]
             column += c
     elif data == "binary":
+        if len(raw) - position < dtype.itemsize * width * height:
+            raise ViewError(
+                f"{path}: truncated: {len(raw) - position} bytes of data for {width}x{height} points of "
+                f"{dtype.itemsize} bytes"
+            )
         cloud = np.frombuffer(raw, dtype, count=width * height, offset=position)
     else:
         raise ViewError(f"{path}: PCD DATA {data} is not read (save it as ascii or binary)")
@@ -146,6 +174,28 @@ def _read_pcd(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
     return points, colors
 
 
+CAMERA_FIELDS = [f"view_p{a}" for a in "xyz"] + [f"{a}_axis{b}" for a in "xyz" for b in "xyz"]
+
+
+def _camera(mesh, path: Path) -> dict[str, float]:
+    """The first row of a range-map PLY's VCG ``camera`` element: a structured array (binary PLY) or a mapping
+    of columns (ASCII PLY), as trimesh reads them."""
+    element = getattr(mesh, "metadata", {}).get("_ply_raw", {}).get("camera")
+    data = None if element is None else element.get("data")
+    if data is None or not len(data):
+        raise ViewError(f"{path}: the PLY has no camera element, so its pixel grid is unknown (not organized)")
+    names = data.keys() if isinstance(data, dict) else data.dtype.names or ()
+    missing = [f for f in CAMERA_FIELDS if f not in names]
+    if missing:
+        raise ViewError(f"{path}: the PLY's camera element lacks {', '.join(missing)}")
+    try:
+        if isinstance(data, dict):
+            return {f: float(np.ravel(data[f])[0]) for f in CAMERA_FIELDS}
+        return {f: float(data[0][f]) for f in CAMERA_FIELDS}
+    except (IndexError, TypeError, ValueError) as error:
+        raise ViewError(f"{path}: the PLY's camera element is not numbers ({error})") from None
+
+
 def _read_range_ply(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
     import trimesh
 
@@ -153,24 +203,30 @@ def _read_range_ply(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
         mesh = trimesh.load(path, process=False)
     except Exception as error:  # trimesh raises many kinds on a bad file
         raise ViewError(f"{path}: cannot read the PLY ({error})") from error
-    camera = getattr(mesh, "metadata", {}).get("_ply_raw", {}).get("camera")
-    if camera is None or not len(camera["data"]):
-        raise ViewError(f"{path}: the PLY has no camera element, so its pixel grid is unknown (not organized)")
-    c = camera["data"][0]
-    axes = np.array([[c[f"{a}_axis{b}"] for b in "xyz"] for a in "xyz"], np.float64)
-    local = (np.asarray(mesh.vertices, np.float64) - [c["view_px"], c["view_py"], c["view_pz"]]) @ axes.T
+    if not isinstance(mesh, trimesh.Trimesh):
+        raise ViewError(f"{path}: the PLY is not one triangle mesh (a range map is)")
+    camera = _camera(mesh, path)
+    axes = np.array([[camera[f"{a}_axis{b}"] for b in "xyz"] for a in "xyz"], np.float64)
+    position = [camera["view_px"], camera["view_py"], camera["view_pz"]]
+    if not (np.isfinite(axes).all() and np.isfinite(position).all()):
+        raise ViewError(f"{path}: the PLY's camera has NaN or infinite values")
+    faces = checked_faces(getattr(mesh, "faces", np.zeros((0, 3), np.int64)), len(mesh.vertices), str(path))
+    local = (np.asarray(mesh.vertices, np.float64) - position) @ axes.T
     local[:, 1] *= -1.0  # VCG's camera y is up; a view's is down (z stays forward)
     if not (local[:, 2] > 0).all():
         raise ViewError(f"{path}: vertices behind the PLY's camera")
     angles = local[:, :2] / local[:, 2:]
     # The grid's pitch, from the range map's own edges (MeshLab's focal and pixel size round it off by ~2%)
-    faces = np.asarray(mesh.faces)
     if not len(faces):
         raise ViewError(f"{path}: the range map has no faces to find its grid pitch from")
     steps = np.abs(np.diff(angles[faces[:, [0, 1, 2, 0]]], axis=1)).reshape(-1, 2)
     pitch = np.array([np.median(s[s > 0.5 * np.median(s[s > 0])]) for s in steps.T])
+    if not (np.isfinite(pitch).all() and (pitch > 0).all()):
+        raise ViewError(f"{path}: the range map's edges give no grid pitch (its faces join no neighbouring pixels)")
     grid = np.round((angles - angles.min(axis=0)) / pitch).astype(np.int64)
     shape = grid.max(axis=0)[::-1] + 1
+    if shape.max() > MAX_IMAGE_SIDE:
+        raise ViewError(f"{path}: the range map's grid would be {shape[1]}x{shape[0]} pixels, above the cap")
     cells = grid[:, 1] * shape[1] + grid[:, 0]
     if len(np.unique(cells)) < len(cells):
         raise ViewError(f"{path}: two vertices fall on one pixel: not an organized range map")

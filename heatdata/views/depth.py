@@ -32,7 +32,8 @@ import numpy as np
 import yaml
 from PIL import Image
 
-from heatdata.errors import ViewError
+from heatdata.errors import OutputError, ViewError
+from heatdata.io.files import atomic
 from heatdata.typing import StrPath
 from heatdata.views.view import View
 
@@ -40,6 +41,7 @@ log = logging.getLogger(__name__)
 
 
 INTRINSIC_KEYS = ("fx", "fy", "cx", "cy", "width", "height")
+MAX_IMAGE_SIDE = 16384  # pixels: larger depth images, masks and colour images are refused before decoding
 
 
 MAX_DEPTH_JUMP = 0.02  # relative depth step above which neighbouring pixels are not joined
@@ -134,18 +136,34 @@ def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, nam
     missing = [key for key in INTRINSIC_KEYS if key not in intrinsics]
     if missing:
         raise ViewError(f"{name}: missing {', '.join(missing)} (need {', '.join(INTRINSIC_KEYS)})")
-    try:
-        k = {key: float(intrinsics[key]) for key in INTRINSIC_KEYS}
-    except (TypeError, ValueError) as error:
-        raise ViewError(f"{name}: intrinsics must be numbers ({error})") from error
-    if not (k["fx"] > 0 and k["fy"] > 0 and k["width"] >= 1 and k["height"] >= 1):
-        raise ViewError(f"{name}: fx, fy, width and height must be positive, got {k}")
+    given = {key: intrinsics[key] for key in INTRINSIC_KEYS}
+    odd = [f"{key}={value!r}" for key, value in given.items() if isinstance(value, bool) or not _is_number(value)]
+    if odd:
+        raise ViewError(f"{name}: intrinsics must be numbers, got {', '.join(odd)}")
+    k = {key: float(value) for key, value in given.items()}
+    bad = [f"{key}={k[key]:g}" for key in INTRINSIC_KEYS if not np.isfinite(k[key])]
+    bad += [f"{key}={k[key]:g} (a focal length in pixels is > 0)" for key in ("fx", "fy") if k[key] <= 0]
+    bad += [
+        f"{key}={k[key]:g} (a whole number of pixels >= 1)"
+        for key in ("width", "height")
+        if not (1 <= k[key] <= MAX_IMAGE_SIDE and k[key] == round(k[key]))
+    ]
+    if bad:
+        raise ViewError(f"{name}: bad intrinsics: {', '.join(bad)}")
     k["width"], k["height"] = int(k["width"]), int(k["height"])
     if shape is not None and (k["height"], k["width"]) != tuple(shape):
         raise ViewError(
             f"{name}: the intrinsics are for {k['width']}x{k['height']} but the depth image is {shape[1]}x{shape[0]}"
         )
     return k
+
+
+def _is_number(value: object) -> bool:
+    try:
+        float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return False
+    return not isinstance(value, str)
 
 
 def back_project(depth: np.ndarray, intrinsics: dict) -> np.ndarray:
@@ -253,9 +271,13 @@ def _rgb(rgb: np.ndarray, shape: tuple[int, int], name: str) -> np.ndarray:
 def read_intrinsics(path) -> dict:
     """Intrinsics from a JSON or YAML file with ``fx, fy, cx, cy, width, height``."""
     path = Path(path)
+    if not path.is_file():
+        raise ViewError(f"{path}: no such intrinsics file")
+    if path.stat().st_size > 1 << 20:
+        raise ViewError(f"{path}: {path.stat().st_size >> 20} MB is not an intrinsics file (six numbers)")
     try:
         data = yaml.safe_load(path.read_text())  # JSON is YAML
-    except (OSError, yaml.YAMLError) as error:
+    except (OSError, ValueError, yaml.YAMLError) as error:
         raise ViewError(f"{path}: cannot read the intrinsics ({error})") from error
     if not isinstance(data, dict):
         raise ViewError(f"{path}: the intrinsics must be a mapping of {', '.join(INTRINSIC_KEYS)}")
@@ -293,35 +315,83 @@ def read_depth(
         The view in the camera's frame.
     """
     path = Path(path)
-    if not path.is_file():
-        raise ViewError(f"{path}: no such depth file")
     suffix = path.suffix.lower()
     if suffix == ".npy":
-        depth = np.load(path)
-        if depth.dtype.kind != "f":
-            raise ViewError(f"{path}: a .npy depth image holds float metres, got {depth.dtype}")
+        depth = _read_npy(path)
     elif suffix == ".png":
-        with Image.open(path) as image:
-            if image.mode not in ("I;16", "I;16B", "I;16L", "I"):
-                raise ViewError(f"{path}: a depth PNG must be 16-bit (millimetres), got mode {image.mode}")
-            depth = np.asarray(image, dtype=np.float64) / 1000.0
+        depth = read_image(path, "depth image", "depth") / 1000.0
     else:
         raise ViewError(
             f"{path}: unsupported depth file {suffix!r} (a 16-bit PNG in millimetres or a float .npy "
             "in metres; convert EXR to .npy)"
         )
-    rgb = None if rgb_path is None else _image(rgb_path, "RGB")
-    mask = None if mask_path is None else _image(mask_path, "L") > 0
+    rgb = None if rgb_path is None else read_image(rgb_path, "colour image", "RGB")
+    mask = None if mask_path is None else read_image(mask_path, "mask", "L") > 0
     kwargs.setdefault("view_id", path.stem)
     return view_from_depth(depth, read_intrinsics(intrinsics_path), rgb, mask, **kwargs)
 
 
-def _image(path, mode: str) -> np.ndarray:
+DEPTH_MODES = ("I;16", "I;16B", "I;16L", "I")
+
+
+def read_image(path: StrPath, what: str, mode: str) -> np.ndarray:
+    """An image file as an array, refused in one line when it is missing, corrupt, truncated or too large.
+
+    Every image heatdata reads from a sensor goes through here: depth PNGs, colour images and masks.
+
+    Parameters
+    ----------
+    path : str or Path
+        A PNG (or any format Pillow reads).
+    what : str
+        What the image is, for messages (``"mask"``).
+    mode : {"depth", "RGB", "L"}
+        ``"depth"``: a 16-bit image, returned as (h, w) float64 of its integer values (any other mode is
+        refused); ``"RGB"``: (h, w, 3) uint8; ``"L"``: (h, w) uint8 grey (a mask).
+
+    Returns
+    -------
+    numpy.ndarray
+        The pixels.
+
+    Raises
+    ------
+    ViewError
+        No such file, not an image Pillow can decode, a side above ``MAX_IMAGE_SIDE``, or (``"depth"``) not
+        16-bit.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ViewError(f"{path}: no such {what} file")
     try:
         with Image.open(path) as image:
+            if max(image.size) > MAX_IMAGE_SIDE:
+                raise ViewError(f"{path}: the {what} is {image.size[0]}x{image.size[1]} pixels, above the cap")
+            if mode == "depth":
+                if image.mode not in DEPTH_MODES:
+                    raise ViewError(f"{path}: a depth PNG must be 16-bit (millimetres), got mode {image.mode}")
+                return np.asarray(image, dtype=np.float64)
             return np.asarray(image.convert(mode))
+    except (OSError, ValueError, SyntaxError, Image.DecompressionBombError) as error:  # Pillow's errors
+        raise ViewError(f"{path}: cannot read the {what} ({error})") from None
+
+
+def _read_npy(path: Path) -> np.ndarray:
+    """A float ``.npy`` depth image in metres; its header is checked before its data are read."""
+    if not path.is_file():
+        raise ViewError(f"{path}: no such depth file")
+    try:
+        depth = np.load(path, mmap_mode="r", allow_pickle=False)
+    except Exception as error:  # numpy parses the header with ast and tokenize: many kinds on a damaged one
+        raise ViewError(f"{path}: not a readable .npy depth image ({type(error).__name__}: {error})") from None
+    if not isinstance(depth, np.ndarray) or depth.dtype.kind != "f":
+        raise ViewError(f"{path}: a .npy depth image holds float metres, got {getattr(depth, 'dtype', depth)}")
+    if depth.ndim != 2 or max(depth.shape, default=0) > MAX_IMAGE_SIDE:
+        raise ViewError(f"{path}: a depth image is (h, w) with sides up to {MAX_IMAGE_SIDE}, got {depth.shape}")
+    try:
+        return np.array(depth, dtype=np.float64)
     except OSError as error:
-        raise ViewError(f"{path}: cannot read the image ({error})") from error
+        raise ViewError(f"{path}: the .npy depth image cannot be read ({error})") from None
 
 
 def write_depth(view: View, path: StrPath, intrinsics_path: StrPath | None = None) -> None:
@@ -338,7 +408,18 @@ def write_depth(view: View, path: StrPath, intrinsics_path: StrPath | None = Non
         The PNG to write.
     intrinsics_path : str or Path, optional
         Its intrinsics' JSON; default ``path`` with ``.json``.
+
+    Raises
+    ------
+    OutputError
+        ``path`` does not end in ``.png`` (a depth image in millimetres needs a lossless 16-bit format), or a
+        file cannot be written. Missing folders are created.
+    ViewError
+        The view has no intrinsics, or vertices outside the image or beyond 65.5 m.
     """
+    path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise OutputError(f"{path}: a depth image is written as a 16-bit .png in millimetres (lossless)")
     k = check_intrinsics(view.intrinsics, name=view.name)
     pixels = np.round(view.pixels).astype(np.int64)
     inside = (pixels[:, 0] >= 0) & (pixels[:, 0] < k["width"]) & (pixels[:, 1] >= 0) & (pixels[:, 1] < k["height"])
@@ -347,6 +428,7 @@ def write_depth(view: View, path: StrPath, intrinsics_path: StrPath | None = Non
         raise ViewError(f"{view.name}: vertices outside the image or beyond 65.5 m cannot be written as a depth PNG")
     image = np.zeros((k["height"], k["width"]), np.uint16)
     image[pixels[:, 1], pixels[:, 0]] = millimetres.astype(np.uint16)
-    path = Path(path)
-    Image.fromarray(image).save(path)
-    Path(intrinsics_path or path.with_suffix(".json")).write_text(json.dumps(k, indent=1) + "\n")
+    with atomic(path) as temporary:
+        Image.fromarray(image).save(temporary)
+    with atomic(intrinsics_path or path.with_suffix(".json")) as temporary:
+        temporary.write_text(json.dumps(k, indent=1) + "\n")

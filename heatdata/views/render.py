@@ -19,8 +19,8 @@ import numpy as np
 import open3d as o3d
 
 from heatdata.errors import RenderError
-from heatdata.io.models import Model
-from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view
+from heatdata.io.models import LARGE_MODEL, Model
+from heatdata.views.depth import MAX_DEPTH_JUMP, check_intrinsics, grid_view
 from heatdata.views.view import KINECT_INTRINSICS, View
 
 log = logging.getLogger(__name__)
@@ -46,10 +46,12 @@ def camera_pose(center: np.ndarray, azimuth: float, elevation: float, distance: 
     distance : float
         Camera to ``center``, metres.
     """
+    if not np.isfinite(azimuth):
+        raise RenderError(f"azimuth must be a finite number of degrees, got {azimuth}")
     if not -89.0 <= elevation <= 89.0:
         raise RenderError(f"elevation {elevation} deg is outside [-89, 89] (the up direction is undefined)")
-    if distance <= 0:
-        raise RenderError(f"camera distance must be positive, got {distance}")
+    if not (np.isfinite(distance) and distance > 0):
+        raise RenderError(f"camera distance must be a positive number of metres, got {distance}")
     az, el = np.radians(azimuth), np.radians(elevation)
     position = center + distance * np.array([np.cos(el) * np.sin(az), np.sin(el), np.cos(el) * np.cos(az)])
     forward = center - position
@@ -72,6 +74,16 @@ def _scene_of(model: Model) -> o3d.t.geometry.RaycastingScene:
         )
         model.__dict__["_raycasting_scene"] = scene
     return scene
+
+
+def _scale_hint(model: Model) -> str:
+    """A hint when the model's size suggests its file is not in metres."""
+    size = float(model.extents.max())
+    if size > LARGE_MODEL:
+        return f" (it is {size:.0f} m across: if its file is in millimetres, give --scale 0.001 or its real --size)"
+    if size < 0.01:
+        return f" (it is {size * 1000:.2g} mm across: give its real --size, or a --scale to metres)"
+    return ""
 
 
 def _hit_colors(model: Model, face: np.ndarray, bary: np.ndarray) -> np.ndarray:
@@ -139,7 +151,9 @@ def render_view(
     ViewError
         The visible surface has no triangle, or too few vertices (:func:`heatdata.views.depth.grid_view`).
     """
-    k = dict(KINECT_INTRINSICS if intrinsics is None else intrinsics)
+    k = check_intrinsics(KINECT_INTRINSICS if intrinsics is None else intrinsics, name="render intrinsics")
+    if not (np.isfinite(tau) and tau >= 0):
+        raise RenderError(f"the noise level tau must be a finite number >= 0 (1/m), got {tau}")
     pose = camera_pose(model.center, azimuth, elevation, distance)
     rotation, position = pose[:3, :3], pose[:3, 3]
     name = view_id or f"{model.name}/az{azimuth:g}_el{elevation:g}"
@@ -149,13 +163,15 @@ def render_view(
     corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
     cam = (corners - position) @ rotation
     if np.any(cam[:, 2] <= 1e-6):
-        raise RenderError(f"{name}: the camera at {distance} m is inside or behind the model's bounding box")
+        raise RenderError(
+            f"{name}: the camera at {distance} m is inside or behind the model's bounding box{_scale_hint(model)}"
+        )
     u = k["fx"] * cam[:, 0] / cam[:, 2] + k["cx"]
     v = k["fy"] * cam[:, 1] / cam[:, 2] + k["cy"]
     u0, u1 = int(max(np.floor(u.min()) - 1, 0)), int(min(np.ceil(u.max()) + 1, k["width"] - 1))
     v0, v1 = int(max(np.floor(v.min()) - 1, 0)), int(min(np.ceil(v.max()) + 1, k["height"] - 1))
     if u0 > u1 or v0 > v1:
-        raise RenderError(f"{name}: the model is outside the field of view")
+        raise RenderError(f"{name}: the model is outside the field of view{_scale_hint(model)}")
     cols, rows = np.meshgrid(np.arange(u0, u1 + 1), np.arange(v0, v1 + 1))
     directions = np.stack([(cols - k["cx"]) / k["fx"], (rows - k["cy"]) / k["fy"], np.ones(cols.shape)], axis=-1)
     world_dirs = directions.reshape(-1, 3) @ rotation.T  # unit z component in the camera frame
@@ -164,7 +180,10 @@ def render_view(
     depth = hits["t_hit"].numpy().astype(np.float64).reshape(cols.shape)
     valid = np.isfinite(depth)
     if not valid.any():
-        raise RenderError(f"{name}: no valid pixel (the model is not seen)")
+        raise RenderError(
+            f"{name}: no ray from the camera hits the model's {len(model.faces)} faces "
+            f"(extents {np.round(model.extents, 4).tolist()} m){_scale_hint(model)}"
+        )
     if noise:
         rng = np.random.default_rng(seed)
         depth[valid] += depth[valid] ** 2 * rng.normal(0.0, tau, int(valid.sum()))

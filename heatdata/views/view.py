@@ -19,6 +19,7 @@ import logging
 import zipfile
 from dataclasses import dataclass, field
 from functools import cached_property
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -29,7 +30,8 @@ from heatdata.core.mesh import (
     consistent_winding,
     mesh_edges,
 )
-from heatdata.errors import ViewError
+from heatdata.errors import OutputError, ViewError
+from heatdata.io.files import atomic
 from heatdata.typing import StrPath
 
 log = logging.getLogger(__name__)
@@ -110,7 +112,7 @@ class View:
         """Build a view from raw arrays, checking and cleaning them.
 
         NaN or infinite coordinates raise :class:`ViewError`; duplicate vertices are
-        merged and faces that repeat a vertex are dropped, each logged and recorded.
+        merged, and faces that repeat a vertex or another face are dropped, each logged and recorded.
 
         Parameters
         ----------
@@ -153,6 +155,11 @@ class View:
         if not np.all(np.isfinite(colors)):
             bad = int((~np.isfinite(colors)).any(axis=1).sum())
             raise ViewError(f"{name}: {bad} vertices have NaN or infinite colours")
+        if len(colors) and (colors.min() < 0 or colors.max() > 1):
+            raise ViewError(
+                f"{name}: colours are RGB in [0, 1], got {colors.min():g}..{colors.max():g}"
+                + (" (8-bit colours: divide by 255)" if colors.max() <= 255 and colors.min() >= 0 else "")
+            )
         repairs = list(kwargs.pop("repairs", []))
         unique, first, inverse = np.unique(vertices, axis=0, return_index=True, return_inverse=True)
         if len(unique) < len(vertices):
@@ -170,6 +177,12 @@ class View:
             log.warning("%s: %s", name, message)
             repairs.append(message)
             faces = faces[~degenerate]
+        repeated = _repeated_faces(faces)
+        if repeated.any():
+            message = f"dropped {int(repeated.sum())} repeated faces"
+            log.warning("%s: %s", name, message)
+            repairs.append(message)
+            faces = faces[~repeated]
         p = vertices[faces]
         area2 = np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
         flat = area2 <= ZERO_AREA * max(float(np.median(area2)), np.finfo(float).tiny)
@@ -207,7 +220,10 @@ class View:
         import trimesh
 
         colors = np.round(np.clip(self.colors, 0.0, 1.0) * 255).astype(np.uint8)
-        trimesh.Trimesh(self.vertices, self.faces, vertex_colors=colors, process=False).export(path, file_type="ply")
+        with atomic(path) as temporary:
+            trimesh.Trimesh(self.vertices, self.faces, vertex_colors=colors, process=False).export(
+                temporary, file_type="ply"
+            )
 
     def save(self, path: StrPath) -> None:
         """Write the view to a ``.npz`` file (arrays plus identifiers and intrinsics).
@@ -217,6 +233,12 @@ class View:
         path : str or Path
             The ``.npz`` to write.
         """
+        if Path(path).suffix != ".npz":
+            raise OutputError(f"{path}: a view is saved to a .npz file")
+        with atomic(path) as temporary:
+            self._write_npz(temporary)
+
+    def _write_npz(self, path: Path) -> None:
         np.savez_compressed(
             path,
             vertices=self.vertices,
@@ -242,6 +264,8 @@ class View:
         -------
         View
         """
+        if not Path(path).is_file():
+            raise ViewError(f"{path}: no such view file")
         if not zipfile.is_zipfile(path):
             raise ViewError(
                 f"{path}: not a readable .npz view file (not a zip archive: truncated, or not written by "
@@ -405,6 +429,16 @@ class View:
     def boundary(self) -> np.ndarray:
         """(b,) int64: the outer boundary loop, counter-clockwise, origin on the +x axis."""
         return _outer_boundary(self)
+
+
+def _repeated_faces(faces: np.ndarray) -> np.ndarray:
+    """(m,) bool: faces on the same three vertices as an earlier face (in either winding)."""
+    corners = np.sort(faces, axis=1)
+    order = np.lexsort(corners.T[::-1])  # stable: the first of equal faces comes first
+    ranked = corners[order]
+    repeated = np.zeros(len(faces), bool)
+    repeated[order[1:]] = (ranked[1:] == ranked[:-1]).all(axis=1)
+    return repeated
 
 
 def _compact(vertices, colors, faces, keep):

@@ -498,6 +498,8 @@ def test_report_is_self_contained_html(tiny_run):
         ({"objects": ["unicorn"]}, "unicorn"),
         ({"time_scale_rule": "label"}, "time_scale_rule: 'label' is not one of ['plausible', 'every']"),
         ({"views": {"train": 8, "test": 6, "elevation": 95}}, "95"),
+        ({"views": {"train": 8, "test": 6, "distance": float("nan")}}, "views.distance: nan is not a finite number"),
+        ({"objects": ["plastic-cup"], "views": {"train": 2, "test": 6}}, "1 object(s) x 2 view(s) give 2"),
         ({"compact": {"enabled": True, "alphas": [1.5]}}, "1.5"),
         ({"multiview": {"enabled": True, "policies": ["greedy"]}}, "greedy"),
         (

@@ -6,47 +6,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-from conftest import write_textured_quad
+from conftest import make_sh3f
 
 import heatdata as hd
 from heatdata.io.catalog import catalog_from_folder, color_twins
 from heatdata.io.sh3f import extract_sh3f_model, parse_properties, sh3f_entries
 
 SH3F_DIR = Path("/usr/share/sweethome3d/furniture")
-
-
-def make_sh3f(tmp_path) -> Path:
-    """A two-model Sweet Home 3D library in the real layout."""
-    src = tmp_path / "src"
-    src.mkdir(exist_ok=True)
-    write_textured_quad(src)
-    path = tmp_path / "Mini.sh3f"
-    props = "\n".join(
-        [
-            "# a comment",
-            "name#1=Coffee mug",
-            "category#1=Kitchen",
-            "model#1=/mini/mug/quad.obj",
-            "width#1=12",
-            "depth#1=8",
-            "height#1=10",
-            "creator#1=Someone",
-            "name#2=Caf\\u00e9 chair",
-            "category#2=Living room",
-            "model#2=/mini/chair/quad.obj",
-            "width#2=40",
-            "depth#2=40",
-            "height#2=80",
-            "modelRotation#2=1 0 0 0 0 1 0 -1 0",
-            "creator#2=Other",
-        ]
-    )
-    with zipfile.ZipFile(path, "w") as archive:
-        archive.writestr("PluginFurnitureCatalog.properties", props)
-        for folder in ("mini/mug", "mini/chair"):
-            for f in ("quad.obj", "quad.mtl", "tex.png"):
-                archive.write(src / f, f"{folder}/{f}")
-    return path
 
 
 def test_parse_properties_handles_escapes_and_continuations():

@@ -280,7 +280,7 @@ def test_the_command_writes_a_closed_coloured_mesh_in_the_first_frame(ellipsoid,
     assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "x.txt")]) == 1
     before = (tmp_path / "a.ply").read_bytes()
     assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "a.ply")]) == 1
-    assert "is one of the inputs" in caplog.text and (tmp_path / "a.ply").read_bytes() == before
+    assert "is also an input of this command" in caplog.text and (tmp_path / "a.ply").read_bytes() == before
     # registered scans: the known motion is used as given
     inverse = truth(*MOTION)
     inverse[:3, 3] += [1.0, 2.0, 3.0]

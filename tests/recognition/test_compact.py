@@ -35,6 +35,18 @@ def test_lp_optimum_equals_the_dynamic_program_on_random_graphs():
         check(random_costs(rng, int(rng.integers(2, 7)), 1, 7))
 
 
+def test_negative_costs_choose_as_the_shifted_costs_do():
+    """Eq. 6.11's rewards make costs negative; a constant on every edge moves every cycle alike (issue 31)."""
+    rng = np.random.default_rng(4)
+    for _ in range(5):
+        costs = random_costs(rng, 5, 2, 6)
+        choice, cost = hd.select_sources(costs)
+        shifted_choice, shifted_cost = hd.select_sources([c - 3.0 for c in costs])
+        check([c - 3.0 for c in costs])
+        assert shifted_cost == pytest.approx(cost - 3.0 * len(costs)) and shifted_cost < 0
+        assert np.array_equal(shifted_choice, choice)
+
+
 def test_column_generation_finds_edges_left_out_at_the_start(monkeypatch):
     monkeypatch.setattr(library, "FULL_POOL", 0)
     monkeypatch.setattr(library, "START_EDGES", 1)  # the first LP sees each node's cheapest kept edge only

@@ -7,8 +7,8 @@ import pandas as pd
 import heatdata
 from heatdata.descriptors import file_name
 from heatdata.errors import ConfigError
-from heatdata.experiments.config import (CONFUSION_PATTERN, check_stages, descriptor_specs, multiview_descriptor,
-                                         run_captures, run_catalog, stitched_objects)
+from heatdata.experiments.config import (CONFUSION_PATTERN, check_numbers, check_stages, descriptor_specs,
+                                         multiview_descriptor, run_captures, run_catalog, stitched_objects)
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
@@ -16,6 +16,7 @@ RESULTS = config["results"]
 VERSION = heatdata.__version__
 
 try:
+    check_numbers(config)
     SPECS = descriptor_specs(config)
     CATALOG = run_catalog(config)
     for row in CATALOG.drop(columns="path").to_dict("records"):  # every row, before any job

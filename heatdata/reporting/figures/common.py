@@ -7,6 +7,8 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
+from heatdata.io.files import atomic
+
 MAX_LEGEND_OBJECTS = 20  # the per-object precision panel names at most this many objects
 
 
@@ -39,7 +41,8 @@ def _save(fig, path: str | Path, note: str = RENDERED_NOTE) -> None:
     """Sign the figure as rendered data, save it and free it."""
     fig.text(0.01, 0.005, note, fontsize=6, color="grey")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    with atomic(path) as temporary:
+        fig.savefig(temporary, dpi=110)
     plt.close(fig)
 
 

@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 
 from heatdata.errors import HeatdataError
+from heatdata.io.files import atomic
 from heatdata.reporting.figures.common import RENDERED_NOTE
 
 TEMPERATURE_LABEL = "temperature (equilibrium = 1)"
@@ -56,7 +57,8 @@ def plot_views(
         ax.set_axis_off()
     fig.suptitle(f"{heading}\n{RENDERED_NOTE}", fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    with atomic(path) as temporary:
+        fig.savefig(temporary, dpi=110)
     plt.close(fig)
 
 

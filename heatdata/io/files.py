@@ -1,0 +1,169 @@
+"""Writing outputs safely: checked before the work starts, never over an input, and atomically.
+
+Every file heatdata writes goes through :func:`atomic`: it is written under a temporary name in
+its own folder and renamed onto its real name only when complete, so an interrupted or failed
+write never leaves a half file under the real name (a rename within one folder is atomic on
+POSIX). Commands call :func:`check_output` (or :func:`check_folder`) first, so that an output
+that cannot be written, or would replace one of the command's inputs, is refused in one line
+before minutes of work.
+"""
+
+from __future__ import annotations
+
+import os
+import secrets
+import tempfile
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager, suppress
+from pathlib import Path
+
+from heatdata.errors import OutputError
+from heatdata.typing import StrPath
+
+
+def _reason(error: OSError) -> str:
+    return error.strerror or str(error)
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """Whether two paths name one file (through links, ``..`` or a hard link)."""
+    if a.resolve() == b.resolve():
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist yet
+        return False
+
+
+def _writable_folder(folder: Path, output: Path) -> None:
+    """Create ``folder`` if needed and prove a file can be created in it (a read-only disk, ``/proc``, ...)."""
+    existing = folder
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        raise OutputError(f"{output}: cannot be written: {existing} is a file, not a folder")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        handle, probe = tempfile.mkstemp(dir=folder, prefix=".heatdata-probe-")
+        os.close(handle)
+        os.unlink(probe)
+    except OSError as error:
+        raise OutputError(f"{output}: cannot be written in {folder} ({_reason(error)})") from None
+
+
+def check_output(
+    path: StrPath,
+    *,
+    inputs: Iterable[StrPath | None] = (),
+    suffixes: tuple[str, ...] | None = None,
+    what: str = "the output",
+) -> Path:
+    """Refuse an output file before the work that makes it: one that cannot be written or would replace an input.
+
+    Its folder is created (as every writer of heatdata does).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file to be written.
+    inputs : iterable of str or Path or None
+        The command's input files (``None`` entries are skipped).
+    suffixes : tuple of str, optional
+        The suffixes the writer understands, lower case with the dot (``(".npz", ".ply")``).
+    what : str
+        What the file is, for the message (``"the view"``).
+
+    Returns
+    -------
+    Path
+        ``path``, checked.
+
+    Raises
+    ------
+    OutputError
+        The suffix is not one of ``suffixes``, the path is a folder, it names one of the ``inputs``, or its
+        folder cannot be created or written to.
+    """
+    path = Path(path)
+    if suffixes is not None and path.suffix.lower() not in suffixes:
+        raise OutputError(f"{path}: {what} is written to a file ending in {' or '.join(suffixes)}")
+    if path.is_dir():
+        raise OutputError(f"{path}: is a folder; {what} is a file: give a file name")
+    for given in inputs:
+        if given is not None and _same_file(path, Path(given)):
+            raise OutputError(f"{path}: is also an input of this command; write {what} to another file")
+    _writable_folder(path.parent, path)
+    return path
+
+
+def check_folder(path: StrPath, *, inputs: Iterable[StrPath | None] = ()) -> Path:
+    """Refuse an output folder before the work: a file, a folder that cannot be created or written, or an input.
+
+    Parameters
+    ----------
+    path : str or Path
+        The folder to write into (created if missing).
+    inputs : iterable of str or Path or None
+        The command's input files and folders.
+
+    Returns
+    -------
+    Path
+        ``path``, created and checked.
+
+    Raises
+    ------
+    OutputError
+        ``path`` is a file or an input, or it cannot be created or written to.
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise OutputError(f"{path}: the output folder is a file")
+    for given in inputs:
+        if given is not None and _same_file(path, Path(given)):
+            raise OutputError(f"{path}: is also an input of this command; write into another folder")
+    _writable_folder(path, path)
+    return path
+
+
+@contextmanager
+def atomic(path: StrPath) -> Iterator[Path]:
+    """A temporary file next to ``path`` to write; renamed onto ``path`` when the block ends without an error.
+
+    The temporary name keeps ``path``'s suffix (writers that choose a format by suffix work unchanged) and
+    starts with a dot. On an error it is removed and ``path`` is left as it was. The folder is created.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file to write.
+
+    Yields
+    ------
+    Path
+        Where to write it.
+
+    Raises
+    ------
+    OutputError
+        The folder cannot be created, or the file cannot be written or renamed (the system's reason is given).
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise OutputError(f"{path}: is a folder; give a file name")
+    temporary = path.with_name(f".{path.stem}.{secrets.token_hex(4)}.part{path.suffix}")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        yield temporary
+        os.replace(temporary, path)
+    except OSError as error:
+        _remove(temporary)
+        raise OutputError(f"{path}: cannot be written ({_reason(error)})") from None
+    except BaseException:
+        _remove(temporary)
+        raise
+
+
+def _remove(path: Path) -> None:
+    with suppress(OSError):  # it may never have been created
+        path.unlink()
