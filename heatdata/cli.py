@@ -34,7 +34,7 @@ from heatdata.experiments.demo import (
 )
 from heatdata.experiments.views import view_plan
 from heatdata.io.catalog import embedded_catalog, read_catalog
-from heatdata.io.files import atomic, check_folder, check_output
+from heatdata.io.files import atomic, check_folder, check_output, require_file
 from heatdata.io.models import SUPPORTED_SUFFIXES, load_model, save_model
 from heatdata.io.sh3f import import_sh3f
 from heatdata.io.tables import (
@@ -218,6 +218,7 @@ def cmd_stitch(args: argparse.Namespace) -> None:
     )
     motion = None
     if args.motion is not None:
+        require_file(args.motion, "motion file (a 4x4 matrix)")
         try:
             motion = np.loadtxt(args.motion, ndmin=2)
         except (OSError, ValueError) as error:

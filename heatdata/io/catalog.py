@@ -31,6 +31,7 @@ import numpy as np
 import pandas as pd
 
 from heatdata.errors import ModelError
+from heatdata.io.files import require_file
 from heatdata.io.models import SUPPORTED_SUFFIXES, Model, hue_rotated, load_model
 
 CATALOG_COLUMNS = [
@@ -89,9 +90,7 @@ def read_catalog(path: str | Path) -> pd.DataFrame:
         The file is missing, lacks a column, has duplicate object ids, or names a model
         file that does not exist.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise ModelError(f"{path}: no such catalogue")
+    path = require_file(path, "catalogue", ModelError)
     table = pd.read_csv(path, dtype={"object": str, "label": str, "file": str, "rotation": str}, keep_default_na=False)
     missing = [c for c in ("object", "label", "file") if c not in table.columns]
     if missing:

@@ -17,8 +17,42 @@ from collections.abc import Iterable, Iterator
 from contextlib import contextmanager, suppress
 from pathlib import Path
 
-from heatdata.errors import OutputError
+from heatdata.errors import HeatdataError, OutputError
 from heatdata.typing import StrPath
+
+
+def require_file(path: StrPath, what: str, error: type[HeatdataError] = HeatdataError) -> Path:
+    """``path`` if it is a regular file, else ``error`` saying it is missing or not a file.
+
+    A folder, a device (``/dev/zero`` would be read forever) or a pipe is refused as well as a missing path.
+
+    Parameters
+    ----------
+    path : str or Path
+        An input.
+    what : str
+        What it should be, for the message (``"model file"``).
+    error : type
+        The :class:`HeatdataError` the caller raises.
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    HeatdataError
+        Of type ``error``: ``"<path>: no such <what>"``, or ``"<path>: is a folder, not a <what>"``.
+    """
+    path = Path(path)
+    if path.is_file():
+        return path
+    if path.is_dir():
+        raise error(f"{path}: is a folder, not a {what}")
+    if path.exists():
+        raise error(f"{path}: is not a regular file (a device or a pipe), not a {what}")
+    raise error(f"{path}: no such {what}")
 
 
 def _reason(error: OSError) -> str:

@@ -24,7 +24,7 @@ import trimesh
 from numpy.typing import ArrayLike
 
 from heatdata.errors import ModelError, StitchError
-from heatdata.io.files import atomic
+from heatdata.io.files import atomic, require_file
 
 log = logging.getLogger(__name__)
 
@@ -220,6 +220,23 @@ class _FolderResolver(trimesh.resolvers.FilePathResolver):
         raise OSError(note)
 
 
+def _drop_oversized_images(scene: trimesh.Scene) -> list[str]:
+    """Drop the images embedded in the file (a GLB's) above ``MAX_TEXTURE_PIXELS`` before anything decodes them
+    (trimesh decodes every material's images when it flattens the scene); what was dropped, as notes."""
+    notes = []
+    for geometry in scene.geometry.values():
+        material = getattr(getattr(geometry, "visual", None), "material", None)
+        if material is None:
+            continue
+        for store in (vars(material), getattr(material, "_data", None)):  # a PBR material keeps them in _data
+            for key, value in list(store.items()) if isinstance(store, dict) else []:
+                refused = isinstance(value, PIL.Image.Image) and _texture_size_note(f"embedded {key}", value.size)
+                if refused:
+                    store[key] = None
+                    notes.append(refused)
+    return notes
+
+
 def _read_scene(path: Path) -> tuple[trimesh.Scene, list[str]]:
     """The file's scene and what its resolver refused or missed (MTL, textures)."""
     resolver = _FolderResolver(path)
@@ -227,7 +244,8 @@ def _read_scene(path: Path) -> tuple[trimesh.Scene, list[str]]:
         loaded = trimesh.load(str(path), force="scene", process=False, resolver=resolver)
     except Exception as exc:  # trimesh raises many types on corrupt input
         raise ModelError(f"{path}: cannot read the model file ({type(exc).__name__}: {exc})") from exc
-    notes = [f"{path.name}: {note}; the material's colour is used instead" for note in dict.fromkeys(resolver.notes)]
+    refused = resolver.notes + _drop_oversized_images(loaded)
+    notes = [f"{path.name}: {note}; the material's colour is used instead" for note in dict.fromkeys(refused)]
     for note in notes:
         log.warning("%s", note)
     return loaded, notes
@@ -282,8 +300,7 @@ def load_model(
         raise ModelError(f"{path}: scale must be a positive number, got {scale}")
     if rotation is not None:
         rotation = _checked_rotation(rotation, path)
-    if not path.is_file():
-        raise ModelError(f"{path}: no such model file")
+    require_file(path, "model file", ModelError)
     if path.suffix.lower() not in SUPPORTED_SUFFIXES:
         raise ModelError(f"{path}: unsupported model type {path.suffix!r} (use one of {', '.join(SUPPORTED_SUFFIXES)})")
     if path.stat().st_size == 0:

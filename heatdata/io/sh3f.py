@@ -16,7 +16,7 @@ import pandas as pd
 
 from heatdata.errors import ModelError
 from heatdata.io.catalog import CATALOG_COLUMNS, SH3F_LICENCES
-from heatdata.io.files import atomic, check_folder, check_output
+from heatdata.io.files import atomic, check_folder, check_output, require_file
 from heatdata.log import progress
 
 log = logging.getLogger(__name__)
@@ -50,8 +50,7 @@ def sh3f_entries(sh3f_path: str | Path) -> pd.DataFrame:
     sizes converted from centimetres to metres.
     """
     sh3f_path = Path(sh3f_path)
-    if not sh3f_path.is_file():
-        raise ModelError(f"{sh3f_path}: no such Sweet Home 3D furniture library")
+    require_file(sh3f_path, "Sweet Home 3D furniture library", ModelError)
     try:
         with zipfile.ZipFile(sh3f_path) as archive:
             data = _read_member(archive, "PluginFurnitureCatalog.properties", sh3f_path, MAX_PROPERTIES_BYTES)

@@ -17,7 +17,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from heatdata.errors import HeatdataError
-from heatdata.io.files import atomic
+from heatdata.io.files import atomic, require_file
 
 DESCRIPTOR_SCHEMA = pa.schema(
     [
@@ -269,9 +269,7 @@ def read_metadata(path: str | Path) -> dict:
 
 
 def _open(path: str | Path) -> pq.ParquetFile:
-    path = Path(path)
-    if not path.is_file():
-        raise HeatdataError(f"{path}: no such table")
+    path = require_file(path, "table")
     try:
         return pq.ParquetFile(path)
     except Exception as exc:

@@ -7,9 +7,10 @@ from pathlib import Path
 import numpy as np
 
 from heatdata.errors import ViewError
+from heatdata.io.files import require_file
 from heatdata.io.models import checked_faces
 from heatdata.typing import StrPath
-from heatdata.views.depth import MAX_DEPTH_JUMP, MAX_IMAGE_SIDE, grid_view
+from heatdata.views.depth import MAX_DEPTH_JUMP, MAX_IMAGE_PIXELS, grid_view
 from heatdata.views.view import View
 
 
@@ -57,9 +58,9 @@ def read_organized_cloud(
     View
         Triangulated by :func:`grid_view`, intrinsics fitted to the grid.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise ViewError(f"{path}: no such point cloud file")
+    path = require_file(path, "point cloud file", ViewError)
+    if path.stat().st_size > MAX_CLOUD_BYTES:
+        raise ViewError(f"{path}: {path.stat().st_size / 2**20:.0f} MB, above the cap of {MAX_CLOUD_BYTES >> 20} MB")
     if path.suffix.lower() == ".pcd":
         points, colors = _read_pcd(path)
     elif path.suffix.lower() == ".ply":
@@ -79,7 +80,7 @@ def read_organized_cloud(
     )
 
 
-MAX_CLOUD_BYTES = 1 << 30  # a 16384 x 16384 grid of x y z rgb floats
+MAX_CLOUD_BYTES = 256 * 2**20  # 16 bytes a point (x y z rgb floats) of a full MAX_IMAGE_PIXELS grid
 
 PCD_TYPES = {
     ("F", 4): "<f4",
@@ -94,8 +95,6 @@ PCD_TYPES = {
 
 
 def _read_pcd(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
-    if path.stat().st_size > MAX_CLOUD_BYTES:
-        raise ViewError(f"{path}: {path.stat().st_size / 2**20:.0f} MB, above the cap of {MAX_CLOUD_BYTES >> 20} MB")
     raw = path.read_bytes()
     header, position = {}, 0
     while True:
@@ -123,9 +122,10 @@ def _read_pcd(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
         )
     if height <= 1:
         raise ViewError(f"{path}: the cloud is not organized (HEIGHT {height}): a view needs its pixel grid")
-    if not (1 <= width <= MAX_IMAGE_SIDE and height <= MAX_IMAGE_SIDE) or min(counts) < 1:
+    if not (width >= 1 and width * height <= MAX_IMAGE_PIXELS) or min(counts) < 1:
         raise ViewError(
-            f"{path}: a {width}x{height} grid with counts {counts} is not read (sides up to {MAX_IMAGE_SIDE})"
+            f"{path}: a {width}x{height} grid with counts {counts} is not read "
+            f"(at most {MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel)"
         )
     if not {"x", "y", "z"} <= set(fields):
         raise ViewError(f"{path}: the cloud has no x y z fields ({' '.join(fields)})")
@@ -225,7 +225,7 @@ def _read_range_ply(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
         raise ViewError(f"{path}: the range map's edges give no grid pitch (its faces join no neighbouring pixels)")
     grid = np.round((angles - angles.min(axis=0)) / pitch).astype(np.int64)
     shape = grid.max(axis=0)[::-1] + 1
-    if shape.max() > MAX_IMAGE_SIDE:
+    if shape[0] * shape[1] > MAX_IMAGE_PIXELS:
         raise ViewError(f"{path}: the range map's grid would be {shape[1]}x{shape[0]} pixels, above the cap")
     cells = grid[:, 1] * shape[1] + grid[:, 0]
     if len(np.unique(cells)) < len(cells):

@@ -33,7 +33,7 @@ import yaml
 from PIL import Image
 
 from heatdata.errors import OutputError, ViewError
-from heatdata.io.files import atomic
+from heatdata.io.files import atomic, require_file
 from heatdata.typing import StrPath
 from heatdata.views.view import View
 
@@ -41,7 +41,7 @@ log = logging.getLogger(__name__)
 
 
 INTRINSIC_KEYS = ("fx", "fy", "cx", "cy", "width", "height")
-MAX_IMAGE_SIDE = 16384  # pixels: larger depth images, masks and colour images are refused before decoding
+MAX_IMAGE_PIXELS = 4096 * 4096  # larger depth, colour and mask images and organized clouds are refused unread
 
 
 MAX_DEPTH_JUMP = 0.02  # relative depth step above which neighbouring pixels are not joined
@@ -146,8 +146,10 @@ def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, nam
     bad += [
         f"{key}={k[key]:g} (a whole number of pixels >= 1)"
         for key in ("width", "height")
-        if not (1 <= k[key] <= MAX_IMAGE_SIDE and k[key] == round(k[key]))
+        if not (k[key] >= 1 and k[key] == round(k[key]))
     ]
+    if not bad and k["width"] * k["height"] > MAX_IMAGE_PIXELS:
+        bad.append(f"{k['width']:g}x{k['height']:g} pixels, above the cap of {MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel")
     if bad:
         raise ViewError(f"{name}: bad intrinsics: {', '.join(bad)}")
     k["width"], k["height"] = int(k["width"]), int(k["height"])
@@ -270,9 +272,7 @@ def _rgb(rgb: np.ndarray, shape: tuple[int, int], name: str) -> np.ndarray:
 
 def read_intrinsics(path) -> dict:
     """Intrinsics from a JSON or YAML file with ``fx, fy, cx, cy, width, height``."""
-    path = Path(path)
-    if not path.is_file():
-        raise ViewError(f"{path}: no such intrinsics file")
+    path = require_file(path, "intrinsics file", ViewError)
     if path.stat().st_size > 1 << 20:
         raise ViewError(f"{path}: {path.stat().st_size >> 20} MB is not an intrinsics file (six numbers)")
     try:
@@ -357,16 +357,17 @@ def read_image(path: StrPath, what: str, mode: str) -> np.ndarray:
     Raises
     ------
     ViewError
-        No such file, not an image Pillow can decode, a side above ``MAX_IMAGE_SIDE``, or (``"depth"``) not
+        No such file, not an image Pillow can decode, more pixels than ``MAX_IMAGE_PIXELS``, or (``"depth"``) not
         16-bit.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise ViewError(f"{path}: no such {what} file")
+    path = require_file(path, f"{what} file", ViewError)
     try:
         with Image.open(path) as image:
-            if max(image.size) > MAX_IMAGE_SIDE:
-                raise ViewError(f"{path}: the {what} is {image.size[0]}x{image.size[1]} pixels, above the cap")
+            if image.size[0] * image.size[1] > MAX_IMAGE_PIXELS:
+                raise ViewError(
+                    f"{path}: the {what} is {image.size[0]}x{image.size[1]} pixels, above the cap of "
+                    f"{MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel"
+                )
             if mode == "depth":
                 if image.mode not in DEPTH_MODES:
                     raise ViewError(f"{path}: a depth PNG must be 16-bit (millimetres), got mode {image.mode}")
@@ -378,16 +379,17 @@ def read_image(path: StrPath, what: str, mode: str) -> np.ndarray:
 
 def _read_npy(path: Path) -> np.ndarray:
     """A float ``.npy`` depth image in metres; its header is checked before its data are read."""
-    if not path.is_file():
-        raise ViewError(f"{path}: no such depth file")
+    require_file(path, "depth file", ViewError)
     try:
         depth = np.load(path, mmap_mode="r", allow_pickle=False)
     except Exception as error:  # numpy parses the header with ast and tokenize: many kinds on a damaged one
         raise ViewError(f"{path}: not a readable .npy depth image ({type(error).__name__}: {error})") from None
     if not isinstance(depth, np.ndarray) or depth.dtype.kind != "f":
         raise ViewError(f"{path}: a .npy depth image holds float metres, got {getattr(depth, 'dtype', depth)}")
-    if depth.ndim != 2 or max(depth.shape, default=0) > MAX_IMAGE_SIDE:
-        raise ViewError(f"{path}: a depth image is (h, w) with sides up to {MAX_IMAGE_SIDE}, got {depth.shape}")
+    if depth.ndim != 2 or depth.size > MAX_IMAGE_PIXELS:
+        raise ViewError(
+            f"{path}: a depth image is (h, w) of at most {MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel, got {depth.shape}"
+        )
     try:
         return np.array(depth, dtype=np.float64)
     except OSError as error:

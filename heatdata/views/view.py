@@ -31,7 +31,7 @@ from heatdata.core.mesh import (
     mesh_edges,
 )
 from heatdata.errors import OutputError, ViewError
-from heatdata.io.files import atomic
+from heatdata.io.files import atomic, require_file
 from heatdata.typing import StrPath
 
 log = logging.getLogger(__name__)
@@ -264,8 +264,7 @@ class View:
         -------
         View
         """
-        if not Path(path).is_file():
-            raise ViewError(f"{path}: no such view file")
+        require_file(path, "view file", ViewError)
         if not zipfile.is_zipfile(path):
             raise ViewError(
                 f"{path}: not a readable .npz view file (not a zip archive: truncated, or not written by "
