@@ -228,8 +228,9 @@ def _drop_oversized_images(scene: trimesh.Scene) -> list[str]:
         material = getattr(getattr(geometry, "visual", None), "material", None)
         if material is None:
             continue
-        for store in (vars(material), getattr(material, "_data", None)):  # a PBR material keeps them in _data
-            for key, value in list(store.items()) if isinstance(store, dict) else []:
+        stores = [vars(material), getattr(material, "_data", None)]  # a PBR material keeps its images in _data
+        for store in (s for s in stores if isinstance(s, dict)):
+            for key, value in list(store.items()):
                 refused = isinstance(value, PIL.Image.Image) and _texture_size_note(f"embedded {key}", value.size)
                 if refused:
                     store[key] = None
