@@ -164,6 +164,20 @@ def test_a_large_texture_is_downscaled_with_a_note(tmp_path):
     assert any("3000x2000" in r and "downscaled 2x" in r for r in model.repairs)
 
 
+def test_many_materials_on_large_textures_stop_at_a_total_cap(tmp_path):
+    """Each material decodes its own copy: 200 materials on one 4096 x 2048 texture would hold 6.7 GB."""
+    obj = write_texture_model(tmp_path, Image.new("RGB", (4096, 2048)))
+    materials = "".join(f"newmtl m{k}\nKd 0.2 0.4 0.6\nmap_Kd tex.png\n" for k in range(200))
+    (tmp_path / "quad.mtl").write_text(materials)
+    faces = "".join(f"usemtl m{k}\nf 1/1 2/2 3/3\n" for k in range(200))
+    obj.write_text(obj.read_text().split("usemtl")[0] + faces)
+    baseline = peak_rss_of("pass")
+    peak = peak_rss_of(f"m = hd.load_model({str(obj)!r})")
+    assert peak - baseline < 600 * 2**20  # 417 MB measured: 8 textures decoded, downscaled to 2048 x 1024
+    model = hd.load_model(obj)
+    assert any("together" in r for r in model.repairs) and len(model.textures) <= 8
+
+
 @pytest.mark.parametrize("kind", ["garbage", "truncated", "nul in the name"])
 def test_a_texture_that_cannot_be_read_leaves_a_repairs_note(tmp_path, kind):
     if kind == "nul in the name":
@@ -312,6 +326,39 @@ def test_intrinsics_that_are_not_a_camera_are_refused(tmp_path, box, change, mes
         read_intrinsics(path)
 
 
+def test_a_saved_view_with_a_mirroring_camera_or_a_nan_pose_is_refused(tmp_path, disc):
+    disc.save(tmp_path / "v.npz")
+    with np.load(tmp_path / "v.npz") as data:
+        arrays = dict(data)
+    for key, value in [
+        ("intrinsics", np.array(json.dumps(KINECT | {"fx": -580.0}))),
+        ("pose", np.full((4, 4), np.nan)),
+    ]:
+        np.savez(tmp_path / "bad.npz", **(arrays | {key: value}))
+        with pytest.raises(hd.ViewError, match="fx=-580" if key == "intrinsics" else "pose must be a finite 4x4"):
+            hd.View.load(tmp_path / "bad.npz")
+
+
+def test_a_catalogue_row_with_part_of_a_size_or_bad_cells_is_refused(tmp_path):
+    from heatdata.io.catalog import load_catalog_model
+
+    write_textured_quad(tmp_path)
+    row = {"object": "q", "label": "quad", "path": str(tmp_path / "quad.obj")}
+    for cells, message in [
+        ({"width": "0.1", "height": "", "depth": "0.1"}, "together"),
+        ({"width": "NaN", "height": "0.2", "depth": "0.1"}, "together"),
+        ({"width": "wide", "height": "0.2", "depth": "0.1"}, "must be numbers"),
+        ({"scale": "big"}, "scale and hue must be numbers"),
+        ({"rotation": "1 0 0"}, "not 9 numbers"),
+    ]:
+        with pytest.raises(hd.ModelError, match=message):
+            load_catalog_model(row | cells)
+    assert load_catalog_model(row | {"width": "", "height": "", "depth": ""}).extents[0] == pytest.approx(1.0)
+    (tmp_path / "catalog.csv").write_bytes(b'object,label,file\n"q,quad\n\0\xff')
+    with pytest.raises(hd.ModelError, match="catalog.csv"):
+        hd.read_catalog(tmp_path / "catalog.csv")
+
+
 @pytest.mark.parametrize("colors, message", [(255.0, "divide by 255"), (-0.5, "-0.5..-0.5")])
 def test_view_colours_outside_zero_one_are_refused(colors, message):
     vertices, faces = grid_mesh(8, 8)
@@ -381,6 +428,8 @@ def test_write_depth_creates_its_folder_and_refuses_a_lossy_format(tmp_path, dep
     assert read_depth(tmp_path / "new/deep/d.png", tmp_path / "new/deep/d.json").n_vertices == view.n_vertices
     with pytest.raises(hd.OutputError, match="16-bit .png"):
         write_depth(view, tmp_path / "d.jpg")
+    with pytest.raises(hd.OutputError, match="written as .json"):
+        write_depth(view, tmp_path / "e.png", tmp_path / "e.png")
     with pytest.raises(hd.OutputError):
         write_depth(view, "/proc/heatdata/d.png")
 

@@ -91,7 +91,12 @@ def read_catalog(path: str | Path) -> pd.DataFrame:
         file that does not exist.
     """
     path = require_file(path, "catalogue", ModelError)
-    table = pd.read_csv(path, dtype={"object": str, "label": str, "file": str, "rotation": str}, keep_default_na=False)
+    try:
+        table = pd.read_csv(
+            path, dtype={"object": str, "label": str, "file": str, "rotation": str}, keep_default_na=False
+        )
+    except (ValueError, UnicodeDecodeError) as exc:  # pandas' parser errors are ValueErrors
+        raise ModelError(f"{path}: not a readable catalogue CSV ({exc})") from None
     missing = [c for c in ("object", "label", "file") if c not in table.columns]
     if missing:
         raise ModelError(f"{path}: catalogue lacks column(s) {', '.join(missing)}")
@@ -171,10 +176,27 @@ def _number(value: Any, default: None = None) -> float | None: ...
 
 
 def _number(value: Any, default: float | None = None) -> float | None:
-    """A catalogue cell as a float; empty or NaN cells give ``default``."""
+    """A catalogue cell as a float; empty or NaN cells give ``default``; other text is a :class:`ValueError`."""
     if value is None or str(value).strip() in ("", "nan", "NaN"):
         return default
     return float(value)
+
+
+def _size(row: pd.Series | dict) -> tuple[float, float, float] | None:
+    """A row's real size: its three cells all given, or none of them (the file's units times ``scale``)."""
+    cells = {key: row.get(key) for key in ("width", "height", "depth")}
+    try:
+        numbers = {key: _number(value) for key, value in cells.items()}
+    except ValueError:
+        raise ModelError(f"{row['object']}: width, height and depth must be numbers (metres), got {cells}") from None
+    width, height, depth = numbers.values()
+    if width is None and height is None and depth is None:
+        return None
+    if width is None or height is None or depth is None:
+        raise ModelError(
+            f"{row['object']}: give width, height and depth together (metres), or none of them; got {cells}"
+        )
+    return width, height, depth
 
 
 def load_catalog_model(row: pd.Series | dict) -> Model:
@@ -191,8 +213,7 @@ def load_catalog_model(row: pd.Series | dict) -> Model:
     Model
         The model in metres, turned by ``hue`` degrees when the row is a colour twin.
     """
-    width = _number(row.get("width"))
-    size = None if width is None else (width, float(row["height"]), float(row["depth"]))
+    size = _size(row)
     rotation = None
     if str(row.get("rotation", "")).strip():
         try:
@@ -201,15 +222,20 @@ def load_catalog_model(row: pd.Series | dict) -> Model:
             raise ModelError(
                 f"{row['object']}: rotation {row['rotation']!r} is not 9 numbers (a row-major 3x3)"
             ) from None
+    try:
+        scale, hue = _number(row.get("scale"), 1.0), _number(row.get("hue"), 0.0)
+    except ValueError:
+        raise ModelError(
+            f"{row['object']}: scale and hue must be numbers, got {row.get('scale')!r}, {row.get('hue')!r}"
+        ) from None
     model = load_model(
         row["path"],
         size=size,
-        scale=_number(row.get("scale"), 1.0),
+        scale=scale,
         rotation=rotation,
         name=row["object"],
         label=row["label"],
     )
-    hue = _number(row.get("hue"), 0.0)
     return hue_rotated(model, hue, name=row["object"]) if hue % 360 else model
 
 

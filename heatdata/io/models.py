@@ -34,6 +34,7 @@ IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".gif", ".tga", ".tif", ".tif
 MAX_FILE_BYTES = 256 * 2**20  # a model file, or a file it names (MTL, texture, glTF buffer)
 TEXTURE_PIXELS = 2048 * 2048  # larger textures are downscaled: a view samples them at Kinect resolution
 MAX_TEXTURE_PIXELS = 4096 * 4096  # larger ones are refused before they are decoded (the material's colour stands)
+MAX_MODEL_TEXTURE_PIXELS = 4 * MAX_TEXTURE_PIXELS  # all of a model's textures together (each material decodes its own)
 LARGE_MODEL = 20.0  # metres: a model larger than this, with no size given, is probably not in metres
 
 
@@ -189,6 +190,7 @@ class _FolderResolver(trimesh.resolvers.FilePathResolver):
         super().__init__(str(path))
         self.root = Path(self.parent).resolve()
         self.notes: list[str] = []
+        self.pixels = 0  # of the textures served so far
 
     def get(self, name: str):
         clean = name.strip()
@@ -207,8 +209,14 @@ class _FolderResolver(trimesh.resolvers.FilePathResolver):
             try:
                 with PIL.Image.open(io.BytesIO(data)) as image:
                     refused = _texture_size_note(clean, image.size)
+                    if not refused and self.pixels + image.size[0] * image.size[1] > MAX_MODEL_TEXTURE_PIXELS:
+                        refused = (
+                            f"refused texture {clean!r}: the model's textures would exceed "
+                            f"{MAX_MODEL_TEXTURE_PIXELS / 1e6:.0f} Mpixel together"
+                        )
                     if not refused:
                         image.load()  # decoded once here: trimesh decodes it again, unguarded, when it copies
+                        self.pixels += image.size[0] * image.size[1]
             except (OSError, ValueError, SyntaxError, PIL.Image.DecompressionBombError) as error:
                 return self._refuse(f"cannot read texture {clean!r} ({error})")
             if refused:

@@ -10,8 +10,8 @@ from heatdata.errors import ViewError
 from heatdata.io.files import require_file
 from heatdata.io.models import checked_faces
 from heatdata.typing import StrPath
-from heatdata.views.depth import MAX_DEPTH_JUMP, MAX_IMAGE_PIXELS, grid_view
-from heatdata.views.view import View
+from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view
+from heatdata.views.view import MAX_IMAGE_PIXELS, View
 
 
 def fit_intrinsics(points: np.ndarray) -> dict:

@@ -35,13 +35,9 @@ from PIL import Image
 from heatdata.errors import OutputError, ViewError
 from heatdata.io.files import atomic, require_file
 from heatdata.typing import StrPath
-from heatdata.views.view import View
+from heatdata.views.view import INTRINSIC_KEYS, MAX_IMAGE_PIXELS, View, check_intrinsics
 
 log = logging.getLogger(__name__)
-
-
-INTRINSIC_KEYS = ("fx", "fy", "cx", "cy", "width", "height")
-MAX_IMAGE_PIXELS = 4096 * 4096  # larger depth, colour and mask images and organized clouds are refused unread
 
 
 MAX_DEPTH_JUMP = 0.02  # relative depth step above which neighbouring pixels are not joined
@@ -129,43 +125,6 @@ def grid_view(
     rgb = None if colors is None else np.asarray(colors, np.float64)[valid]
     view = View.from_arrays(vertices, faces, rgb, **view_fields)
     return view.largest_component() if components == "largest" else view
-
-
-def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, name: str = "intrinsics") -> dict:
-    """``fx, fy, cx, cy, width, height`` as numbers, checked (and against an image's ``(h, w)``)."""
-    missing = [key for key in INTRINSIC_KEYS if key not in intrinsics]
-    if missing:
-        raise ViewError(f"{name}: missing {', '.join(missing)} (need {', '.join(INTRINSIC_KEYS)})")
-    given = {key: intrinsics[key] for key in INTRINSIC_KEYS}
-    odd = [f"{key}={value!r}" for key, value in given.items() if isinstance(value, bool) or not _is_number(value)]
-    if odd:
-        raise ViewError(f"{name}: intrinsics must be numbers, got {', '.join(odd)}")
-    k = {key: float(value) for key, value in given.items()}
-    bad = [f"{key}={k[key]:g}" for key in INTRINSIC_KEYS if not np.isfinite(k[key])]
-    bad += [f"{key}={k[key]:g} (a focal length in pixels is > 0)" for key in ("fx", "fy") if k[key] <= 0]
-    bad += [
-        f"{key}={k[key]:g} (a whole number of pixels >= 1)"
-        for key in ("width", "height")
-        if not (k[key] >= 1 and k[key] == round(k[key]))
-    ]
-    if not bad and k["width"] * k["height"] > MAX_IMAGE_PIXELS:
-        bad.append(f"{k['width']:g}x{k['height']:g} pixels, above the cap of {MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel")
-    if bad:
-        raise ViewError(f"{name}: bad intrinsics: {', '.join(bad)}")
-    k["width"], k["height"] = int(k["width"]), int(k["height"])
-    if shape is not None and (k["height"], k["width"]) != tuple(shape):
-        raise ViewError(
-            f"{name}: the intrinsics are for {k['width']}x{k['height']} but the depth image is {shape[1]}x{shape[0]}"
-        )
-    return k
-
-
-def _is_number(value: object) -> bool:
-    try:
-        float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        return False
-    return not isinstance(value, str)
 
 
 def back_project(depth: np.ndarray, intrinsics: dict) -> np.ndarray:
@@ -422,6 +381,9 @@ def write_depth(view: View, path: StrPath, intrinsics_path: StrPath | None = Non
     path = Path(path)
     if path.suffix.lower() != ".png":
         raise OutputError(f"{path}: a depth image is written as a 16-bit .png in millimetres (lossless)")
+    intrinsics_path = Path(intrinsics_path or path.with_suffix(".json"))
+    if intrinsics_path.suffix.lower() != ".json":
+        raise OutputError(f"{intrinsics_path}: the intrinsics are written as .json")
     k = check_intrinsics(view.intrinsics, name=view.name)
     pixels = np.round(view.pixels).astype(np.int64)
     inside = (pixels[:, 0] >= 0) & (pixels[:, 0] < k["width"]) & (pixels[:, 1] >= 0) & (pixels[:, 1] < k["height"])
@@ -432,5 +394,5 @@ def write_depth(view: View, path: StrPath, intrinsics_path: StrPath | None = Non
     image[pixels[:, 1], pixels[:, 0]] = millimetres.astype(np.uint16)
     with atomic(path) as temporary:
         Image.fromarray(image).save(temporary)
-    with atomic(intrinsics_path or path.with_suffix(".json")) as temporary:
+    with atomic(intrinsics_path) as temporary:
         temporary.write_text(json.dumps(k, indent=1) + "\n")

@@ -20,8 +20,8 @@ import open3d as o3d
 
 from heatdata.errors import RenderError
 from heatdata.io.models import LARGE_MODEL, Model
-from heatdata.views.depth import MAX_DEPTH_JUMP, check_intrinsics, grid_view
-from heatdata.views.view import KINECT_INTRINSICS, View
+from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view
+from heatdata.views.view import KINECT_INTRINSICS, View, check_intrinsics
 
 log = logging.getLogger(__name__)
 

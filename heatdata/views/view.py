@@ -38,7 +38,67 @@ log = logging.getLogger(__name__)
 
 MIN_VERTICES = 30
 ZERO_AREA = 1e-10  # faces below this fraction of the median face area (twice the area) are degenerate
+INTRINSIC_KEYS = ("fx", "fy", "cx", "cy", "width", "height")
+MAX_IMAGE_PIXELS = 4096 * 4096  # larger depth, colour and mask images and organized clouds are refused unread
 KINECT_INTRINSICS = {"fx": 580.0, "fy": 580.0, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480}
+
+
+def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, name: str = "intrinsics") -> dict:
+    """``fx, fy, cx, cy, width, height`` as numbers, checked (and against an image's ``(h, w)``).
+
+    Parameters
+    ----------
+    intrinsics : dict
+        A pinhole camera: focal lengths and principal point in pixels, the image's size.
+    shape : (h, w), optional
+        The image they must fit.
+    name : str
+        The file or view, for the message.
+
+    Returns
+    -------
+    dict
+        The six values as floats, ``width`` and ``height`` as ints.
+
+    Raises
+    ------
+    ViewError
+        A key missing, a value that is not a number (a bool or a string is not), not finite, ``fx`` or ``fy``
+        <= 0, a size that is not a whole number >= 1, more than ``MAX_IMAGE_PIXELS``, or another shape.
+    """
+    missing = [key for key in INTRINSIC_KEYS if key not in intrinsics]
+    if missing:
+        raise ViewError(f"{name}: missing {', '.join(missing)} (need {', '.join(INTRINSIC_KEYS)})")
+    given = {key: intrinsics[key] for key in INTRINSIC_KEYS}
+    odd = [f"{key}={value!r}" for key, value in given.items() if isinstance(value, bool) or not _is_number(value)]
+    if odd:
+        raise ViewError(f"{name}: intrinsics must be numbers, got {', '.join(odd)}")
+    k = {key: float(value) for key, value in given.items()}
+    bad = [f"{key}={k[key]:g}" for key in INTRINSIC_KEYS if not np.isfinite(k[key])]
+    bad += [f"{key}={k[key]:g} (a focal length in pixels is > 0)" for key in ("fx", "fy") if k[key] <= 0]
+    bad += [
+        f"{key}={k[key]:g} (a whole number of pixels >= 1)"
+        for key in ("width", "height")
+        if not (k[key] >= 1 and k[key] == round(k[key]))
+    ]
+    if not bad and k["width"] * k["height"] > MAX_IMAGE_PIXELS:
+        bad.append(f"{k['width']:g}x{k['height']:g} pixels, above the cap of {MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel")
+    if bad:
+        raise ViewError(f"{name}: bad intrinsics: {', '.join(bad)}")
+    k["width"], k["height"] = int(k["width"]), int(k["height"])
+    if shape is not None and (k["height"], k["width"]) != tuple(shape):
+        raise ViewError(
+            f"{name}: the intrinsics are for {k['width']}x{k['height']} but the depth image is {shape[1]}x{shape[0]}"
+        )
+    return k
+
+
+def _is_number(value: object) -> bool:
+    try:
+        float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return False
+    return not isinstance(value, str)
 
 
 def kinect_intrinsics(image_scale: float = 1.0) -> dict:
@@ -160,6 +220,13 @@ class View:
                 f"{name}: colours are RGB in [0, 1], got {colors.min():g}..{colors.max():g}"
                 + (" (8-bit colours: divide by 255)" if colors.max() <= 255 and colors.min() >= 0 else "")
             )
+        if "intrinsics" in kwargs:  # a saved view's are untrusted too: fx < 0 mirrors its pixels
+            kwargs["intrinsics"] = check_intrinsics(kwargs["intrinsics"], name=name)
+        if "pose" in kwargs:
+            pose = np.asarray(kwargs["pose"], dtype=np.float64)
+            if pose.shape != (4, 4) or not np.all(np.isfinite(pose)):
+                raise ViewError(f"{name}: pose must be a finite 4x4 camera-to-model transform, got shape {pose.shape}")
+            kwargs["pose"] = pose
         repairs = list(kwargs.pop("repairs", []))
         unique, first, inverse = np.unique(vertices, axis=0, return_index=True, return_inverse=True)
         if len(unique) < len(vertices):
