@@ -127,6 +127,42 @@ def sh3f_bytes() -> bytes:
         return make_sh3f(Path(folder)).read_bytes()
 
 
+def view_bytes() -> bytes:
+    with tempfile.TemporaryDirectory() as folder:
+        vertices = grid_points().reshape(-1, 3)[: 12 * 32]
+        rows, cols = np.indices((11, 31))
+        a = (rows * 32 + cols).ravel()
+        faces = np.concatenate([np.column_stack([a, a + 1, a + 32]), np.column_stack([a + 1, a + 33, a + 32])])
+        hd.View.from_arrays(vertices, faces, view_id="grid").save(Path(folder) / "v.npz")
+        return (Path(folder) / "v.npz").read_bytes()
+
+
+def table_bytes() -> bytes:
+    import pandas as pd
+
+    from heatdata.io.tables import PREDICTION_SCHEMA, write_table
+
+    row = {"descriptor": "pvhk", "object": "a", "label": "cup", "view_id": "a/test/000", "azimuth": 1.5}
+    row |= {"predicted_object": "a", "predicted_label": "cup", "predicted_view_id": "a/train/000"}
+    row |= {"predicted_azimuth": 0.0, "distance": 0.25, "correct": True, "library_size": 40}
+    with tempfile.TemporaryDirectory() as folder:
+        write_table(pd.DataFrame([row, row]), Path(folder) / "p.parquet", PREDICTION_SCHEMA, {"seed": 3})
+        return (Path(folder) / "p.parquet").read_bytes()
+
+
+def read_prediction_table(path: Path) -> None:
+    from heatdata.io.tables import PREDICTION_SCHEMA, read_table
+
+    read_table(path, schema=PREDICTION_SCHEMA)
+
+
+def load_catalogue(path: Path) -> None:
+    from heatdata.io.catalog import load_catalog_model
+
+    for _, row in hd.read_catalog(path).iterrows():
+        check_model(load_catalog_model(row))
+
+
 def import_sh3f_and_load(path: Path) -> None:
     table = hd.import_sh3f(path, path.parent / "models")
     for file in table["file"]:
@@ -139,6 +175,7 @@ def write_frame_files(folder: Path) -> Path:
 
 
 OBJ, OBJ_COMPANIONS = obj_bytes()
+BESIDE = OBJ_COMPANIONS | {"quad.obj": OBJ}  # written beside every damaged file (the catalogue names quad.obj)
 READERS: dict[str, tuple[str, bytes, Callable[[Path], object]]] = {
     "obj": (".obj", OBJ, lambda p: check_model(hd.load_model(p))),
     "off": (".off", mesh_bytes(".off"), lambda p: check_model(hd.load_model(p))),
@@ -153,6 +190,13 @@ READERS: dict[str, tuple[str, bytes, Callable[[Path], object]]] = {
     "pcd binary": (".pcd", pcd_bytes(True), lambda p: check_view(read_organized_cloud(p))),
     "range-map ply": (".ply", range_ply_bytes(), lambda p: check_view(read_organized_cloud(p))),
     "intrinsics": (".json", json.dumps(K).encode(), read_intrinsics),
+    "view npz": (".npz", view_bytes(), lambda p: check_view(hd.View.load(p))),
+    "parquet table": (".parquet", table_bytes(), read_prediction_table),
+    "catalogue csv": (
+        ".csv",
+        b"object,label,file,width,height,depth,rotation,scale\nq,quad,quad.obj,0.1,0.2,0.05,1 0 0 0 1 0 0 0 1,\n",
+        load_catalogue,
+    ),
 }
 
 
@@ -162,7 +206,7 @@ def test_every_valid_seed_reads():
             path = Path(folder) / name.replace(" ", "_") / f"input{suffix}"
             path.parent.mkdir()
             path.write_bytes(data)
-            for companion, content in OBJ_COMPANIONS.items():
+            for companion, content in BESIDE.items():
                 (path.parent / companion).write_bytes(content)
             reader(path)
 
@@ -177,7 +221,7 @@ def test_a_damaged_file_reads_or_is_a_heatdata_error(name):
         with tempfile.TemporaryDirectory() as folder:
             path = Path(folder) / f"input{suffix}"
             path.write_bytes(damaged_data)
-            for companion, content in OBJ_COMPANIONS.items():
+            for companion, content in BESIDE.items():
                 (Path(folder) / companion).write_bytes(content)
             try:
                 reader(path)

@@ -221,9 +221,10 @@ def read_table(
             table = pa.concat_tables(parts) if parts else _empty(file, columns)
         else:
             table = file.read(columns=columns)
+        frame = table.to_pandas()
     except Exception as exc:
         raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
-    return table.to_pandas(), _run_metadata(file)
+    return frame, _run_metadata(file, path)
 
 
 def iter_table(
@@ -265,7 +266,7 @@ def read_metadata(path: str | Path) -> dict:
     -------
     dict
     """
-    return _run_metadata(_open(path))
+    return _run_metadata(_open(path), path)
 
 
 def _open(path: str | Path) -> pq.ParquetFile:
@@ -292,11 +293,16 @@ def _empty(file: pq.ParquetFile, columns: list[str] | None) -> pa.Table:
     return table.select(columns) if columns is not None else table
 
 
-def _run_metadata(file: pq.ParquetFile) -> dict:
+def _run_metadata(file: pq.ParquetFile, path: str | Path) -> dict:
     """The run parameters a heatdata table carries, with ``heatdata_version``."""
     raw = file.schema_arrow.metadata or {}
-    meta = json.loads(raw.get(b"heatdata_run", b"{}"))
-    meta["heatdata_version"] = raw.get(b"heatdata_version", b"").decode()
+    try:
+        meta = json.loads(raw.get(b"heatdata_run", b"{}"))
+        if not isinstance(meta, dict):
+            raise ValueError(f"a {type(meta).__name__}, not a mapping")
+        meta["heatdata_version"] = raw.get(b"heatdata_version", b"").decode()
+    except ValueError as exc:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
+        raise HeatdataError(f"{path}: the table's heatdata metadata is damaged ({exc})") from None
     return meta
 
 

@@ -39,6 +39,7 @@ log = logging.getLogger(__name__)
 MIN_VERTICES = 30
 ZERO_AREA = 1e-10  # faces below this fraction of the median face area (twice the area) are degenerate
 INTRINSIC_KEYS = ("fx", "fy", "cx", "cy", "width", "height")
+VIEW_ARRAYS = ("vertices", "faces", "colors", "pose", "angle", "intrinsics", "ids", "repairs")  # of a saved view
 MAX_IMAGE_PIXELS = 4096 * 4096  # larger depth, colour and mask images and organized clouds are refused unread
 KINECT_INTRINSICS = {"fx": 580.0, "fy": 580.0, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480}
 
@@ -339,24 +340,28 @@ class View:
             )
         try:
             with np.load(path, allow_pickle=False) as data:
-                view_id, object_id, label = (str(x) for x in data["ids"])
-                azimuth, elevation, distance = (float(x) for x in data["angle"])
-                return cls.from_arrays(
-                    data["vertices"],
-                    data["faces"],
-                    data["colors"],
-                    intrinsics=json.loads(str(data["intrinsics"])),
-                    view_id=view_id,
-                    object_id=object_id,
-                    label=label,
-                    azimuth=azimuth,
-                    elevation=elevation,
-                    distance=distance,
-                    pose=data["pose"],
-                    repairs=json.loads(str(data["repairs"])),
-                )
-        except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
-            raise ViewError(f"{path}: not a readable heatdata view ({type(exc).__name__}: {exc})") from exc
+                arrays = {key: np.array(data[key]) for key in VIEW_ARRAYS}
+            view_id, object_id, label = (str(x) for x in arrays["ids"])
+            azimuth, elevation, distance = (float(x) for x in arrays["angle"])
+            intrinsics, repairs = json.loads(str(arrays["intrinsics"])), json.loads(str(arrays["repairs"]))
+            if not isinstance(intrinsics, dict) or not isinstance(repairs, list):
+                raise ValueError("its intrinsics are not a mapping or its repairs not a list")
+        except Exception as exc:  # numpy and zipfile raise many kinds on a damaged archive (zlib.error, ...)
+            raise ViewError(f"{path}: not a readable heatdata view ({type(exc).__name__}: {exc})") from None
+        return cls.from_arrays(
+            arrays["vertices"],
+            arrays["faces"],
+            arrays["colors"],
+            intrinsics=intrinsics,
+            view_id=view_id,
+            object_id=object_id,
+            label=label,
+            azimuth=azimuth,
+            elevation=elevation,
+            distance=distance,
+            pose=arrays["pose"],
+            repairs=[str(r) for r in repairs],
+        )
 
     # -- structure ---------------------------------------------------------------
 
