@@ -1,7 +1,7 @@
 """The ``heatdata`` command.
 
 Exit codes: 0 success; 1 bad input (a heatdata error, its message names the file or
-view); 2 wrong command-line usage.
+view); 2 wrong command-line usage; 130 interrupted (Ctrl-C).
 """
 
 from __future__ import annotations
@@ -621,6 +621,9 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:  # the system refused a file operation: its own message names the file
         log.error("%s", exc)
         return 1
+    except KeyboardInterrupt:  # outputs are written atomically: none is left half written
+        log.error("interrupted; no output was left half written")
+        return 130
     return 0
 
 

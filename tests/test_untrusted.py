@@ -275,6 +275,17 @@ def test_an_interrupted_write_leaves_no_half_file(tmp_path, monkeypatch, disc):
     assert sorted(tmp_path.iterdir()) == [table]
 
 
+def test_ctrl_c_in_a_command_leaves_no_file_and_one_line(tmp_path, caplog, monkeypatch, box):
+    def interrupted(view, path):
+        Path(path).write_bytes(b"PK half")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("heatdata.views.view.View._write_npz", interrupted)
+    assert main(["render", str(box), "--out", str(tmp_path / "out" / "v.npz")]) == 130
+    one_line_error(caplog, "interrupted")
+    assert list((tmp_path / "out").iterdir()) == []
+
+
 # -- 4. silent wrong or truncated results -------------------------------------------------------------------
 
 
