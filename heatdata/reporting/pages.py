@@ -371,8 +371,8 @@ def ablation_page(table: pd.DataFrame, source: str) -> str:
     )
     head = "".join(f"<th style='text-align:left'>{html.escape(column)}</th>" for column in table.columns)
     intro = (
-        f"Each factor measured on its own, with the command or config that produced it ({source}; the README's "
-        f"closing paragraph draws the conclusion). {RENDERED_NOTE}"
+        f"Each factor measured on its own, with the command or config that produced it ({source}; the "
+        f"documentation's page on complex objects draws the conclusion). {RENDERED_NOTE}"
     )
     return html_page(
         "Ablation: what each factor changes",
