@@ -9,7 +9,8 @@
 # Safe to run again: steps already done are skipped.
 #   --baselines  also install Debian's pcl-tools, which the VFH baseline (thesis 3.6) runs
 #   --docs       also install the documentation tools (Sphinx, pydata-sphinx-theme, numpydoc, sphinx-gallery, MyST)
-#   --tests      also install the documentation tools (the site is built by a test), pcl-tools (the VFH tests)
+#   --tests      also install the documentation tools (the site is built by a test), pcl-tools (the VFH tests),
+#                sweethome3d-furniture (the chairs and people configs the docs targets dry-run)
 #                and slurm-wlm and munge, for the test that runs the workflow on a real Slurm
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,7 +21,7 @@ packages=(libusb-1.0-0 libgl1 libegl1 libgomp1 libopengl0 libsuitesparse-dev)
 requirements=(-r requirements.txt)
 for arg in "$@"; do
     case "$arg" in
-        --tests) packages+=(pcl-tools slurm-wlm munge); requirements+=(-r requirements-test.txt -r requirements-docs.txt) ;;
+        --tests) packages+=(pcl-tools slurm-wlm munge sweethome3d-furniture); requirements+=(-r requirements-test.txt -r requirements-docs.txt) ;;
         --docs) requirements+=(-r requirements-docs.txt) ;;
         --baselines) packages+=(pcl-tools) ;;
         *) echo "setup: unknown option $arg (use --tests, --docs or --baselines)" >&2; exit 2 ;;

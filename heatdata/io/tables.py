@@ -345,7 +345,7 @@ def read_ablation(path: str | Path) -> pd.DataFrame:
     Parameters
     ----------
     path : str or Path
-        The CSV (``docs/results/chairs_ablation.csv``).
+        The CSV (``config/experiments/chairs_ablation.csv``).
 
     Returns
     -------

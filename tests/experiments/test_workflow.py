@@ -80,7 +80,7 @@ EXPERIMENTS = {
     "compact": COMPACT,
     "comparison": COMPARISON,
     "multiview": MULTIVIEW,
-    "ablation": str(ROOT / "docs" / "results" / "chairs_ablation.csv"),
+    "ablation": str(ROOT / "config" / "experiments" / "chairs_ablation.csv"),
 }
 
 

@@ -22,7 +22,7 @@ def documented_ablation_rows() -> list[list[str]]:
 
 
 def test_the_docs_and_the_report_show_the_same_ablation():
-    committed = read_ablation(ROOT / "docs" / "results" / "chairs_ablation.csv")
+    committed = read_ablation(ROOT / "config" / "experiments" / "chairs_ablation.csv")
     assert committed.values.tolist() == documented_ablation_rows()
     assert len(committed) >= 10
 
