@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import yaml
+from record import write
 from threadpoolctl import threadpool_limits
 
 from heatdata.descriptors import DescriptorSpec
@@ -125,7 +126,7 @@ def main() -> None:
         f"candidates per view; LP and DP, one thread, limit {args.timeout:.0f} s a solve"
     )
     print(f"{'object':<44} {'size':>4} {'alpha':>5} {'LP s':>8} {'DP s':>7} {'difference':>10}")
-    worst = 0.0
+    worst, count = 0.0, 0
     for obj, size, alpha, costs in problems(table, sizes, config["compact"]["alphas"]):
         lp_seconds, lp = run(lambda c, name=obj: select_sources(c, name=name), costs, args.timeout)
         dp_seconds, dp = run(cyclic_dp, costs, args.timeout)
@@ -133,7 +134,12 @@ def main() -> None:
         difference = abs(lp - dp) / max(1.0, abs(dp))
         print(f"{obj:<44} {size:>4} {alpha:>5g} {lp_text} {dp_seconds:7.2f} {difference:10.1e}", flush=True)
         worst = max(worst, lp_seconds if np.isfinite(lp_seconds) else np.inf)
+        count += difference < 1e-9
     print(f"slowest LP: {worst:.2f} s")
+    write(
+        [(f"{args.config}: slowest LP", worst, "s"), ("selections whose LP optimum equals the DP's", count, "count")],
+        name=f"bench_compact_lp_{Path(args.config).stem}",
+    )
 
 
 if __name__ == "__main__":

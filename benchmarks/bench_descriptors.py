@@ -19,6 +19,7 @@ import resource
 import time
 from pathlib import Path
 
+from record import write
 from threadpoolctl import threadpool_limits
 
 import heatdata as hd
@@ -69,7 +70,10 @@ def main() -> None:
     print(f"{'descriptor':30s} {'ms':>9s} {'x PVHK':>8s}")
     for name, seconds in best.items():
         print(f"{name:30s} {1e3 * seconds:9.1f} {seconds / reference:8.1f}")
-    print(f"peak RSS {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(f"peak RSS {peak:.0f} MB")
+    figures = [(f"{name}, {view.n_vertices}-vertex view", 1e3 * seconds, "ms") for name, seconds in best.items()]
+    write([*figures, ("peak RSS", peak, "MB")])
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ import time
 
 import numpy as np
 import scipy.linalg
+from record import write
 
 from heatdata.core.mesh import mesh_edges
 from heatdata.core.spectrum import laplacian
@@ -58,7 +59,16 @@ def main() -> None:
         f"largest descriptor difference: {np.abs(descriptor - heat.descriptor).max():.2e} "
         f"(descriptor range {np.ptp(heat.descriptor):.3g})"
     )
-    print(f"peak RSS: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(f"peak RSS: {peak:.0f} MB")
+    write(
+        [
+            (f"rump_heat, whole Alg. 8.1 ({len(heat.vertices)}-vertex rump)", ours, "s"),
+            ("dense eigh reference", reference, "s"),
+            ("largest descriptor difference", float(np.abs(descriptor - heat.descriptor).max()), "temperature"),
+            ("peak RSS", peak, "MB"),
+        ]
+    )
 
 
 if __name__ == "__main__":

@@ -15,6 +15,7 @@ import argparse
 import time
 
 import numpy as np
+from record import write
 from threadpoolctl import threadpool_limits
 
 import heatdata as hd
@@ -44,6 +45,7 @@ def main() -> None:
         "mhd_matrix + argmin": lambda q, lib: np.argmin(hd.mhd_matrix(q, lib), axis=1),
         "nearest_mhd": lambda q, lib: nearest_mhd(q, lib)[0],
     }
+    figures = []
     with threadpool_limits(1):
         for name, (queries, library) in {
             f"{args.queries} x {args.library}": (curves(rng, args.queries), large),
@@ -55,6 +57,12 @@ def main() -> None:
                 f"{name}: mhd_matrix {t0 * 1e6:.2f} us/pair, nearest_mhd {t1 * 1e6:.3f} us/pair, "
                 f"{t0 / t1:.1f}x; same items: {bool(np.array_equal(i0, i1))}"
             )
+            figures += [
+                (f"{name}: mhd_matrix", t0 * 1e6, "us per pair"),
+                (f"{name}: nearest_mhd", t1 * 1e6, "us per pair"),
+                (f"{name}: speed-up", t0 / t1, "x"),
+            ]
+    write(figures)
 
 
 if __name__ == "__main__":

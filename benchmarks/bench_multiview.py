@@ -18,6 +18,7 @@ import time
 
 import numpy as np
 import pandas as pd
+from record import write
 from threadpoolctl import threadpool_limits
 
 import heatdata as hd
@@ -74,7 +75,16 @@ def main() -> None:
     print(f"filter step (2 observations): {step:.2f} ms")
     print(f"best_move over 6 candidate steps: {move:.2f} ms")
     print(f"exhaustive filter step ({len(exact.object)} hypotheses, 1 deg apart): {exhaustive:.2f} ms")
-    print(f"peak RSS {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(f"peak RSS {peak:.0f} MB")
+    write(
+        [
+            (f"particle filter step, {args.particles} particles, 2 observations", step, "ms"),
+            ("best_move over 6 candidate steps", move, "ms"),
+            (f"exhaustive filter step, {len(exact.object)} hypotheses", exhaustive, "ms"),
+            ("peak RSS", peak, "MB"),
+        ]
+    )
 
 
 if __name__ == "__main__":

@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 import scipy.sparse.linalg as sla
+from record import write
 from threadpoolctl import threadpool_limits
 
 import heatdata as hd
@@ -136,6 +137,18 @@ def main() -> None:
         }
     report["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"peak RSS of this process: {report['peak_rss_mb']:.0f} MB")
+    krylov, eigsh = report["methods"]["heatdata krylov (default)"], report["methods"]["naive eigsh k=30 (SuperLU)"]
+    write(
+        [
+            ("view vertices", view.n_vertices, "vertices"),
+            ("PVHK, krylov (default), prepared view", krylov["prepared_ms"], "ms"),
+            ("PVHK, krylov (default), raw arrays", krylov["raw_ms"], "ms"),
+            ("naive eigsh k=30, prepared view", eigsh["prepared_ms"], "ms"),
+            ("speed-up over eigsh k=30, prepared", krylov["speedup_prepared"], "x"),
+            ("largest error against expm_multiply", krylov["max_error"], "temperature"),
+            ("peak RSS", report["peak_rss_mb"], "MB"),
+        ]
+    )
     if args.out:
         args.out.write_text(json.dumps(report, indent=2))
 

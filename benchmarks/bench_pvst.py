@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 from bench_pvhk import interleaved_best, prepared  # run as a script: benchmarks/ is on sys.path
+from record import write
 from scipy.optimize import brentq
 from threadpoolctl import threadpool_limits
 
@@ -106,6 +107,9 @@ def main() -> None:
         f"{added / times['pvhk']:.2f}x pvhk"
     )
 
+    figures = [(f"{name}, {view.n_vertices}-vertex view", seconds * 1e3, "ms") for name, seconds in times.items()]
+    figures += [("PVST / PVHK", times["pvst"] / times["pvhk"], "x"), ("a PVST beside a PVHK adds", added * 1e3, "ms")]
+
     small = render(args.accuracy_object, 1.0)
     print(f"accuracy: {args.accuracy_object} at 1.0 m, {small.n_vertices} vertices, every boundary vertex")
     for rule in ("center", "closest"):
@@ -122,6 +126,8 @@ def main() -> None:
             f"max relative error {relative.max():.1e} over {both.sum()} vertices; NaN in heatdata "
             f"{int(np.isnan(d.values).sum())}, in the reference {int(np.isnan(exact).sum())}"
         )
+        figures.append((f"PVST crossing times, source {rule}: largest relative error", relative.max(), "relative"))
+    write(figures)
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ import resource
 import time
 
 import numpy as np
+from record import write
 
 import heatdata as hd
 from heatdata.recognition.compact import cyclic_dp
@@ -42,6 +43,14 @@ def main() -> None:
         f"{args.views} views x {args.candidates} candidates: LP {lp_seconds:.1f} s, DP {dp_seconds:.2f} s, "
         f"relative difference {abs(lp - dp) / dp:.1e}, peak RSS {lp_peak:.0f} MB after the LP, {peak:.0f} MB "
         "after the DP"
+    )
+    write(
+        [
+            (f"{args.views} views x {args.candidates} candidates: LP", lp_seconds, "s"),
+            ("the same: dynamic program", dp_seconds, "s"),
+            ("relative difference LP - DP", abs(lp - dp) / dp, "relative"),
+            ("peak RSS after the LP", lp_peak, "MB"),
+        ]
     )
 
 

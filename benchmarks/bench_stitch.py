@@ -17,6 +17,7 @@ import resource
 import time
 
 import numpy as np
+from record import write
 from scipy.spatial.transform import Rotation
 
 from heatdata.io.models import Model, transformed
@@ -70,7 +71,17 @@ def main() -> None:
         f"{Rotation.from_matrix(found.rotation @ motion.as_matrix()).magnitude():.2e} rad"
     )
     print(f"stitch, in all: {total:.2f} s")
-    print(f"peak RSS {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(f"peak RSS {peak:.0f} MB")
+    write(
+        [
+            ("boundaries and their normals (both)", boundaries, "s"),
+            ("search (align)", found.seconds, "s"),
+            ("stitch, in all", total, "s"),
+            ("rotation error", Rotation.from_matrix(found.rotation @ motion.as_matrix()).magnitude(), "rad"),
+            ("peak RSS", peak, "MB"),
+        ]
+    )
 
 
 if __name__ == "__main__":
