@@ -21,6 +21,8 @@ def command(name: str) -> str:
     """The command that writes ``results/<name>.csv``."""
     if name.startswith("bench_compact_lp_"):
         return f".venv/bin/python benchmarks/bench_compact_lp.py config/experiments/{name[17:]}.yaml"
+    if name == "bench_recognize":
+        return ".venv/bin/python benchmarks/bench_recognize.py results/chairs_library"
     if name == "bench_classify":
         return ".venv/bin/python benchmarks/bench_classify.py results/descriptors.parquet"
     return f".venv/bin/python benchmarks/{name}.py"

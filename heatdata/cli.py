@@ -28,48 +28,42 @@ from heatdata.descriptors import (
     file_name,
 )
 from heatdata.errors import HeatdataError
-from heatdata.experiments.demo import (
-    DEMO_SPECS,
-    describe_and_classify,
-)
-from heatdata.experiments.views import view_plan
-from heatdata.io.catalog import embedded_catalog, read_catalog
 from heatdata.io.files import atomic, check_folder, check_output, require_file
-from heatdata.io.models import SUPPORTED_SUFFIXES, load_model, save_model
-from heatdata.io.sh3f import import_sh3f
 from heatdata.io.tables import (
     DESCRIPTOR_SCHEMA,
     PREDICTION_SCHEMA,
     read_table,
     write_table,
 )
-from heatdata.jasnom.cost import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN_ROBUST
-from heatdata.jasnom.seam import stitch
+from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN_ROBUST
 from heatdata.log import progress, setup_logging
-from heatdata.recognition.evaluate import (
-    TIME_RULES,
-    classify,
-    evaluate_library_sizes,
-)
-from heatdata.recognition.metrics import precision_by_object, precision_table
-from heatdata.reporting.figures.common import RENDERED_NOTE
-from heatdata.reporting.figures.recognition import plot_confusion, plot_view_confusion
-from heatdata.reporting.figures.views import draw_example_views
+from heatdata.recognition.evaluate import TIME_RULES
 from heatdata.version import __version__
-from heatdata.views.clouds import read_organized_cloud
-from heatdata.views.depth import MAX_DEPTH_JUMP, read_depth
-from heatdata.views.render import render_view
-from heatdata.views.view import View
+from heatdata.views.depth import MAX_DEPTH_JUMP
 
+# Each command imports what it alone needs (the renderer's open3d, trimesh, matplotlib), so that a command
+# starts in the time its own work needs: `heatdata recognize` answers a frame in under a second.
 log = logging.getLogger("heatdata")
 
 
-DEMO_SPECS.append(DescriptorSpec(COLOR_KIND, 64, "center", "polar", "c3"))
+def demo_specs() -> list[DescriptorSpec]:
+    """The demo's descriptors: the PVHK's sampling and source rules, and a C-PVHK."""
+    from heatdata.experiments.demo import DEMO_SPECS
+
+    return [*DEMO_SPECS, DescriptorSpec(COLOR_KIND, 64, "center", "polar", "c3")]
 
 
 def cmd_demo(args: argparse.Namespace) -> None:
     """Render the embedded objects, describe every view, classify the test views."""
+    from heatdata.experiments.demo import describe_and_classify
+    from heatdata.experiments.views import view_plan
+    from heatdata.io.catalog import embedded_catalog, read_catalog
+    from heatdata.recognition.metrics import precision_by_object
+    from heatdata.reporting.figures.recognition import plot_confusion, plot_view_confusion
+    from heatdata.reporting.figures.views import draw_example_views
+
     start = time.perf_counter()
+    specs = demo_specs()
     args.catalog = args.catalog or embedded_catalog()
     out = check_folder(args.out, inputs=[args.catalog])
     for name in ("descriptors.parquet", "predictions.parquet", "precision.csv", "views.png", "summary.md"):
@@ -89,14 +83,14 @@ def cmd_demo(args: argparse.Namespace) -> None:
         distance=args.distance,
         seed=args.seed,
     )
-    descriptors, predictions = describe_and_classify(catalog, plan, DEMO_SPECS, noise=not args.no_noise, jobs=args.jobs)
+    descriptors, predictions = describe_and_classify(catalog, plan, specs, noise=not args.no_noise, jobs=args.jobs)
     run = {k: v for k, v in vars(args).items() if k != "func"}
     write_table(descriptors, out / "descriptors.parquet", DESCRIPTOR_SCHEMA, run)
     write_table(predictions, out / "predictions.parquet", PREDICTION_SCHEMA, run)
     precision = precision_by_object(predictions)
     with atomic(out / "precision.csv") as temporary:
         precision.to_csv(temporary)
-    for spec in DEMO_SPECS:
+    for spec in specs:
         subset = predictions[predictions["descriptor"] == spec.name]
         plot_confusion(subset, out / f"confusion_objects_{file_name(spec.name)}.png", spec.name)
         plot_view_confusion(subset, out / f"confusion_views_{file_name(spec.name)}.png", spec.name)
@@ -108,15 +102,17 @@ def cmd_demo(args: argparse.Namespace) -> None:
         noise=not args.no_noise,
         seed=args.seed,
     )
-    summary = _summary_markdown(precision, descriptors, args, time.perf_counter() - start)
+    summary = _summary_markdown(precision, descriptors, args, time.perf_counter() - start, len(specs))
     with atomic(out / "summary.md") as temporary:
         temporary.write_text(summary)
     print(summary)
 
 
 def _summary_markdown(
-    precision: pd.DataFrame, descriptors: pd.DataFrame, args: argparse.Namespace, seconds: float
+    precision: pd.DataFrame, descriptors: pd.DataFrame, args: argparse.Namespace, seconds: float, kinds: int
 ) -> str:
+    from heatdata.reporting.figures.common import RENDERED_NOTE
+
     overall = precision.loc["all"].sort_values(ascending=False)
     lines = [
         "# heatdata demo: nearest-neighbour recognition of the embedded objects",
@@ -128,7 +124,7 @@ def _summary_markdown(
         f"noise {'off' if args.no_noise else 'on (tau = 1.42e-3 1/m)'}; seed {args.seed}",
         f"- views: {descriptors['view_id'].nunique()}, mean {descriptors['n_vertices'].mean():.0f} vertices "
         f"(max {descriptors['n_vertices'].max()})",
-        f"- description time per view ({len(DEMO_SPECS)} descriptors, one core): "
+        f"- description time per view ({kinds} descriptors, one core): "
         f"{descriptors.groupby('view_id')['seconds'].sum().mean() * 1e3:.0f} ms",
         f"- heatdata {__version__}; wall time {seconds:.0f} s with {args.jobs} processes",
         "",
@@ -144,6 +140,9 @@ def _summary_markdown(
 
 def cmd_render(args: argparse.Namespace) -> None:
     """Render one partial view of a model file to a .npz view file."""
+    from heatdata.io.models import load_model
+    from heatdata.views.render import render_view
+
     out = check_output(args.out, inputs=[args.model], suffixes=(".npz",), what="the view")
     model = load_model(args.model, size=tuple(args.size) if args.size else None, scale=args.scale)
     view = render_view(model, args.azimuth, args.elevation, args.distance, noise=not args.no_noise, seed=args.seed)
@@ -164,6 +163,9 @@ def cmd_render(args: argparse.Namespace) -> None:
 def cmd_view_from_depth(args: argparse.Namespace) -> None:
     """A view from real data: a depth image (16-bit PNG in mm, float .npy in m) with intrinsics, or an organized
     cloud (PCD, range-map PLY); written as a .npz view, a coloured .ply, or both."""
+    from heatdata.views.clouds import read_organized_cloud
+    from heatdata.views.depth import read_depth
+
     inputs = [args.input, args.intrinsics, args.rgb, args.mask]
     outs = [check_output(p, inputs=inputs, suffixes=(".npz", ".ply"), what="the view") for p in args.out]
     if len({p.resolve() for p in outs}) < len(outs):
@@ -213,6 +215,9 @@ def cmd_stitch(args: argparse.Namespace) -> None:
     The output is in the first mesh's frame. It prints the motion, J and its terms, the runner-up's J and the
     seam's mean gap, and warns when another pose is nearly as cheap (ambiguous) or the seam is wide (poor).
     """
+    from heatdata.io.models import SUPPORTED_SUFFIXES, load_model, save_model
+    from heatdata.jasnom.seam import stitch
+
     out = check_output(
         args.out, inputs=[args.first, args.second, args.motion], suffixes=SUPPORTED_SUFFIXES, what="the stitched model"
     )
@@ -266,6 +271,8 @@ def cmd_stitch(args: argparse.Namespace) -> None:
 
 def cmd_describe(args: argparse.Namespace) -> None:
     """Describe a saved view; print the descriptor as JSON."""
+    from heatdata.views.view import View
+
     view = View.load(args.view)
     kind = args.kind or (COLOR_KIND if args.color_map else DEFAULT_KIND)
     given = {
@@ -305,6 +312,8 @@ def cmd_describe(args: argparse.Namespace) -> None:
 
 def cmd_classify(args: argparse.Namespace) -> None:
     """Classify the test rows of a descriptor table against its training rows."""
+    from heatdata.recognition.evaluate import classify, evaluate_library_sizes
+
     if args.out:
         check_output(args.out, inputs=[args.descriptors], suffixes=(".parquet",), what="the predictions")
     descriptors, _ = read_table(args.descriptors, schema=DESCRIPTOR_SCHEMA)
@@ -330,6 +339,8 @@ def cmd_classify(args: argparse.Namespace) -> None:
 
 def _precision_lines(predictions: pd.DataFrame, every_view: bool) -> str:
     """The object and class precision of each descriptor and library size, as a labelled table."""
+    from heatdata.recognition.metrics import precision_table
+
     table = precision_table(predictions)
     table = table[table["group"] == "all"].pivot_table(
         index=["descriptor", "library_size"], columns="level", values="precision"
@@ -358,6 +369,113 @@ def _option_value(text: str):
     return None if text == "none" else text
 
 
+def _frames(args: argparse.Namespace) -> list[dict]:
+    """The frames to recognize: the files given, or the frames of one folder (``find_frames``)."""
+    from heatdata.experiments.captures import FRAME_SUFFIXES, find_frames
+
+    if len(args.frames) == 1 and Path(args.frames[0]).is_dir():
+        if args.intrinsics or args.rgb or args.mask:
+            raise HeatdataError(
+                f"{args.frames[0]}: the frames of a folder carry their own <name>.json, <name>.rgb.png and "
+                "<name>.mask.png (or a camera.json); --intrinsics, --rgb and --mask are for one frame"
+            )
+        return find_frames(args.frames[0])
+    frames = []
+    for path in args.frames:
+        require_file(path, "frame")
+        if Path(path).suffix.lower() not in FRAME_SUFFIXES:
+            raise HeatdataError(f"{path}: a frame is a depth image (.png, .npy), a cloud (.pcd, .ply) or a view (.npz)")
+        frames.append({"name": Path(path).stem, "depth": str(path), "intrinsics": "", "rgb": "", "mask": ""})
+    if (args.rgb or args.mask) and len(frames) > 1:
+        raise HeatdataError("--rgb and --mask belong to one frame; give a folder of frames for a sequence")
+    for frame in frames:
+        frame.update(intrinsics=str(args.intrinsics or ""), rgb=str(args.rgb or ""), mask=str(args.mask or ""))
+    return frames
+
+
+def _read_frame(frame: dict, args: argparse.Namespace):
+    """A frame's view: a depth image with its intrinsics, an organized cloud, or a saved view."""
+    from heatdata.views.depth import read_depth
+
+    path = Path(frame["depth"])
+    suffix = path.suffix.lower()
+    if suffix == ".npz":
+        from heatdata.views.view import View
+
+        return View.load(path)
+    if suffix in (".pcd", ".ply"):
+        from heatdata.views.clouds import read_organized_cloud
+
+        return read_organized_cloud(path, scale=args.scale, max_depth_jump=args.max_depth_jump)
+    if not frame["intrinsics"]:
+        raise HeatdataError(f"{path}: a depth image needs --intrinsics (JSON or YAML: fx, fy, cx, cy, width, height)")
+    return read_depth(
+        path,
+        frame["intrinsics"],
+        frame["rgb"] or None,
+        frame["mask"] or None,
+        depth_range=args.depth_range,
+        max_depth_jump=args.max_depth_jump,
+    )
+
+
+def cmd_recognize(args: argparse.Namespace) -> None:
+    """What the sensor sees (thesis ch. 3-5): the objects a depth frame, organized cloud or saved view is nearest in
+    a built library, with the view angle of the nearest library view. Several frames (a folder, or files with
+    --moves, the degrees turned between them) are followed by the particle filter of ch. 4 (--exact: the
+    exhaustive filter), which prints the posterior over objects after each frame."""
+    from heatdata.experiments.library import load_library
+
+    require_file(args.library, "library")
+    frames = _frames(args)
+    if len(frames) > 1 and args.moves is None:
+        raise HeatdataError(f"{len(frames)} frames: give --moves, the degrees the sensor turned between them")
+    library = load_library(args.library)
+    views = [_read_frame(frame, args) for frame in frames]
+    if len(views) == 1 and args.moves is None:
+        answer = library.recognize(views[0], k=args.k)
+        if args.json:
+            print(json.dumps({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
+            return
+        print(f"{frames[0]['depth']}: {views[0].n_vertices} vertices; {library!r}")
+        rows = [
+            [str(rank), m.object, m.label, f"{m.distance:.4g}", f"{m.azimuth:.0f}", m.view_id]
+            for rank, m in enumerate(answer.matches, 1)
+        ]
+        print(_table(["rank", "object", "class", "distance", "azimuth", "nearest library view"], rows))
+        best = answer.best
+        print(f"recognized: {best.object} ({best.label}), seen from about {best.azimuth:.0f} deg azimuth")
+        return
+    steps = library.recognize_sequence(
+        views, args.moves or [0.0], exact=args.exact, particles=args.particles, seed=args.seed
+    )
+    if args.json:
+        print(json.dumps({"library": str(args.library), "exact": args.exact, "steps": [s.to_dict() for s in steps]}))
+        return
+    print(f"{len(views)} frames; {library!r}; {'exhaustive filter' if args.exact else f'{args.particles} particles'}")
+    for step, frame in zip(steps, frames, strict=True):
+        top = sorted(step.posterior.items(), key=lambda item: -item[1])[: args.k]
+        belief = ", ".join(f"{obj} {p:.2f}" for obj, p in top)
+        state = "converged" if step.converged else "not converged"
+        print(f"frame {step.frame + 1} ({frame['name']}, moved {step.move:g} deg): {belief} ({state})")
+    last = steps[-1]
+    print(
+        f"{'converged on' if last.converged else 'not converged; most probable:'} {last.estimate} "
+        f"({last.posterior[last.estimate]:.0%}) after {len(steps)} frames"
+    )
+
+
+def _table(header: list[str], rows: list[list[str]]) -> str:
+    """Columns padded to their widest cell, numbers right-aligned."""
+    widths = [max(len(str(c)) for c in column) for column in zip(header, *rows, strict=True)]
+    numeric = [all(r[k].replace(".", "", 1).replace("-", "", 1).isdigit() for r in rows) for k in range(len(header))]
+    lines = []
+    for row in [header, *rows]:
+        cells = [c.rjust(w) if right else c.ljust(w) for c, w, right in zip(row, widths, numeric, strict=True)]
+        lines.append("  ".join(cells).rstrip())
+    return "\n".join(lines)
+
+
 def cmd_kinds(args: argparse.Namespace) -> None:
     """List every descriptor kind, whether this machine can compute it, and its options."""
     for name, kind in KINDS.items():
@@ -369,6 +487,8 @@ def cmd_kinds(args: argparse.Namespace) -> None:
 
 def cmd_import_sh3f(args: argparse.Namespace) -> None:
     """Extract a Sweet Home 3D furniture library into a catalogue folder."""
+    from heatdata.io.sh3f import import_sh3f
+
     table = import_sh3f(args.sh3f, args.out, name_pattern=args.names, label=args.label, exclude_pattern=args.exclude)
     print(f"{len(table)} models in {Path(args.out) / 'catalog.csv'}")
 
@@ -589,6 +709,51 @@ def build_parser() -> argparse.ArgumentParser:
     )
     cls.add_argument("--out", type=Path, help="write predictions.parquet here")
     cls.set_defaults(func=cmd_classify)
+
+    rec = sub.add_parser(
+        "recognize",
+        help="the objects a depth frame (or a sequence) is nearest in a built library (thesis ch. 3-5)",
+        description=cmd_recognize.__doc__,
+        epilog="E.g. heatdata recognize depth.png --intrinsics camera.json "
+        "--library results/libraries/hgd_color=hue-saturation-40.parquet",
+    )
+    rec.add_argument(
+        "frames",
+        type=Path,
+        nargs="+",
+        help="depth image (.png 16-bit mm, .npy m), organized cloud (.pcd, .ply), view (.npz), or a folder of them",
+    )
+    rec.add_argument("--library", type=Path, required=True, help="a library file (results/libraries/*.parquet)")
+    rec.add_argument("--intrinsics", type=Path, help="JSON or YAML: fx, fy, cx, cy, width, height (depth images)")
+    rec.add_argument("--rgb", type=Path, help="colour image registered to the depth image")
+    rec.add_argument("--mask", type=Path, help="image whose non-zero pixels are the object's")
+    rec.add_argument(
+        "--depth-range",
+        type=_number(0.0),
+        nargs=2,
+        metavar=("NEAR", "FAR"),
+        help="without a mask: keep the pixels between these depths, metres",
+    )
+    rec.add_argument("--scale", type=_number(positive=True), default=1.0, help="cloud units to metres (default 1)")
+    rec.add_argument(
+        "--max-depth-jump",
+        type=_number(positive=True),
+        default=MAX_DEPTH_JUMP,
+        help=f"relative depth step that cuts the mesh (default {MAX_DEPTH_JUMP})",
+    )
+    rec.add_argument("-k", type=_number(1, whole=True), default=5, help="objects to list (default 5)")
+    rec.add_argument("--json", action="store_true", help="print JSON for programs")
+    rec.add_argument(
+        "--moves",
+        type=_number(),
+        nargs="+",
+        metavar="DEG",
+        help="degrees the sensor turned between frames: one per gap, or one for all (a sequence)",
+    )
+    rec.add_argument("--exact", action="store_true", help="a sequence by the exhaustive filter, not particles")
+    rec.add_argument("--particles", type=_number(1, whole=True), default=100, help="particles (default 100)")
+    rec.add_argument("--seed", type=_number(0, whole=True), default=0, help="the particle filter's seed (default 0)")
+    rec.set_defaults(func=cmd_recognize)
 
     kinds = sub.add_parser("kinds", help="list the descriptor kinds and their options", description=cmd_kinds.__doc__)
     kinds.set_defaults(func=cmd_kinds)

@@ -39,3 +39,8 @@ class ConfigError(HeatdataError):
 
 class OutputError(HeatdataError):
     """An output cannot be written: its folder is missing or read-only, it is a folder, or it is one of the inputs."""
+
+
+class LibraryError(HeatdataError):
+    """A library file cannot be used: not one, damaged, of another layout, or built by a heatdata that describes
+    views differently."""

@@ -47,7 +47,8 @@ from heatdata.io.catalog import embedded_catalog, load_catalog_model, read_catal
 from heatdata.io.models import Model, transformed
 from heatdata.jasnom.align import align, alignment_at
 from heatdata.jasnom.boundary import boundaries
-from heatdata.jasnom.cost import SCAN_ALONG, SCAN_ROBUST, ScanSurface
+from heatdata.jasnom.cost import ScanSurface
+from heatdata.jasnom.defaults import SCAN_ALONG, SCAN_ROBUST
 from heatdata.jasnom.seam import stitch
 from heatdata.log import progress
 from heatdata.recognition.nearest import nearest_neighbors

@@ -411,7 +411,12 @@ def test_every_writing_command_refuses_an_unwritable_output_before_the_work(tmp_
     (tmp_path / "afile").write_text("")
     for suffix in (".npz", ".ply", ".parquet"):
         (tmp_path / f"folder{suffix}").mkdir()
-    for name in ("cli.describe_and_classify", "cli.render_view", "cli.read_organized_cloud", "cli.stitch"):
+    for name in (  # the commands import these when they run
+        "experiments.demo.describe_and_classify",
+        "views.render.render_view",
+        "views.clouds.read_organized_cloud",
+        "jasnom.seam.stitch",
+    ):
         monkeypatch.setattr(f"heatdata.{name}", lambda *a, **k: pytest.fail("the work started"))
     monkeypatch.setattr("heatdata.io.sh3f.extract_sh3f_model", lambda *a, **k: pytest.fail("the work started"))
     for file, folder in [

@@ -9,6 +9,10 @@ from heatdata.errors import ViewError
 CAPTURE_SUFFIXES = (".png", ".npy")
 
 
+#: frames of a sequence besides depth images: organized clouds and saved views
+FRAME_SUFFIXES = (*CAPTURE_SUFFIXES, ".pcd", ".ply", ".npz")
+
+
 CAMERA_NAMES = ("camera.json", "camera.yaml", "camera.yml")
 
 
@@ -37,24 +41,55 @@ def find_captures(root) -> list[dict]:
     captures = []
     for folder in sorted(p for p in root.iterdir() if p.is_dir()):
         for depth in sorted(folder.iterdir()):
-            if depth.suffix.lower() not in CAPTURE_SUFFIXES or depth.name.lower().endswith((".rgb.png", ".mask.png")):
-                continue
-            stem = depth.name[: -len(depth.suffix)]
-            own = [folder / f"{stem}{suffix}" for suffix in (".json", ".yaml", ".yml")]
-            shared = [folder / name for name in CAMERA_NAMES] + [root / name for name in CAMERA_NAMES]
-            intrinsics = next((p for p in own + shared if p.is_file()), None)
-            if intrinsics is None:
-                raise ViewError(f"{depth}: no intrinsics ({stem}.json beside it, or camera.json in {folder} or {root})")
-            extra = {kind: folder / f"{stem}.{kind}.png" for kind in ("rgb", "mask")}
-            captures.append(
-                {
-                    "object": folder.name,
-                    "name": stem,
-                    "depth": str(depth),
-                    "intrinsics": str(intrinsics),
-                    **{kind: str(path) if path.is_file() else "" for kind, path in extra.items()},
-                }
-            )
+            if _is_frame(depth, CAPTURE_SUFFIXES):
+                captures.append({"object": folder.name, **_frame(depth, [folder, root])})
     if not captures:
         raise ViewError(f"{root}: no capture (expected <object>/<name>.png or .npy)")
     return captures
+
+
+def find_frames(folder) -> list[dict]:
+    """The frames of a sequence in one folder, sorted by name: depth images (with their colour, mask and
+    intrinsics beside them, as in :func:`find_captures`), organized clouds (``.pcd``, ``.ply``) and saved views
+    (``.npz``).
+
+    Returns
+    -------
+    list of dict
+        ``name, depth, intrinsics, rgb, mask`` (paths as strings, ``""`` when absent).
+
+    Raises
+    ------
+    ViewError
+        ``folder`` is not a folder or holds no frame, or a depth image has no intrinsics.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise ViewError(f"{folder}: no such folder of frames")
+    frames = [_frame(path, [folder]) for path in sorted(folder.iterdir()) if _is_frame(path, FRAME_SUFFIXES)]
+    if not frames:
+        raise ViewError(f"{folder}: no frame (depth .png or .npy, cloud .pcd or .ply, view .npz)")
+    return frames
+
+
+def _is_frame(path: Path, suffixes: tuple[str, ...]) -> bool:
+    """A frame's file: of one of ``suffixes``, not a colour or mask image beside a depth image."""
+    name = path.name.lower()
+    return path.is_file() and path.suffix.lower() in suffixes and not name.endswith((".rgb.png", ".mask.png"))
+
+
+def _frame(depth: Path, folders: list[Path]) -> dict:
+    """A frame's files: a depth image's intrinsics (``<name>.json`` beside it, else ``camera.json`` in
+    ``folders``), colour and mask; a cloud or a saved view stands alone."""
+    stem = depth.name[: -len(depth.suffix)]
+    files = {"name": stem, "depth": str(depth), "intrinsics": "", "rgb": "", "mask": ""}
+    if depth.suffix.lower() not in CAPTURE_SUFFIXES:
+        return files
+    own = [depth.parent / f"{stem}{suffix}" for suffix in (".json", ".yaml", ".yml")]
+    shared = [folder / name for folder in folders for name in CAMERA_NAMES]
+    intrinsics = next((p for p in own + shared if p.is_file()), None)
+    if intrinsics is None:
+        where = " or ".join(str(f) for f in folders)
+        raise ViewError(f"{depth}: no intrinsics ({stem}.json beside it, or camera.json in {where})")
+    extra = {kind: depth.parent / f"{stem}.{kind}.png" for kind in ("rgb", "mask")}
+    return {**files, "intrinsics": str(intrinsics), **{k: str(p) if p.is_file() else "" for k, p in extra.items()}}

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import logging
 import time
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
@@ -24,10 +25,11 @@ from heatdata.descriptors import (
 from heatdata.descriptors.heat import color_name
 from heatdata.descriptors.sources import candidate_descriptors, candidate_sources
 from heatdata.errors import HeatdataError, SpectrumError, ViewError
-from heatdata.experiments.views import render_views
 from heatdata.io.files import atomic
-from heatdata.io.models import Model
 from heatdata.views.view import View
+
+if TYPE_CHECKING:
+    from heatdata.io.models import Model  # trimesh: only to load a model
 
 log = logging.getLogger(__name__)
 
@@ -166,7 +168,7 @@ def candidate_rows(
         seconds = (time.perf_counter() - tic) / len(described)
         rows += [_row(view, planned, multi, d, seconds) for d in described[:-1]]
         rows.append(_row(view, planned, spec, described[-1], seconds))
-        if count % progress_every == 0 or count == len(views):
+        if len(views) > 1 and (count % progress_every == 0 or count == len(views)):
             log.info(
                 "%s: %d/%d views described from %d candidate sources (%.1f s)",
                 view.object_id,
@@ -212,7 +214,7 @@ def descriptor_rows(
         ]
         for (spec, time_object), d in zip(labelled, descriptors, strict=True):
             rows.append(_row(view, planned, spec, d, seconds, time_object))
-        if count % progress_every == 0 or count == len(views):
+        if len(views) > 1 and (count % progress_every == 0 or count == len(views)):
             log.info(
                 "%s: %d/%d views described (%.1f s)", view.object_id, count, len(views), time.perf_counter() - start
             )
@@ -256,6 +258,8 @@ def describe_object(
     model: Model, plan: pd.DataFrame, specs: list[DescriptorSpec], *, noise: bool = True
 ) -> pd.DataFrame:
     """Render the planned views of ``model`` and describe them (see :func:`descriptor_rows`)."""
+    from heatdata.experiments.views import render_views  # open3d: only for rendering
+
     return descriptor_rows(render_views(model, plan, noise=noise), plan, specs)
 
 

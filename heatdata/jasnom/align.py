@@ -13,10 +13,6 @@ from scipy.spatial.transform import Rotation
 from heatdata.errors import StitchError
 from heatdata.jasnom.boundary import MIN_BOUNDARY, Boundary, _as_loops
 from heatdata.jasnom.cost import (
-    ALONG,
-    ALPHA,
-    BETA,
-    GAMMA,
     ScanSurface,
     _Curve,
     _residuals,
@@ -25,6 +21,7 @@ from heatdata.jasnom.cost import (
     _Weights,
     _weights,
 )
+from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA
 
 log = logging.getLogger(__name__)
 

@@ -12,20 +12,6 @@ from heatdata.errors import StitchError
 from heatdata.io.models import Model
 from heatdata.jasnom.boundary import Boundary, _unit, resample_loop
 
-ALPHA = 4.0
-
-
-BETA = 1.0
-
-
-GAMMA = 0.0
-
-
-ALONG = 1.0
-
-
-SCAN_ALONG, SCAN_ROBUST = 0.1, 0.05
-
 
 @dataclass(frozen=True)
 class _Curve:

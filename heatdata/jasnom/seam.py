@@ -21,15 +21,8 @@ from heatdata.jasnom.boundary import (
     _unit,
     boundaries,
 )
-from heatdata.jasnom.cost import (
-    ALONG,
-    ALPHA,
-    BETA,
-    GAMMA,
-    SCAN_ALONG,
-    SCAN_ROBUST,
-    ScanSurface,
-)
+from heatdata.jasnom.cost import ScanSurface
+from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN_ROBUST
 
 log = logging.getLogger(__name__)
 

@@ -41,13 +41,14 @@ def draw_report(
     *,
     primary: str,
     config: dict,
+    libraries: list[str] | None = None,
 ) -> None:
     """Workflow step: the report's figures, tables and summary.
 
     ``output`` has ``precision, precision_table, confusion, view_angles, isomap, curves,
     misclassified, views, global_derivative, summary, summary_html``. The confusion
     folder holds an object and a class confusion matrix per descriptor and library size
-    (:data:`CONFUSION_PATTERN`).
+    (:data:`CONFUSION_PATTERN`); ``libraries`` are the run's library files, listed in the summary.
     """
     counts, _ = read_table(descriptors_path, columns=["object", "view_id", "n_vertices"])
     predictions, _ = read_table(predictions_path)
@@ -94,7 +95,7 @@ def draw_report(
             [("", "text", ["Columns: library views per object. " + RENDERED_NOTE]), ("", "table", table)],
         )
     )
-    sections = summary_sections(counts, catalog, table, config)
+    sections = summary_sections(counts, catalog, table, config, libraries or [])
     Path(output.summary).write_text(markdown("heatdata run", sections))
     Path(output.summary_html).write_text(html_page("heatdata run", sections))
 
@@ -130,8 +131,12 @@ def class_note(catalog: pd.DataFrame) -> list[str]:
     return []
 
 
-def summary_sections(counts: pd.DataFrame, catalog: pd.DataFrame, table: pd.DataFrame, config: dict) -> list:
+def summary_sections(
+    counts: pd.DataFrame, catalog: pd.DataFrame, table: pd.DataFrame, config: dict, libraries: list[str] | None = None
+) -> list:
     """The run summary as ``(heading, form, body)`` sections (form: text, list, table or yaml).
+
+    ``libraries``: the run's library files (``results/libraries/``), which ``heatdata recognize`` reads.
 
     Rendered by :func:`markdown` (``summary.md``) and :func:`html_page` (the report).
     """
@@ -146,12 +151,29 @@ def summary_sections(counts: pd.DataFrame, catalog: pd.DataFrame, table: pd.Data
         "Object precision: the share of test views whose nearest library view is of the same object; class "
         "precision: of the same class.",
     ]
+    library_notes = [
+        f"`{path}`" + (" (the primary descriptor)" if primary_library(path, config) else "") for path in libraries or []
+    ]
+    if library_notes:
+        library_notes.append(
+            "Recognize a depth frame against one: `heatdata recognize depth.png --intrinsics camera.json "
+            f"--library {(libraries or [''])[0]}` (a folder of frames with `--moves`: a sequence, thesis ch. 4)."
+        )
     return [
         ("", "text", [RENDERED_NOTE, *class_note(catalog)]),
         ("Run", "list", facts),
         ("Precision (%, all test views; columns: library views per object)", "table", table),
+        *([("Libraries (recognize new views against them)", "list", library_notes)] if library_notes else []),
         ("Run parameters", "yaml", yaml.safe_dump(dict(config), sort_keys=False).strip()),
     ]
+
+
+def primary_library(path: str, config: dict) -> bool:
+    """Whether a library file holds the run's primary descriptor at its largest library size."""
+    from heatdata.descriptors import file_name
+
+    largest = max(config["library_sizes"])
+    return Path(path).name == f"{file_name(config['primary_descriptor'])}-{largest}.parquet"
 
 
 def markdown(title: str, sections: list) -> str:

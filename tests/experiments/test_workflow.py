@@ -935,3 +935,155 @@ def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
         tmp_path / "run2", {**config, "stitch": {"pairs": [{**pair, "object": "plastic-cup"}]}}, "--dry-run"
     )
     assert duplicate.returncode != 0 and "already one of the run's objects" in duplicate.stdout + duplicate.stderr
+
+
+# -- libraries and `heatdata recognize` (issue 33) -----------------------------------------------------------
+
+
+def tiny_test_views(run: Path) -> list:
+    from heatdata.views.frames import frame_to_views
+
+    frames = [read_table(path)[0] for path in sorted((run / "results/views").glob("*.parquet"))]
+    return [v for frame in frames for v in frame_to_views(frame[frame["split"] == "test"])]
+
+
+@pytest.mark.slow
+def test_a_library_recognizes_every_test_view_as_classify_does(tiny_run):
+    import heatdata as hd
+
+    libraries = sorted((tiny_run / "results/libraries").glob("*.parquet"))
+    assert len(libraries) == len(tiny_config(**EXPERIMENTS)["descriptors"]) * 2
+    summary = (tiny_run / "results/summary.md").read_text()
+    assert all(str(path.relative_to(tiny_run)) in summary for path in libraries)
+    predictions, _ = read_table(tiny_run / "results/evaluation/predictions.parquet")
+    views = tiny_test_views(tiny_run)
+    checked = 0
+    for path in libraries:
+        if not path.name.endswith("-8.parquet") and not path.name.startswith("pvhk_polar_center"):
+            continue  # every descriptor at the larger size, the PVHK at both
+        library = hd.load_library(path)
+        expected = predictions[
+            (predictions["descriptor"] == library.descriptor) & (predictions["library_size"] == library.library_size)
+        ].set_index("view_id")
+        for view in views:
+            answer = library.recognize(view, k=2)
+            assert answer.best.object == expected.loc[view.view_id, "predicted_object"], (path.name, view.view_id)
+            assert answer.best.view_id == expected.loc[view.view_id, "predicted_view_id"], (path.name, view.view_id)
+            assert answer.best.distance == pytest.approx(expected.loc[view.view_id, "distance"], rel=1e-5)
+            assert [m.distance for m in answer.matches] == sorted(m.distance for m in answer.matches)
+            checked += 1
+    assert checked >= 11 * len(views)
+
+
+@pytest.mark.slow
+def test_heatdata_recognize_names_the_object_of_a_depth_png_and_follows_a_circle(tiny_run, tmp_path, capsys):
+    import json
+
+    import heatdata as hd
+    from heatdata.cli import main
+
+    library = tiny_run / "results/libraries/pvhk_polar_center_32-8.parquet"
+    models = {
+        r["object"]: hd.load_catalog_model(r)
+        for r in hd.read_catalog(ROOT / "data/models/catalog.csv").to_dict("records")
+    }
+    view = hd.render_view(models["beer-mug"], azimuth=100.0, elevation=30.0, seed=5)
+    hd.write_depth(view, tmp_path / "frame.png")
+    assert (
+        main(
+            [
+                "recognize",
+                str(tmp_path / "frame.png"),
+                "--intrinsics",
+                str(tmp_path / "frame.json"),
+                "--library",
+                str(library),
+                "--json",
+            ]
+        )
+        == 0
+    )
+    answer = json.loads(capsys.readouterr().out)
+    assert answer["object"] == "beer-mug" and answer["matches"][0]["object"] == "beer-mug"
+    assert {"distance", "azimuth", "label", "view_id"} <= set(answer["matches"][0])
+    assert (
+        main(
+            [
+                "recognize",
+                str(tmp_path / "frame.png"),
+                "--intrinsics",
+                str(tmp_path / "frame.json"),
+                "--library",
+                str(library),
+            ]
+        )
+        == 0
+    )
+    table = capsys.readouterr().out
+    assert "rank" in table and "recognized: beer-mug (mug)" in table
+
+    circle = tmp_path / "circle"
+    circle.mkdir()
+    for k, azimuth in enumerate(range(20, 380, 60)):  # six frames around the mug, 60 degrees apart
+        frame = hd.render_view(models["beer-mug"], azimuth=float(azimuth), elevation=30.0, seed=10 + k)
+        hd.write_depth(frame, circle / f"frame{k}.png")
+    for exact in ([], ["--exact"]):
+        assert main(["recognize", str(circle), "--moves", "60", "--library", str(library), *exact]) == 0
+        out = capsys.readouterr().out
+        assert "converged on beer-mug" in out, out
+        assert out.count("frame ") == 6
+
+
+@pytest.mark.slow
+def test_recognize_refuses_bad_frames_and_libraries_in_one_line(tiny_run, tmp_path, caplog, capsys):
+    import numpy as np
+
+    import heatdata as hd
+    from heatdata.cli import main
+    from heatdata.io.tables import write_table
+
+    library = tiny_run / "results/libraries/pvhk_polar_center_32-8.parquet"
+    view = tiny_test_views(tiny_run)[0]
+    hd.write_depth(view, tmp_path / "frame.png")
+    intrinsics = ["--intrinsics", str(tmp_path / "frame.json")]
+    empty = np.zeros((view.intrinsics["height"], view.intrinsics["width"]), np.uint8)
+    from PIL import Image
+
+    Image.fromarray(empty).save(tmp_path / "empty.mask.png")
+    frame_rows, metadata = read_table(library)
+    write_table(
+        frame_rows,
+        tmp_path / "other.parquet",
+        DESCRIPTOR_SCHEMA,
+        {"library": {**metadata["library"], "probe": [0.0] * len(metadata["library"]["probe"])}},
+    )
+    write_table(frame_rows, tmp_path / "table.parquet", DESCRIPTOR_SCHEMA, {})
+    cases = [
+        (["--library", str(library), "--mask", str(tmp_path / "empty.mask.png"), *intrinsics], "no valid pixel"),
+        (["--library", str(library), "--depth-range", "3", "4", *intrinsics], "no valid pixel"),
+        (["--library", str(tmp_path / "other.parquet"), *intrinsics], "describes views differently"),
+        (["--library", str(tmp_path / "table.parquet"), *intrinsics], "not a library file"),
+        (["--library", str(tmp_path / "missing.parquet"), *intrinsics], "missing.parquet"),
+        (["--library", str(library)], "needs --intrinsics"),
+    ]
+    for extra, message in cases:
+        caplog.clear()
+        assert main(["recognize", str(tmp_path / "frame.png"), *extra]) == 1, extra
+        errors = [r.getMessage() for r in caplog.records if r.levelname == "ERROR"]
+        assert len(errors) == 1 and "\n" not in errors[0] and message in errors[0], (extra, errors)
+    caplog.clear()
+    assert (
+        main(
+            [
+                "recognize",
+                str(tmp_path / "frame.png"),
+                str(tmp_path / "frame.png"),
+                *intrinsics,
+                "--library",
+                str(library),
+            ]
+        )
+        == 1
+    )
+    assert "give --moves" in caplog.records[-1].getMessage()
+    capsys.readouterr()

@@ -77,6 +77,7 @@ rule report_figures:
     params:
         primary=config["primary_descriptor"],
         config=config,
+        libraries=LIBRARIES,
         version=VERSION,
     log:
         f"{RESULTS}/logs/report_figures.log",
@@ -106,3 +107,31 @@ rule ablation:
         runtime=5,
     script:
         "../scripts/ablation.py"
+
+
+rule library:
+    input:
+        descriptors=f"{RESULTS}/descriptors.parquet",
+        time_scales=expand(f"{RESULTS}/time_scales/{{object}}.csv", object=OBJECTS) if FIXED_TIME else [],
+        fitted=lambda wildcards: [f"{RESULTS}/fitted/{wildcards.descriptor}.npz"] if wildcards.descriptor in FITTED else [],
+    output:
+        f"{RESULTS}/libraries/{{descriptor}}-{{size}}.parquet",
+    params:
+        descriptor=lambda wildcards: SPEC_FILES[wildcards.descriptor].name,
+        descriptors=config["descriptors"],
+        render=config["views"],
+        time_rule=config["time_scale_rule"],
+        version=VERSION,
+    wildcard_constraints:
+        descriptor="|".join(map(re.escape, SPEC_FILES)),
+        size=r"\d+",
+    log:
+        f"{RESULTS}/logs/library/{{descriptor}}-{{size}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/library/{{descriptor}}-{{size}}.tsv"
+    threads: 1
+    resources:
+        mem_mb=lambda wildcards, attempt: 2000 * attempt,
+        runtime=lambda wildcards, attempt: 10 * attempt,
+    script:
+        "../scripts/library.py"

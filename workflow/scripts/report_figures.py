@@ -13,4 +13,5 @@ draw_report(
     snakemake.output,
     primary=snakemake.params.primary,
     config=snakemake.params.config,
+    libraries=snakemake.params.libraries,
 )

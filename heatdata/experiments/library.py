@@ -1,0 +1,514 @@
+"""Built libraries (issue 33; thesis ch. 3-5): a run's library views in one self-describing file, and recognition.
+
+A library file is a Parquet table of :data:`heatdata.io.tables.DESCRIPTOR_SCHEMA` rows: the library views of one
+descriptor at one library size (``split = "train"``), and views independent of them (``split = "similarity"``)
+from which the particle filter learns which views look alike (eq. 4.6). Its metadata holds what describing a new
+view the same way needs: the descriptor spec with its options and anything fitted, the objects' time scales
+(Alg. 5.1, for the FT-PVHK), the run's render settings, the time rule of Alg. 5.2 and heatdata's version, and a
+*probe*: the descriptor of a fixed synthetic view. :func:`load_library` describes the probe again and refuses a
+library whose probe this heatdata describes differently, so a library is never compared with descriptors made
+another way.
+
+:meth:`Library.recognize` answers the thesis's question for one view (Alg. 3.1; Alg. 5.2 for a time-scaled kind):
+which objects it is nearest, and from which azimuth it is seen, the nearest library view's.
+:meth:`Library.recognize_sequence` follows a robot's views with their odometry (Alg. 4.1, or the exact filter).
+The workflow writes ``results/libraries/{descriptor}-{size}.parquet``; ``heatdata recognize`` reads them.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from heatdata.descriptors import DescriptorSpec, describe, kind_of
+from heatdata.errors import HeatdataError, LibraryError
+from heatdata.experiments.describe import descriptor_rows
+from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
+from heatdata.recognition.evaluate import TIME_RULES, library_subset
+from heatdata.typing import StrPath
+from heatdata.version import __version__
+from heatdata.views.depth import view_from_depth
+from heatdata.views.view import View
+
+log = logging.getLogger(__name__)
+
+#: the library file's layout; a file of another layout is refused
+LIBRARY_FORMAT = 1
+#: the metadata key of a library file
+LIBRARY_KEY = "library"
+#: how far this heatdata's probe descriptor may lie from the one stored (largest absolute difference)
+PROBE_TOLERANCE = 1e-6
+#: the fixed time a time-scaled kind describes the probe at
+PROBE_TIME = 2e-4
+#: independent views per library view kept for the particle filter's similarity (eq. 4.6)
+SIMILARITY_PER_VIEW = 1
+
+
+def probe_view() -> View:
+    """A fixed synthetic view (an 80 x 60 depth image of a coloured, asymmetric bump): what a library's probe
+    descriptor is computed on, through the same triangulation as a depth frame."""
+    height, width = 60, 80
+    intrinsics = {"fx": 75.0, "fy": 75.0, "cx": 39.5, "cy": 29.5, "width": width, "height": height}
+    v, u = np.mgrid[0:height, 0:width]
+    x, y = (u - 40.0) / 25.0, (v - 30.0) / 20.0
+    inside = x**2 + y**2 < 1.0
+    inside &= ~((x > 0.2) & (np.abs(y) < 0.15))  # a notch: the outline is not symmetric
+    depth = np.where(inside, 1.0 - 0.12 * np.exp(-2.0 * ((x + 0.2) ** 2 + y**2)) - 0.03 * x, np.nan)
+    rgb = np.stack([0.2 + 0.6 * (u / width), 0.3 + 0.5 * (v / height), 0.5 + 0.3 * np.sin(3 * x)], axis=-1)
+    depth_log = logging.getLogger("heatdata.views.depth")
+    level = depth_log.level
+    depth_log.setLevel(logging.WARNING)  # the probe is not the user's frame: its segmentation note is noise
+    try:
+        return view_from_depth(depth, intrinsics, np.clip(rgb, 0.0, 1.0), view_id="probe")
+    finally:
+        depth_log.setLevel(level)
+
+
+def probe_values(spec: DescriptorSpec) -> np.ndarray:
+    """The descriptor of ``spec`` on :func:`probe_view` (a time-scaled kind at :data:`PROBE_TIME`)."""
+    times = {spec.name: [PROBE_TIME]} if spec.impl.time_scaled else None
+    return np.asarray(describe(probe_view(), [spec], times=times)[0].values, dtype=np.float64)
+
+
+def _plain(value):
+    """An option's value as JSON: a spec (a combined kind's part) as the config's ``{kind, options...}``."""
+    if isinstance(value, DescriptorSpec):
+        return {"kind": value.kind, **_plain(value.options)}
+    if isinstance(value, dict):
+        return {name: _plain(v) for name, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def _spec_metadata(spec: DescriptorSpec) -> dict:
+    fitted = None if spec.fitted is None else {k: np.asarray(v).tolist() for k, v in spec.fitted.items()}
+    return {"kind": spec.kind, "options": _plain(spec.options), "fitted": fitted, "name": spec.name}
+
+
+def _spec_from_metadata(meta: dict) -> DescriptorSpec:
+    fitted = meta.get("fitted")
+    spec = DescriptorSpec(meta["kind"], **meta["options"])
+    if fitted is not None:
+        spec = spec.with_fitted({k: np.asarray(v) for k, v in fitted.items()})
+    if spec.name != meta["name"]:
+        raise LibraryError(f"the stored spec reads as {spec.name}, not {meta['name']}")
+    return spec
+
+
+def build_library(
+    descriptors: pd.DataFrame,
+    spec: DescriptorSpec,
+    size: int,
+    *,
+    time_scales: pd.DataFrame | None = None,
+    render: dict | None = None,
+    time_rule: str = "plausible",
+    source: str = "",
+) -> tuple[pd.DataFrame, dict]:
+    """A library's rows and metadata from a run's descriptor table (the workflow's rule ``library``).
+
+    Parameters
+    ----------
+    descriptors : pandas.DataFrame
+        A run's descriptor rows of ``spec`` (:data:`DESCRIPTOR_SCHEMA`).
+    spec : DescriptorSpec
+        The descriptor, with what it learned if its kind is fitted.
+    size : int
+        Library views per object (:func:`heatdata.recognition.evaluate.library_subset`).
+    time_scales : pandas.DataFrame, optional
+        The objects' time scales (``object, descriptor, source_rule, time_scale, n_views``), for a time-scaled kind.
+    render : dict, optional
+        The run's view settings (intrinsics, distance, elevation, noise), kept for the reader.
+    time_rule : {"plausible", "every"}
+        Which objects' time scales a time-scaled query is compared at (Alg. 5.2, as ``classify``).
+    source : str
+        Where the rows came from (the run's table), for the reader.
+
+    Returns
+    -------
+    rows : pandas.DataFrame
+        The library views (``split = "train"``, at their own object's time scale) and the independent views
+        (``split = "similarity"``).
+    metadata : dict
+        What :func:`load_library` needs besides the rows.
+    """
+    if time_rule not in TIME_RULES:
+        raise HeatdataError(f"unknown time_rule {time_rule!r} (use {' or '.join(TIME_RULES)})")
+    rows = descriptors[descriptors["descriptor"] == spec.name]
+    if rows.empty:
+        raise HeatdataError(f"no rows of descriptor {spec.name} to build a library from")
+    own = rows["time_object"].isin(["", None]) | (rows["time_object"] == rows["object"])
+    library = library_subset(rows[own & (rows["split"] == "train")], size)  # as classify chooses them
+    tests = rows[own & (rows["split"] == "test")]
+    independent = library_subset(tests.assign(split="train"), min(SIMILARITY_PER_VIEW * size, _views(tests)))
+    library, independent = _finite(library, spec), _finite(independent, spec)
+    if spec.impl.time_scaled and (time_scales is None or time_scales.empty):
+        raise HeatdataError(f"{spec.name}: a time-scaled kind's library needs the objects' time scales")
+    scales = None
+    if spec.impl.time_scaled and time_scales is not None:
+        scales = time_scales[time_scales["descriptor"] == spec.name][["object", "time_scale"]].to_dict("records")
+    metadata = {
+        "format": LIBRARY_FORMAT,
+        "heatdata_version": __version__,
+        "spec": _spec_metadata(spec),
+        "library_size": int(size),
+        "objects": sorted(library["object"].unique()),
+        "time_scales": scales,
+        "time_rule": time_rule,
+        "render": render or {},
+        "probe": probe_values(spec).tolist(),
+        "source": source,
+    }
+    frame = pd.concat([library.assign(split="train"), independent.assign(split="similarity")], ignore_index=True)
+    return frame, metadata
+
+
+def _finite(rows: pd.DataFrame, spec: DescriptorSpec) -> pd.DataFrame:
+    """The rows without NaN values: as ``classify`` leaves such library views out (logged)."""
+    finite = rows["values"].map(lambda v: bool(np.isfinite(v).all()))
+    if not finite.all():
+        log.warning("%s: %d views with NaN values (see their repairs) are left out", spec.name, (~finite).sum())
+    return rows[finite]
+
+
+def _views(rows: pd.DataFrame) -> int:
+    """Views per object of the object with the fewest (at least 1)."""
+    return max(1, int(rows.groupby("object")["view_id"].nunique().min())) if len(rows) else 1
+
+
+def write_library(rows: pd.DataFrame, metadata: dict, path: StrPath) -> None:
+    """Write a library file (Parquet; written whole, then renamed)."""
+    write_table(rows, Path(path), DESCRIPTOR_SCHEMA, {LIBRARY_KEY: metadata})
+
+
+@dataclass(frozen=True)
+class Match:
+    """One object a view is nearest: its distance, and the library view nearest to the query (whose azimuth
+    estimates the angle the query is seen from)."""
+
+    object: str
+    label: str
+    distance: float
+    azimuth: float
+    elevation: float
+    view_id: str
+
+
+@dataclass(frozen=True)
+class Recognition:
+    """What :meth:`Library.recognize` answers: the nearest objects, nearest first, and the query's repairs."""
+
+    descriptor: str
+    matches: list[Match]
+    repairs: list[str] = field(default_factory=list)
+
+    @property
+    def best(self) -> Match:
+        """The nearest object."""
+        return self.matches[0]
+
+    def to_dict(self) -> dict:
+        """The answer as plain types (``heatdata recognize --json``).
+
+        Returns
+        -------
+        dict
+            ``descriptor, object, label, azimuth`` of the best match, ``matches`` and ``repairs``.
+        """
+        return {
+            "descriptor": self.descriptor,
+            "object": self.best.object,
+            "label": self.best.label,
+            "azimuth": self.best.azimuth,
+            "matches": [m.__dict__ for m in self.matches],
+            "repairs": list(self.repairs),
+        }
+
+
+@dataclass(frozen=True)
+class SequenceStep:
+    """The filter's belief after one frame of a sequence (Alg. 4.1): the posterior over objects."""
+
+    frame: int
+    move: float
+    posterior: dict[str, float]
+    estimate: str
+    converged: bool
+
+    def to_dict(self) -> dict:
+        """The step as plain types (``heatdata recognize --json``).
+
+        Returns
+        -------
+        dict
+            ``frame, move, posterior, estimate, converged``.
+        """
+        return dict(self.__dict__)
+
+
+class Library:
+    """A built library: the library views of one descriptor, and how to describe and recognize a new view.
+
+    Made by :func:`load_library`.
+
+    Parameters
+    ----------
+    rows : pandas.DataFrame
+        The rows of :func:`build_library`: library views (``split = "train"``) and independent views
+        (``split = "similarity"``).
+    metadata : dict
+        Its metadata (:func:`build_library`).
+    path : str or Path
+        Where it was read from, for messages.
+    """
+
+    def __init__(self, rows: pd.DataFrame, metadata: dict, path: StrPath = "library"):
+        self.path = str(path)
+        self.metadata = metadata
+        self.spec = _spec_from_metadata(metadata["spec"])
+        self.descriptor = self.spec.name
+        self.time_rule = metadata["time_rule"]
+        self.library_size = int(metadata["library_size"])
+        self.render = metadata.get("render", {})
+        scales = metadata.get("time_scales")
+        self.time_scales = (
+            None
+            if scales is None
+            else pd.DataFrame(scales).assign(descriptor=self.descriptor, source_rule=str(self.spec.get("source")))
+        )
+        self.views = rows[rows["split"] == "train"].reset_index(drop=True)
+        self.independent = rows[rows["split"] == "similarity"].reset_index(drop=True)
+        if self.views.empty:
+            raise LibraryError(f"{self.path}: the library holds no library view")
+        self.objects = sorted(self.views["object"].unique())
+        self._values = np.stack(self.views["values"].to_numpy())
+        weights = self.views["weights"]
+        self._weights = None if weights.isna().any() else np.stack(weights.to_numpy())
+        self._by_object = self.views.groupby("object").indices
+        self._similarity: pd.DataFrame | None = None
+
+    def __repr__(self) -> str:
+        return (
+            f"Library({self.descriptor}, {len(self.objects)} objects x {self.library_size} views, "
+            f"heatdata {self.metadata['heatdata_version']}, {self.path})"
+        )
+
+    def describe(self, view: View) -> pd.DataFrame:
+        """The query rows of ``view``, described as the run described its test views.
+
+        Parameters
+        ----------
+        view : View
+            Any view.
+
+        Returns
+        -------
+        pandas.DataFrame
+            :data:`DESCRIPTOR_SCHEMA` rows: one, or one per object's time scale for a time-scaled kind.
+        """
+        plan = pd.DataFrame({"split": ["test"], "seed": [0]})
+        rows = descriptor_rows([view], plan, [self.spec], time_scales=self.time_scales)
+        bad = rows["values"].map(lambda v: not np.isfinite(v).all())
+        if bad.all():
+            reasons = "; ".join(sorted({r for rs in rows["repairs"] for r in rs if "failed" in r})) or "NaN values"
+            raise HeatdataError(f"{view.name}: {self.descriptor} cannot describe this view ({reasons})")
+        return rows[~bad]
+
+    def distances(self, query: pd.DataFrame) -> np.ndarray:
+        """The query's distance to each library view, by the kind's own distance (eq. 3.1, 5.14, chi-square).
+
+        Parameters
+        ----------
+        query : pandas.DataFrame
+            The rows of :meth:`describe`.
+
+        Returns
+        -------
+        (N,) ndarray
+            One distance per row of :attr:`views`; inf where Alg. 5.2's time rule does not compare them.
+        """
+        impl = kind_of(self.spec.kind)
+        if not impl.time_scaled:
+            return impl.distance_matrix(np.stack(query["values"].to_numpy())[:1], self._values)[0]
+        distance = np.full(len(self.views), np.inf)
+        at = query.set_index("time_object")
+        allowed = set(at.index)
+        if self.time_rule == "plausible":
+            reachable = set(at.index[at["time"] <= at["t_global"]])
+            allowed = reachable or allowed
+        for obj, positions in self._by_object.items():
+            if obj not in allowed:
+                continue
+            row = at.loc[obj]
+            weights = row["weights"]
+            distance[positions] = impl.distance_matrix(
+                np.asarray(row["values"], dtype=np.float64)[None],
+                self._values[positions],
+                query_weights=None if weights is None else np.asarray(weights, dtype=np.float64)[None],
+                library_weights=None if self._weights is None else self._weights[positions],
+            )[0]
+        return distance
+
+    def recognize(self, view: View, k: int = 5) -> Recognition:
+        """The ``k`` objects nearest ``view`` (Alg. 3.1; Alg. 5.2 for a time-scaled kind), nearest first.
+
+        Each object's distance is that of its library view nearest the query; that view's azimuth estimates the
+        angle ``view`` is seen from. The first match is what ``classify`` predicts for the same view.
+
+        Parameters
+        ----------
+        view : View
+            A rendered view, a depth frame's or an organized cloud's.
+        k : int
+            How many objects to return.
+
+        Returns
+        -------
+        Recognition
+        """
+        if k < 1 or int(k) != k:
+            raise HeatdataError(f"k must be a whole number >= 1, got {k}")
+        query = self.describe(view)
+        distance = self.distances(query)
+        matches = []
+        for obj, positions in self._by_object.items():
+            best = positions[int(np.argmin(distance[positions]))]
+            if np.isfinite(distance[best]):
+                row = self.views.iloc[best]
+                matches.append(
+                    Match(
+                        str(obj),
+                        str(row["label"]),
+                        float(distance[best]),
+                        float(row["azimuth"]),
+                        float(row["elevation"]),
+                        str(row["view_id"]),
+                    )
+                )
+        matches.sort(key=lambda m: (m.distance, self.objects.index(m.object)))
+        repairs = sorted({r for rs in query["repairs"] for r in rs})
+        return Recognition(self.descriptor, matches[: int(k)], repairs)
+
+    def _table(self, rows: pd.DataFrame) -> pd.DataFrame:
+        return rows[["object", "azimuth", "values"]].assign(kind=self.spec.kind)
+
+    def similarity(self) -> pd.DataFrame:
+        """mu of eq. 4.6 between the library's views, learned from its independent views (computed once).
+
+        Returns
+        -------
+        pandas.DataFrame
+            As :func:`heatdata.learn_similarity`.
+        """
+        from heatdata.recognition.multiview.appearance import learn_similarity
+
+        if self._similarity is None:
+            if self.independent.empty:
+                raise LibraryError(f"{self.path}: no independent views to learn which views look alike (eq. 4.6)")
+            self._similarity = learn_similarity(self._table(self.views), self._table(self.independent))
+        return self._similarity
+
+    def recognize_sequence(
+        self,
+        views: Sequence[View],
+        moves: Sequence[float],
+        *,
+        exact: bool = False,
+        particles: int = 100,
+        seed: int = 0,
+    ) -> list[SequenceStep]:
+        """Follow views taken around an object (Alg. 4.1): the posterior over objects after each.
+
+        Parameters
+        ----------
+        views : sequence of View
+            The frames, in the order they were taken.
+        moves : sequence of float
+            The azimuth (degrees) the sensor moved between consecutive frames: one per gap, or one for all.
+        exact : bool
+            The exhaustive filter (every object at every degree) instead of the particle filter.
+        particles : int
+            The particle filter's particles.
+        seed : int
+            Its seed.
+
+        Returns
+        -------
+        list of SequenceStep
+            One per frame.
+        """
+        from heatdata.recognition.multiview.filters import ExhaustiveFilter, ParticleFilter
+
+        if self.spec.impl.time_scaled:
+            raise HeatdataError(
+                f"{self.descriptor}: a time-scaled kind describes a view per object, which Alg. 4.1's appearance "
+                "model does not take; use a library of another descriptor for a sequence"
+            )
+        if not views:
+            raise HeatdataError("a sequence needs at least one frame")
+        gaps = list(moves)
+        if len(gaps) == 1 and len(views) > 2:
+            gaps = gaps * (len(views) - 1)
+        if len(gaps) != len(views) - 1 and not (len(views) == 1 and len(gaps) <= 1):
+            raise HeatdataError(
+                f"{len(views)} frames need {len(views) - 1} moves (or one for every gap), got {len(gaps)}"
+            )
+        if not all(np.isfinite(gaps)):
+            raise HeatdataError(f"moves must be finite angles in degrees, got {gaps}")
+        table = self._table(self.views)
+        belief = ExhaustiveFilter(table) if exact else ParticleFilter(table, self.similarity(), particles, seed=seed)
+        steps = []
+        for frame, view in enumerate(views):
+            move = float(gaps[frame - 1]) if frame else 0.0
+            values = self.describe(view)["values"].iloc[0]
+            belief.step([np.asarray(values, dtype=np.float64)], move)
+            steps.append(SequenceStep(frame, move, belief.posterior(), belief.estimate, bool(belief.converged)))
+        return steps
+
+
+def load_library(path: StrPath) -> Library:
+    """Read a library file and check that this heatdata describes views as the one that built it.
+
+    Parameters
+    ----------
+    path : str or Path
+        A file the workflow wrote (``results/libraries/{descriptor}-{size}.parquet``).
+
+    Returns
+    -------
+    Library
+
+    Raises
+    ------
+    LibraryError
+        Not a library file, another layout, or a probe this heatdata describes differently.
+    """
+    rows, run = read_table(Path(path), schema=DESCRIPTOR_SCHEMA)
+    metadata = run.get(LIBRARY_KEY)
+    if not isinstance(metadata, dict):
+        raise LibraryError(f"{path}: not a library file (build one with the workflow: results/libraries/)")
+    if metadata.get("format") != LIBRARY_FORMAT:
+        raise LibraryError(
+            f"{path}: a library of layout {metadata.get('format')}; this heatdata reads layout {LIBRARY_FORMAT}"
+        )
+    try:
+        library = Library(rows, metadata, path)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise LibraryError(f"{path}: a damaged library file ({type(exc).__name__}: {exc})") from None
+    probe = np.asarray(metadata["probe"], dtype=np.float64)
+    now = probe_values(library.spec)
+    if now.shape != probe.shape or not np.allclose(now, probe, atol=PROBE_TOLERANCE, rtol=0, equal_nan=True):
+        gap = np.nanmax(np.abs(now - probe)) if now.shape == probe.shape else float("inf")
+        raise LibraryError(
+            f"{path}: built by heatdata {metadata['heatdata_version']}, whose {library.descriptor} describes views "
+            f"differently from this heatdata {__version__} (probe off by {gap:.2g}): rebuild the library"
+        )
+    return library

@@ -1,0 +1,114 @@
+"""Library files (issue 33): built from descriptor rows, read back whole, refused when they would describe
+differently, and the answers of recognize and recognize_sequence."""
+
+import numpy as np
+import pandas as pd
+import pytest
+from conftest import ROOT
+
+import heatdata as hd
+from heatdata.errors import HeatdataError, LibraryError
+from heatdata.experiments.describe import descriptor_rows
+from heatdata.experiments.library import LIBRARY_KEY, build_library, probe_values, write_library
+from heatdata.experiments.views import render_views, view_plan
+from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
+
+OBJECTS = ["coffee-cup", "beer-mug", "milk-carton"]
+SPEC = hd.DescriptorSpec("pvhk", 32, "center", "polar")
+
+
+@pytest.fixture(scope="module")
+def models():
+    catalog = hd.read_catalog(ROOT / "data/models/catalog.csv")
+    return {row["object"]: hd.load_catalog_model(row) for row in catalog.to_dict("records") if row["object"] in OBJECTS}
+
+
+@pytest.fixture(scope="module")
+def rows(models):
+    parts = []
+    for obj, model in models.items():
+        plan = view_plan([obj], 8, 4, elevation=30.0, distance=1.0, seed=0)
+        parts.append(descriptor_rows(render_views(model, plan), plan, [SPEC]))
+    return pd.concat(parts, ignore_index=True)
+
+
+@pytest.fixture(scope="module")
+def library_file(rows, tmp_path_factory):
+    path = tmp_path_factory.mktemp("library") / "pvhk-8.parquet"
+    library, metadata = build_library(rows, SPEC, 8, render={"distance": 1.0}, source="test")
+    write_library(library, metadata, path)
+    return path
+
+
+def test_the_probe_is_the_same_every_time_and_differs_between_descriptors():
+    a, b = probe_values(SPEC), probe_values(SPEC)
+    assert np.array_equal(a, b) and a.shape == (32,) and np.isfinite(a).all()
+    assert not np.allclose(a, probe_values(hd.DescriptorSpec("pvhk", 32, "closest", "polar")))
+
+
+def test_a_library_file_reads_back_whole(library_file, rows):
+    library = hd.load_library(library_file)
+    assert library.descriptor == SPEC.name and library.library_size == 8 and library.objects == sorted(OBJECTS)
+    assert len(library.views) == 8 * len(OBJECTS) and set(library.views["split"]) == {"train"}
+    assert len(library.independent) == 4 * len(OBJECTS)  # up to one per library view, from the test views
+    assert library.render == {"distance": 1.0} and library.metadata["heatdata_version"] == hd.__version__
+    assert "pvhk/polar/center/32" in repr(library)
+
+
+def test_recognize_lists_the_nearest_objects_and_the_nearest_views_azimuth(library_file, models):
+    library = hd.load_library(library_file)
+    view = hd.render_view(models["milk-carton"], azimuth=95.0, elevation=30.0, seed=3)
+    answer = library.recognize(view, k=2)
+    assert answer.best.object == "milk-carton" and len(answer.matches) == 2
+    assert answer.matches[0].distance <= answer.matches[1].distance
+    distances = library.distances(library.describe(view))
+    own = library.views["object"] == "milk-carton"
+    assert answer.best.distance == pytest.approx(distances[own.to_numpy()].min())
+    assert answer.best.azimuth in set(library.views.loc[own, "azimuth"])
+    assert answer.to_dict()["object"] == "milk-carton"
+    assert len(library.recognize(view, k=10).matches) == len(OBJECTS)
+    with pytest.raises(HeatdataError, match="k must be"):
+        library.recognize(view, k=0)
+
+
+def test_a_sequence_gathers_evidence_and_checks_its_moves(library_file, models):
+    library = hd.load_library(library_file)
+    frames = [hd.render_view(models["beer-mug"], azimuth=a, elevation=30.0, seed=a) for a in (10, 100, 190)]
+    for exact in (False, True):
+        steps = library.recognize_sequence(frames, [90.0], exact=exact, particles=30)
+        assert [s.frame for s in steps] == [0, 1, 2] and [s.move for s in steps] == [0.0, 90.0, 90.0]
+        assert steps[-1].estimate == "beer-mug"
+        assert sum(steps[-1].posterior.values()) == pytest.approx(1.0)
+    with pytest.raises(HeatdataError, match="3 frames need 2 moves"):
+        library.recognize_sequence(frames, [90.0, 90.0, 90.0])
+    with pytest.raises(HeatdataError, match="finite"):
+        library.recognize_sequence(frames, [np.nan])
+
+
+def test_a_library_that_would_describe_differently_is_refused(library_file, tmp_path):
+    rows, run = read_table(library_file)
+    tampered = {**run[LIBRARY_KEY], "probe": (np.asarray(run[LIBRARY_KEY]["probe"]) + 1e-3).tolist()}
+    write_table(rows, tmp_path / "old.parquet", DESCRIPTOR_SCHEMA, {LIBRARY_KEY: tampered})
+    with pytest.raises(LibraryError, match=r"describes views differently .* \(probe off by 0.001\)"):
+        hd.load_library(tmp_path / "old.parquet")
+    write_table(rows, tmp_path / "layout.parquet", DESCRIPTOR_SCHEMA, {LIBRARY_KEY: {**run[LIBRARY_KEY], "format": 0}})
+    with pytest.raises(LibraryError, match="layout 0"):
+        hd.load_library(tmp_path / "layout.parquet")
+    write_table(rows, tmp_path / "table.parquet", DESCRIPTOR_SCHEMA, {})
+    with pytest.raises(LibraryError, match="not a library file"):
+        hd.load_library(tmp_path / "table.parquet")
+    broken = {**run[LIBRARY_KEY], "spec": {"kind": "pvhk", "options": {"samples": "many"}, "name": "x", "fitted": None}}
+    write_table(rows, tmp_path / "broken.parquet", DESCRIPTOR_SCHEMA, {LIBRARY_KEY: broken})
+    with pytest.raises(HeatdataError):
+        hd.load_library(tmp_path / "broken.parquet")
+
+
+def test_library_views_with_nan_values_are_left_out(rows):
+    spoiled = rows.copy()
+    first = spoiled.index[(spoiled["split"] == "train")][0]
+    spoiled.at[first, "values"] = [np.nan] * 32
+    library, _ = build_library(spoiled, SPEC, 8)
+    assert spoiled.at[first, "view_id"] not in set(library["view_id"])
+    assert (library["split"] == "train").sum() == 8 * len(OBJECTS) - 1  # chosen as classify does, then left out
+    with pytest.raises(HeatdataError, match="no rows of descriptor"):
+        build_library(rows, hd.DescriptorSpec("esf"), 8)

@@ -1,0 +1,26 @@
+"""A library file of one descriptor and library size, which `heatdata recognize` reads (rule library)."""
+
+import pandas as pd
+
+from heatdata.descriptors import DescriptorSpec
+from heatdata.experiments.describe import load_fitted
+from heatdata.experiments.library import build_library, write_library
+from heatdata.io.tables import read_table
+from heatdata.log import setup_logging
+
+setup_logging(path=snakemake.log[0])
+name = snakemake.params.descriptor
+(spec,) = [s for s in (DescriptorSpec(**d) for d in snakemake.params.descriptors) if s.name == name]
+(spec,) = load_fitted([spec], {name: snakemake.input.fitted[0]} if snakemake.input.fitted else {})
+rows, _ = read_table(snakemake.input.descriptors, filters=[("descriptor", "==", name)])
+scales = pd.concat([pd.read_csv(p) for p in snakemake.input.time_scales]) if snakemake.input.time_scales else None
+library, metadata = build_library(
+    rows,
+    spec,
+    int(snakemake.wildcards.size),
+    time_scales=scales,
+    render=snakemake.params.render,
+    time_rule=snakemake.params.time_rule,
+    source=snakemake.input.descriptors,
+)
+write_library(library, metadata, snakemake.output[0])
