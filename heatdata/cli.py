@@ -509,6 +509,32 @@ def _number(low: float | None = None, *, positive: bool = False, whole: bool = F
     return parse
 
 
+def _frame_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of a depth frame or an organized cloud (view-from-depth, recognize)."""
+    parser.add_argument("--intrinsics", type=Path, help="JSON or YAML: fx, fy, cx, cy, width, height (depth images)")
+    parser.add_argument("--rgb", type=Path, help="colour image registered to the depth image")
+    parser.add_argument("--mask", type=Path, help="image whose non-zero pixels are the object's")
+    parser.add_argument(
+        "--depth-range",
+        type=_number(0.0),
+        nargs=2,
+        metavar=("NEAR", "FAR"),
+        help="without a mask: keep the pixels between these depths, metres",
+    )
+    parser.add_argument(
+        "--scale",
+        type=_number(positive=True),
+        default=1.0,
+        help="cloud units to metres (default 1; MeshLab range maps are often mm: 0.001)",
+    )
+    parser.add_argument(
+        "--max-depth-jump",
+        type=_number(positive=True),
+        default=MAX_DEPTH_JUMP,
+        help=f"relative depth step that cuts the mesh (default {MAX_DEPTH_JUMP})",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="heatdata",
@@ -580,28 +606,7 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         help="output .npz view and/or .ply mesh with colours (repeatable)",
     )
-    depth.add_argument("--intrinsics", type=Path, help="JSON or YAML: fx, fy, cx, cy, width, height (depth images)")
-    depth.add_argument("--rgb", type=Path, help="colour image registered to the depth image")
-    depth.add_argument("--mask", type=Path, help="image whose non-zero pixels are the object's")
-    depth.add_argument(
-        "--depth-range",
-        type=_number(0.0),
-        nargs=2,
-        metavar=("NEAR", "FAR"),
-        help="without a mask: keep the pixels between these depths, metres",
-    )
-    depth.add_argument(
-        "--scale",
-        type=_number(positive=True),
-        default=1.0,
-        help="cloud units to metres (default 1; MeshLab range maps are often mm: 0.001)",
-    )
-    depth.add_argument(
-        "--max-depth-jump",
-        type=_number(positive=True),
-        default=MAX_DEPTH_JUMP,
-        help=f"relative depth step that cuts the mesh (default {MAX_DEPTH_JUMP})",
-    )
+    _frame_arguments(depth)
     depth.set_defaults(func=cmd_view_from_depth)
 
     join = sub.add_parser(
@@ -724,23 +729,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="depth image (.png 16-bit mm, .npy m), organized cloud (.pcd, .ply), view (.npz), or a folder of them",
     )
     rec.add_argument("--library", type=Path, required=True, help="a library file (results/libraries/*.parquet)")
-    rec.add_argument("--intrinsics", type=Path, help="JSON or YAML: fx, fy, cx, cy, width, height (depth images)")
-    rec.add_argument("--rgb", type=Path, help="colour image registered to the depth image")
-    rec.add_argument("--mask", type=Path, help="image whose non-zero pixels are the object's")
-    rec.add_argument(
-        "--depth-range",
-        type=_number(0.0),
-        nargs=2,
-        metavar=("NEAR", "FAR"),
-        help="without a mask: keep the pixels between these depths, metres",
-    )
-    rec.add_argument("--scale", type=_number(positive=True), default=1.0, help="cloud units to metres (default 1)")
-    rec.add_argument(
-        "--max-depth-jump",
-        type=_number(positive=True),
-        default=MAX_DEPTH_JUMP,
-        help=f"relative depth step that cuts the mesh (default {MAX_DEPTH_JUMP})",
-    )
+    _frame_arguments(rec)
     rec.add_argument("-k", type=_number(1, whole=True), default=5, help="objects to list (default 5)")
     rec.add_argument("--json", action="store_true", help="print JSON for programs")
     rec.add_argument(

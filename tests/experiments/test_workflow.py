@@ -989,36 +989,12 @@ def test_heatdata_recognize_names_the_object_of_a_depth_png_and_follows_a_circle
     }
     view = hd.render_view(models["beer-mug"], azimuth=100.0, elevation=30.0, seed=5)
     hd.write_depth(view, tmp_path / "frame.png")
-    assert (
-        main(
-            [
-                "recognize",
-                str(tmp_path / "frame.png"),
-                "--intrinsics",
-                str(tmp_path / "frame.json"),
-                "--library",
-                str(library),
-                "--json",
-            ]
-        )
-        == 0
-    )
+    command = ["recognize", str(tmp_path / "frame.png"), "--intrinsics", str(tmp_path / "frame.json")]
+    assert main([*command, "--library", str(library), "--json"]) == 0
     answer = json.loads(capsys.readouterr().out)
     assert answer["object"] == "beer-mug" and answer["matches"][0]["object"] == "beer-mug"
     assert {"distance", "azimuth", "label", "view_id"} <= set(answer["matches"][0])
-    assert (
-        main(
-            [
-                "recognize",
-                str(tmp_path / "frame.png"),
-                "--intrinsics",
-                str(tmp_path / "frame.json"),
-                "--library",
-                str(library),
-            ]
-        )
-        == 0
-    )
+    assert main([*command, "--library", str(library)]) == 0
     table = capsys.readouterr().out
     assert "rank" in table and "recognized: beer-mug (mug)" in table
 
