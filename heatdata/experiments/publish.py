@@ -9,11 +9,13 @@ cut from a run's precision, a figure copied from a run), then :func:`record` wri
 from __future__ import annotations
 
 import fcntl
+import hashlib
 import os
 import platform
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Sequence
 from pathlib import Path
@@ -124,7 +126,8 @@ def record(
             "machine": machine(),
         }
     )
-    with open(path.with_name(path.name + ".lock"), "w") as lock:
+    key = hashlib.sha1(str(path.resolve()).encode()).hexdigest()[:16]
+    with open(Path(tempfile.gettempdir()) / f"heatdata-manifest-{key}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         table = read_manifest(path)
         table = pd.concat([table[~table["file"].isin(rows["file"])], rows], ignore_index=True)
