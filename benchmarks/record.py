@@ -20,7 +20,9 @@ def write(figures: list[tuple[str, float, str]], name: str | None = None) -> Pat
     name = name or Path(sys.argv[0]).stem
     RESULTS.mkdir(exist_ok=True)
     table = pd.DataFrame(figures, columns=["figure", "value", "unit"]).assign(
-        machine=machine(), commit=commit(RESULTS.parents[1]), date=datetime.date.today().isoformat()
+        machine=machine(),
+        commit=commit(RESULTS.parents[1], exclude=("benchmarks/results",)),
+        date=datetime.date.today().isoformat(),
     )
     path = RESULTS / f"{name}.csv"
     table[COLUMNS].to_csv(path, index=False, float_format="%.6g")

@@ -74,6 +74,8 @@ PEOPLE_RUNS = {
 RUMP = "results/rump_proxy"  # the proxy's intermediate tables (scripts/rump_proxy.py reads no run)
 
 MANIFEST = "docs/results/MANIFEST.csv"
+#: the folders the targets write (their changes do not make a checkout's commit ``+changes``)
+PUBLISHED = ("docs/results", "docs/images")
 #: ``wall_seconds``: the docs job's own time (the runs it reads have their own ``benchmark:`` files); empty for a file
 #: made before its target existed
 MANIFEST_COLUMNS = ["file", "target", "config", "commit", "wall_seconds", "machine"]
@@ -85,14 +87,19 @@ def machine() -> str:
     return f"{os.cpu_count()} cores, {memory:.0f} GB, {platform.machine()}, Python {platform.python_version()}"
 
 
-def commit(root: str | Path = ".") -> str:
-    """The checkout's commit, with ``+changes`` when files git tracks differ from it; ``unknown`` outside git."""
+def commit(root: str | Path = ".", exclude: Sequence[str] = ()) -> str:
+    """The checkout's commit, with ``+changes`` when files git tracks differ from it (outside ``exclude``, the
+    folders a target writes); ``unknown`` outside git."""
+    pathspec = ["--", ".", *(f":(exclude){folder}" for folder in exclude)] if exclude else []
     try:
         head = subprocess.run(
             ["git", "rev-parse", "--short", "HEAD"], cwd=root, capture_output=True, text=True, check=False
         )
         dirty = subprocess.run(
-            ["git", "status", "--porcelain", "--untracked-files=no"], cwd=root, capture_output=True, check=False
+            ["git", "status", "--porcelain", "--untracked-files=no", *pathspec],
+            cwd=root,
+            capture_output=True,
+            check=False,
         )
     except OSError:
         return "unknown"
@@ -112,16 +119,24 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
 
 
 def record(
-    manifest: str | Path, files: Sequence[str], target: str, configs: Sequence[str], seconds: float, root: str = "."
+    manifest: str | Path,
+    files: Sequence[str],
+    target: str,
+    configs: Sequence[str],
+    seconds: float,
+    source: str | None = None,
 ) -> None:
-    """Replace the manifest rows of ``files`` by this run's (under a lock: targets may finish together)."""
+    """Replace the manifest rows of ``files`` by this run's (under a lock: targets may finish together).
+
+    ``source``: the commit the files were made at (default: the checkout's now, published folders aside).
+    """
     path = Path(manifest)
     rows = pd.DataFrame(
         {
             "file": list(files),
             "target": target,
             "config": " ".join(configs) or "none",
-            "commit": commit(root),
+            "commit": source or commit(exclude=PUBLISHED),
             "wall_seconds": f"{seconds:.0f}",
             "machine": machine(),
         }
@@ -185,6 +200,7 @@ def publish(
     ``{"labelled": [column, {label: csv}, out]}`` (each labelled in a first column).
     """
     start = time.perf_counter()
+    source = commit(exclude=PUBLISHED)  # before the steps write anything
     with open(log_path, "a") as log:
         for step in steps:
             (kind, arguments), *_ = step.items()
@@ -207,7 +223,7 @@ def publish(
     missing = [path for path in outputs if not Path(path).is_file()]
     if missing:
         raise HeatdataError(f"{target}: its steps did not write {', '.join(missing)}")
-    record(manifest, outputs, target, configs, time.perf_counter() - start)
+    record(manifest, outputs, target, configs, time.perf_counter() - start, source)
 
 
 class Target(NamedTuple):

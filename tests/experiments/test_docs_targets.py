@@ -181,3 +181,23 @@ def test_a_step_that_fails_or_writes_nothing_is_an_error(tmp_path):
 def test_the_reproduce_page_lists_every_target():
     page = (ROOT / "docs/guide/reproduce.md").read_text()
     assert all(f"| `{name}` |" in page for name in TARGETS), [n for n in TARGETS if f"| `{n}` |" not in page]
+
+
+def test_the_commit_is_marked_changed_by_edits_but_not_by_the_published_files(tmp_path):
+    def git(*args):
+        subprocess.run(["git", *args], cwd=tmp_path, check=True, capture_output=True)
+
+    git("init", "-q")
+    (tmp_path / "docs/results").mkdir(parents=True)
+    (tmp_path / "docs/results/a.csv").write_text("x\n")
+    (tmp_path / "code.py").write_text("pass\n")
+    git("add", "-A")
+    git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "-m", "one")
+    clean = publish.commit(tmp_path, exclude=publish.PUBLISHED)
+    assert clean and "+" not in clean
+    (tmp_path / "docs/results/a.csv").write_text("y\n")
+    assert publish.commit(tmp_path, exclude=publish.PUBLISHED) == clean
+    assert publish.commit(tmp_path) == clean + "+changes"
+    (tmp_path / "code.py").write_text("print()\n")
+    assert publish.commit(tmp_path, exclude=publish.PUBLISHED) == clean + "+changes"
+    assert publish.commit(tmp_path / "nowhere") == "unknown"
