@@ -319,16 +319,18 @@ def similarity_matrix(model: AppearanceModel, similarity: pd.DataFrame) -> np.nd
     missing = sorted(set(SIMILARITY_COLUMNS) - set(similarity.columns))
     if missing:
         raise HeatdataError(f"similarity table lacks column(s) {', '.join(missing)}")
-    keys = list(zip(model.labels["object"], model.labels["azimuth"], strict=True))
-    table_keys = set(zip(similarity["object"], similarity["azimuth"], strict=True))
-    if table_keys != set(keys) or len(similarity) != len(keys) ** 2:
+    labels = pd.MultiIndex.from_arrays([model.labels["object"].astype(str), model.labels["azimuth"].astype(float)])
+    rows, cols = (  # vectorized: a chairs library has 2,320 labels, so 5.4 million (s, s') rows
+        labels.get_indexer(pd.MultiIndex.from_arrays([similarity[o].astype(str), similarity[a].astype(float)]))
+        for o, a in (("object", "azimuth"), ("similar_object", "similar_azimuth"))
+    )
+    whole = len(similarity) == len(labels) ** 2 and len(np.unique(rows[rows >= 0])) == len(labels)
+    if not whole or (rows < 0).any() or (cols < 0).any():
+        table_labels = similarity[["object", "azimuth"]].drop_duplicates()
         raise HeatdataError(
-            f"the similarity table ({len(table_keys)} labels, {len(similarity)} rows) does not "
-            f"match the library ({len(keys)} labels): learn it on this library"
+            f"the similarity table ({len(table_labels)} labels, {len(similarity)} rows) does not "
+            f"match the library ({len(labels)} labels): learn it on this library"
         )
-    position = {key: k for k, key in enumerate(keys)}
-    mu = np.zeros((len(keys), len(keys)))
-    rows = [position[k] for k in zip(similarity["object"], similarity["azimuth"], strict=True)]
-    cols = [position[k] for k in zip(similarity["similar_object"], similarity["similar_azimuth"], strict=True)]
+    mu = np.zeros((len(labels), len(labels)))
     mu[rows, cols] = np.nan_to_num(similarity["similarity"].to_numpy(dtype=np.float64), nan=0.0)
     return mu
