@@ -79,6 +79,15 @@ def frames(run: Path, folder: Path, count: int) -> list[tuple[str, str]]:
     return written
 
 
+def _circle(run: Path, obj: str) -> list:
+    """Every test view of ``obj`` in the run, in azimuth order."""
+    from heatdata.io.tables import read_table
+    from heatdata.views.frames import frame_to_views
+
+    table, _ = read_table(run / "views" / f"{obj}.parquet", filters=[("split", "==", "test")])
+    return frame_to_views(table.sort_values("azimuth"))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("run", type=Path, help="a run's results folder holding libraries/ and views/")
@@ -134,12 +143,21 @@ def main() -> None:
             answer = library.recognize(view, k=5)
             warm.append(time.perf_counter() - tic)
             right += answer.best.object == truth
+        sequence = {}
+        for exact in (False, True):  # one object's test views in a row, as a robot circling it would see them
+            circle = _circle(args.run, stream[0][1])
+            tic = time.perf_counter()
+            steps = library.recognize_sequence(circle, [360.0 / len(circle)], exact=exact)
+            sequence[exact] = (time.perf_counter() - tic, len(circle), steps[-1].estimate == stream[0][1])
     stages = {name: sorted(run[name] for run in cold)[len(cold) // 2] for name in cold[0] if name != "right"}
     stages["`heatdata recognize --json`, wall time"] = sorted(wall for wall, _ in command)[len(command) // 2]
     print(f"{library!r}; {args.cold} cold processes (median) and {len(warm)} warm frames")
     for name, seconds in stages.items():
         print(f"  cold: {name:40s} {seconds * 1e3:7.0f} ms")
     print(f"  warm: per frame, median {np.median(warm) * 1e3:.0f} ms, slowest {max(warm) * 1e3:.0f} ms")
+    for exact, (seconds, count, ok) in sequence.items():
+        kind = "exhaustive filter" if exact else "particle filter"
+        print(f"  sequence of {count} frames, {kind}: {seconds:.2f} s, right: {ok}")
     print(
         f"  right answers: cold {sum(r['right'] for r in cold)} of {len(cold)}, the command "
         f"{sum(ok for _, ok in command)} of {len(command)}, warm {right} of {len(warm)}"
@@ -153,6 +171,10 @@ def main() -> None:
             ("warm: per frame, median", float(np.median(warm)) * 1e3, "ms"),
             ("warm: per frame, slowest", max(warm) * 1e3, "ms"),
             ("warm: right answers", right / len(warm), "share"),
+            *(
+                (f"a sequence of {count} frames, {'exhaustive filter' if exact else 'particle filter'}", seconds, "s")
+                for exact, (seconds, count, _) in sequence.items()
+            ),
             ("peak RSS of the warm process", peak, "MB"),
         ]
     )
