@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from heatdata.descriptors import DescriptorSpec, describe, kind_of
+from heatdata.descriptors import COLOR_KIND, DescriptorSpec, describe, kind_of
 from heatdata.errors import HeatdataError, LibraryError
 from heatdata.experiments.describe import descriptor_rows
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
@@ -91,6 +91,13 @@ def _plain(value):
 def _spec_metadata(spec: DescriptorSpec) -> dict:
     fitted = None if spec.fitted is None else {k: np.asarray(v).tolist() for k, v in spec.fitted.items()}
     return {"kind": spec.kind, "options": _plain(spec.options), "fitted": fitted, "name": spec.name}
+
+
+def uses_colour(spec: DescriptorSpec) -> bool:
+    """Whether ``spec`` compares the views' colours (a C-PVHK, a kind's colour option, a combined kind's part)."""
+    if spec.kind == COLOR_KIND or spec.get("color") not in (None, "none"):
+        return True
+    return any(uses_colour(part) for part in spec.get("parts") or ())
 
 
 def _spec_from_metadata(meta: dict) -> DescriptorSpec:
@@ -378,6 +385,7 @@ class Library:
             raise HeatdataError(f"k must be a whole number >= 1, got {k}")
         query = self.describe(view)
         distance = self.distances(query)
+        notes = self._colour_note(view)
         matches = []
         for obj, positions in self._by_object.items():
             best = positions[int(np.argmin(distance[positions]))]
@@ -394,8 +402,19 @@ class Library:
                     )
                 )
         matches.sort(key=lambda m: (m.distance, self.objects.index(m.object)))
-        repairs = sorted({r for rs in query["repairs"] for r in rs})
+        repairs = sorted({r for rs in query["repairs"] for r in rs}) + notes
         return Recognition(self.descriptor, matches[: int(k)], repairs)
+
+    def _colour_note(self, view: View) -> list[str]:
+        """A warning when this library compares colours and ``view`` has none (a depth frame without its RGB)."""
+        if not uses_colour(self.spec) or np.ptp(view.colors) > 0:
+            return []
+        note = (
+            f"{view.name} has no colour, and {self.descriptor} compares colours: the answer may be wrong "
+            "(give the frame's colour image, --rgb, or use a shape-only library)"
+        )
+        log.warning("%s", note)
+        return [note]
 
     def _table(self, rows: pd.DataFrame) -> pd.DataFrame:
         return rows[["object", "azimuth", "values"]].assign(kind=self.spec.kind)
@@ -467,6 +486,7 @@ class Library:
         belief = ExhaustiveFilter(table) if exact else ParticleFilter(table, self.similarity(), particles, seed=seed)
         steps = []
         for frame, view in enumerate(views):
+            self._colour_note(view)
             move = float(gaps[frame - 1]) if frame else 0.0
             values = self.describe(view)["values"].iloc[0]
             belief.step([np.asarray(values, dtype=np.float64)], move)

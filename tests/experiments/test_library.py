@@ -112,3 +112,25 @@ def test_library_views_with_nan_values_are_left_out(rows):
     assert (library["split"] == "train").sum() == 8 * len(OBJECTS) - 1  # chosen as classify does, then left out
     with pytest.raises(HeatdataError, match="no rows of descriptor"):
         build_library(rows, hd.DescriptorSpec("esf"), 8)
+
+
+def test_a_colour_library_warns_of_a_frame_without_colour(models, tmp_path, caplog):
+    import dataclasses
+
+    from heatdata.experiments.library import uses_colour
+
+    colour = hd.DescriptorSpec("c-pvhk", 32, "center", "polar", "c2")
+    assert uses_colour(colour) and uses_colour(hd.DescriptorSpec("hgd", color="hue-saturation"))
+    assert not uses_colour(SPEC) and not uses_colour(hd.DescriptorSpec("hgd"))
+    assert uses_colour(hd.DescriptorSpec("combined", parts=[{"kind": "hgd"}, {"kind": "c-pvhk", "color_map": "c2"}]))
+    parts = []
+    for obj in ("coffee-cup", "beer-mug"):
+        plan = view_plan([obj], 4, 1, elevation=30.0, distance=1.0, seed=0)
+        parts.append(descriptor_rows(render_views(models[obj], plan), plan, [colour]))
+    write_library(*build_library(pd.concat(parts, ignore_index=True), colour, 4), tmp_path / "c.parquet")
+    library = hd.load_library(tmp_path / "c.parquet")
+    view = hd.render_view(models["beer-mug"], azimuth=20.0, elevation=30.0, seed=1)
+    assert not any("no colour" in r for r in library.recognize(view).repairs)
+    grey = dataclasses.replace(view, colors=np.full_like(view.colors, 0.5))
+    assert any("has no colour" in r and "--rgb" in r for r in library.recognize(grey).repairs)
+    assert "has no colour" in caplog.text
