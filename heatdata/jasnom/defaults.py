@@ -1,13 +1,14 @@
 """JASNOM's default weights (thesis 7.2, eq. 7.2-7.4), apart from the cost so that the command line reads them
 without importing the meshes' readers."""
 
-#: weight of the edge term J1 against the interpenetration J2 (beta) in the search
+#: steepness of the interpenetration penalty: it switches on over ``h / ALPHA`` (h: the sample spacing)
 ALPHA = 4.0
-#: weight of the interpenetration term J2
+#: weight of the interpenetration term J2 (eq. 7.4)
 BETA = 1.0
-#: weight of the crease term J3 (off by default)
+#: weight of the crease term J3
 GAMMA = 0.0
-#: how far along the boundary normal J2 reaches, in units of the boundary's sample spacing
+#: weight of the edge component along the seam's continuation direction in J1 (1: the squared length)
 ALONG = 1.0
-#: ``along`` and ``robust`` for two depth scans from opposite sides (``stitch(scans=True)``)
+#: ``along`` and ``robust`` for two depth scans (``stitch(..., scans=True)``): a band of unseen surface lies between
+#: them, along the seam's continuation, and parts of either boundary (self-occlusions) have no partner
 SCAN_ALONG, SCAN_ROBUST = 0.1, 0.05

@@ -27,22 +27,6 @@ from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN
 log = logging.getLogger(__name__)
 
 
-"""Steepness of the interpenetration penalty: it switches on over ``h / ALPHA`` (h: the sample spacing)."""
-
-
-"""Weight of the interpenetration term J2 (eq. 7.4)."""
-
-
-"""Weight of the crease term J3."""
-
-
-"""Weight of the edge component along the seam's continuation direction in J1 (1: the squared length)."""
-
-
-"""``along`` and ``robust`` for two depth scans (``stitch(..., scans=True)``): a band of unseen surface lies between
-them, along the seam's continuation, and parts of either boundary (self-occlusions) have no partner."""
-
-
 """Distinct coarse candidates refined over six degrees of freedom."""
 
 
