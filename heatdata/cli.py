@@ -163,34 +163,21 @@ def cmd_render(args: argparse.Namespace) -> None:
 def cmd_view_from_depth(args: argparse.Namespace) -> None:
     """A view from real data: a depth image (16-bit PNG in mm, float .npy in m) with intrinsics, or an organized
     cloud (PCD, range-map PLY); written as a .npz view, a coloured .ply, or both."""
-    from heatdata.views.clouds import read_organized_cloud
-    from heatdata.views.depth import read_depth
+    from heatdata.views.depth import read_frame
 
     inputs = [args.input, args.intrinsics, args.rgb, args.mask]
     outs = [check_output(p, inputs=inputs, suffixes=(".npz", ".ply"), what="the view") for p in args.out]
     if len({p.resolve() for p in outs}) < len(outs):
         raise HeatdataError(f"{' '.join(map(str, outs))}: an output is given twice")
-    source = Path(args.input)
-    if source.suffix.lower() in (".pcd", ".ply"):
-        if args.intrinsics or args.rgb or args.mask or args.depth_range:
-            raise HeatdataError(
-                f"{source}: an organized cloud carries its own grid and colours; --intrinsics, "
-                "--rgb, --mask and --depth-range are for depth images"
-            )
-        view = read_organized_cloud(source, scale=args.scale, max_depth_jump=args.max_depth_jump)
-    else:
-        if args.intrinsics is None:
-            raise HeatdataError(
-                f"{source}: a depth image needs --intrinsics (JSON or YAML with fx, fy, cx, cy, width, height)"
-            )
-        view = read_depth(
-            source,
-            args.intrinsics,
-            args.rgb,
-            args.mask,
-            depth_range=args.depth_range,
-            max_depth_jump=args.max_depth_jump,
-        )
+    view = read_frame(
+        args.input,
+        args.intrinsics,
+        args.rgb,
+        args.mask,
+        depth_range=args.depth_range,
+        scale=args.scale,
+        max_depth_jump=args.max_depth_jump,
+    )
     for out in outs:
         if out.suffix.lower() == ".npz":
             view.save(out)
@@ -394,27 +381,20 @@ def _frames(args: argparse.Namespace) -> list[dict]:
 
 
 def _read_frame(frame: dict, args: argparse.Namespace):
-    """A frame's view: a depth image with its intrinsics, an organized cloud, or a saved view."""
-    from heatdata.views.depth import read_depth
-
-    path = Path(frame["depth"])
-    suffix = path.suffix.lower()
-    if suffix == ".npz":
+    """A frame's view: a saved view, or a depth image or organized cloud (``read_frame``)."""
+    if Path(frame["depth"]).suffix.lower() == ".npz":
         from heatdata.views.view import View
 
-        return View.load(path)
-    if suffix in (".pcd", ".ply"):
-        from heatdata.views.clouds import read_organized_cloud
+        return View.load(frame["depth"])
+    from heatdata.views.depth import read_frame
 
-        return read_organized_cloud(path, scale=args.scale, max_depth_jump=args.max_depth_jump)
-    if not frame["intrinsics"]:
-        raise HeatdataError(f"{path}: a depth image needs --intrinsics (JSON or YAML: fx, fy, cx, cy, width, height)")
-    return read_depth(
-        path,
+    return read_frame(
+        frame["depth"],
         frame["intrinsics"],
-        frame["rgb"] or None,
-        frame["mask"] or None,
+        frame["rgb"],
+        frame["mask"],
         depth_range=args.depth_range,
+        scale=args.scale,
         max_depth_jump=args.max_depth_jump,
     )
 
@@ -438,11 +418,14 @@ def cmd_recognize(args: argparse.Namespace) -> None:
             print(json.dumps({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
             return
         print(f"{frames[0]['depth']}: {views[0].n_vertices} vertices; {library!r}")
-        rows = [
-            [str(rank), m.object, m.label, f"{m.distance:.4g}", f"{m.azimuth:.0f}", m.view_id]
-            for rank, m in enumerate(answer.matches, 1)
-        ]
-        print(_table(["rank", "object", "class", "distance", "azimuth", "nearest library view"], rows))
+        table = pd.DataFrame(
+            [
+                [rank, m.object, m.label, f"{m.distance:.4g}", f"{m.azimuth:.0f}", m.view_id]
+                for rank, m in enumerate(answer.matches, 1)
+            ],
+            columns=["rank", "object", "class", "distance", "azimuth", "nearest library view"],
+        )
+        print(table.to_string(index=False))
         best = answer.best
         print(f"recognized: {best.object} ({best.label}), seen from about {best.azimuth:.0f} deg azimuth")
         return
@@ -463,17 +446,6 @@ def cmd_recognize(args: argparse.Namespace) -> None:
         f"{'converged on' if last.converged else 'not converged; most probable:'} {last.estimate} "
         f"({last.posterior[last.estimate]:.0%}) after {len(steps)} frames"
     )
-
-
-def _table(header: list[str], rows: list[list[str]]) -> str:
-    """Columns padded to their widest cell, numbers right-aligned."""
-    widths = [max(len(str(c)) for c in column) for column in zip(header, *rows, strict=True)]
-    numeric = [all(r[k].replace(".", "", 1).replace("-", "", 1).isdigit() for r in rows) for k in range(len(header))]
-    lines = []
-    for row in [header, *rows]:
-        cells = [c.rjust(w) if right else c.ljust(w) for c, w, right in zip(row, widths, numeric, strict=True)]
-        lines.append("  ".join(cells).rstrip())
-    return "\n".join(lines)
 
 
 def cmd_kinds(args: argparse.Namespace) -> None:
