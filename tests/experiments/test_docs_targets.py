@@ -12,10 +12,10 @@ import pytest
 from conftest import ROOT
 
 from heatdata.errors import HeatdataError
-from heatdata.experiments import publish
+from heatdata.experiments import docs_targets, publish
 
 SNAKEMAKE = Path(sys.executable).parent / "snakemake"
-TARGETS = publish.targets([], "results")
+TARGETS = docs_targets.targets([], "results")
 MANIFEST = publish.read_manifest(ROOT / publish.MANIFEST)
 SWEET_HOME = Path("/usr/share/sweethome3d/furniture")
 
@@ -47,7 +47,7 @@ def test_every_config_a_target_names_exists():
             assert (ROOT / config).is_file(), f"{name}: {config}"
 
 
-def foreign_inputs(target: publish.Target) -> list[str]:
+def foreign_inputs(target: docs_targets.Target) -> list[str]:
     """Inputs from another run than the target's own (a comparison of two runs reads both)."""
     if target.results in (None, "results"):
         return []

@@ -1,0 +1,516 @@
+"""The ``docs_*`` targets (issue 32): which run each reads, and the steps that write its tables and figures.
+
+``workflow/rules/docs.smk`` makes one Snakemake rule of each, which runs its steps with
+:func:`heatdata.experiments.publish.publish`; the tests read this table to dry-run every target.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import NamedTuple
+
+E = "config/experiments"
+
+
+def csv(name: str) -> str:
+    """A published table's path."""
+    return f"docs/results/{name}.csv"
+
+
+def png(name: str) -> str:
+    """A published figure's path."""
+    return f"docs/images/{name}.png"
+
+
+def script(name: str, *arguments: str) -> dict:
+    """A step that runs ``scripts/<name>.py`` with ``arguments``."""
+    return {"script": [f"scripts/{name}.py", *arguments]}
+
+
+VALUE_SCALES = [
+    "--descriptor",
+    "pvhk/polar/center/64",
+    "ft-pvhk/polar/center/64",
+    "pvst/polar/interior/64/T0.75",
+    "--transform",
+    "x1",
+    "x0.3",
+    "x0.1",
+    "x0.01",
+    "log10",
+    "log10x0.3",
+    "log10x0.1",
+]
+#: the multi-view ablations' run and settings on the chairs (``multiview_chairs.yaml``'s library and path)
+CHAIRS_ABLATION = (
+    *("multiview_ablation", "--results", "results/multiview_chairs", "--library-views", "13", "7"),
+    *("--sigma", "0.2", "--tau", "0.5", "--starts", "10", "--max-degrees", "360"),
+)
+RESOLUTIONS = {"320x240, 2.5 m": "results/chairs_12", "640x480, 1.5 m": "results/chairs_12_640"}
+PEOPLE_RUNS = {
+    "seed 0": "results/people",
+    "seed 1": "results/people_seed1",
+    "seed 2": "results/people_seed2",
+    "seed 0, 640x480": "results/people_640",
+}
+RUMP = "results/rump_proxy"  # the proxy's intermediate tables (scripts/rump_proxy.py reads no run)
+
+
+class Target(NamedTuple):
+    """A ``docs_*`` target: the results folder of the run it publishes (None: it reads no run), its config files,
+    its inputs, the files it writes into docs/ and the steps of :func:`publish` that write them."""
+
+    results: str | None
+    configs: list[str]
+    inputs: list[str]
+    outputs: list[str]
+    steps: list[dict]
+
+
+def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
+    """Every ``docs_*`` target of ``workflow/rules/docs.smk``; ``objects`` and ``results`` are the current run's (the
+    rendered views of a run are inputs only when it is the current one)."""
+
+    def views_of(run: str) -> list[str]:
+        return [f"{run}/views/{obj}.parquet" for obj in objects] if run == results else []
+
+    table: dict[str, tuple[str | None, list[str], list[str], list[str], list[dict]]] = {
+        "docs_main": (
+            "results",
+            ["config/config.yaml"],
+            ["results/figures/views.png", "results/descriptors.parquet", *views_of("results")],
+            [png("views"), csv("household_ft_time_scales"), csv("household_value_scales"), csv("household_steps")],
+            [
+                {"copy": ["results/figures/views.png", png("views")]},
+                script(
+                    "ft_time_scales",
+                    "results/descriptors.parquet",
+                    "ft-pvhk/polar/center/64",
+                    "--out",
+                    csv("household_ft_time_scales"),
+                ),
+                script(
+                    "value_scales", "results/descriptors.parquet", *VALUE_SCALES, "--out", csv("household_value_scales")
+                ),
+                script("complex_ablation", "results", "--out", csv("household_steps")),
+            ],
+        ),
+        "docs_demo": (
+            None,
+            [],
+            [],
+            [png("confusion_objects")],
+            [
+                {"script": ["-m", "heatdata.cli", "demo", "--out", "results/demo"]},
+                {"copy": ["results/demo/confusion_objects_pvhk_polar_center_64.png", png("confusion_objects")]},
+            ],
+        ),
+        "docs_chairs": (
+            "results/chairs",
+            [f"{E}/chairs.yaml"],
+            [
+                "results/chairs/figures/precision.png",
+                "results/chairs/figures/global_derivative.png",
+                "results/chairs/descriptors.parquet",
+            ],
+            [
+                png("chairs_precision"),
+                png("chairs_global_derivative"),
+                csv("chairs_protocols"),
+                csv("chairs_ft_time_scales"),
+                csv("chairs_value_scales"),
+                csv("chairs_combined"),
+            ],
+            [
+                {"copy": ["results/chairs/figures/precision.png", png("chairs_precision")]},
+                {"copy": ["results/chairs/figures/global_derivative.png", png("chairs_global_derivative")]},
+                script("protocols", "results/chairs/descriptors.parquet", "--out", csv("chairs_protocols")),
+                script(
+                    "ft_time_scales",
+                    "results/chairs/descriptors.parquet",
+                    "ft-pvhk/polar/center/64",
+                    "--out",
+                    csv("chairs_ft_time_scales"),
+                ),
+                script(
+                    "value_scales",
+                    "results/chairs/descriptors.parquet",
+                    *VALUE_SCALES,
+                    "--leave-one-out",  # its leave-one-out rows (library size 0); the household table has none
+                    "--out",
+                    csv("chairs_value_scales"),
+                ),
+                script(
+                    "combine_kinds",
+                    "results/chairs/descriptors.parquet",
+                    "--descriptor",
+                    "esf",
+                    "pvst/polar/interior/64/T0.75/log-time",
+                    "--out",
+                    csv("chairs_combined"),
+                ),
+            ],
+        ),
+        "docs_chairs_12": (
+            "results/chairs_12",
+            [f"{E}/chairs.yaml", f"{E}/chairs_12.yaml"],
+            [
+                "results/chairs_12/evaluation/precision.csv",
+                "results/chairs_12/descriptors.parquet",
+                *views_of("results/chairs_12"),
+            ],
+            [
+                csv("chairs_12_precision"),
+                csv("chairs_12_steps"),
+                csv("chairs_12_combined"),
+                csv("chairs_12_colour_share"),
+            ],
+            [
+                {"precision": ["results/chairs_12/evaluation/precision.csv", csv("chairs_12_precision")]},
+                script("complex_ablation", "results/chairs_12", "--out", csv("chairs_12_steps")),
+                script(
+                    "combine_kinds",
+                    "results/chairs_12/descriptors.parquet",
+                    "--descriptor",
+                    "esf",
+                    "pvst/polar/interior/64/T0.75/log-time",
+                    "--out",
+                    csv("chairs_12_combined"),
+                ),
+                script("color_share", "results/chairs_12/descriptors.parquet", "--out", csv("chairs_12_colour_share")),
+            ],
+        ),
+        "docs_chairs_12_640": (
+            "results/chairs_12_640",
+            [f"{E}/chairs.yaml", f"{E}/chairs_12.yaml", f"{E}/chairs_640.yaml"],
+            [f"{run}/descriptors.parquet" for run in RESOLUTIONS.values()],
+            [csv("chairs_12_resolution"), csv("chairs_12_ft_time_scales")],
+            [
+                *(
+                    script(
+                        "protocols",
+                        f"{run}/descriptors.parquet",
+                        "--out",
+                        f"results/chairs_12_640/published/protocols_{k}.csv",
+                    )
+                    for k, run in enumerate(RESOLUTIONS.values())
+                ),
+                *(
+                    script(
+                        "ft_time_scales",
+                        f"{run}/descriptors.parquet",
+                        "ft-pvhk/polar/center/64",
+                        "--out",
+                        f"results/chairs_12_640/published/ft_time_scales_{k}.csv",
+                    )
+                    for k, run in enumerate(RESOLUTIONS.values())
+                ),
+                {
+                    "labelled": [
+                        "views",
+                        {
+                            label: f"results/chairs_12_640/published/protocols_{k}.csv"
+                            for k, label in enumerate(RESOLUTIONS)
+                        },
+                        csv("chairs_12_resolution"),
+                    ]
+                },
+                {
+                    "labelled": [
+                        "views",
+                        {
+                            label: f"results/chairs_12_640/published/ft_time_scales_{k}.csv"
+                            for k, label in enumerate(RESOLUTIONS)
+                        },
+                        csv("chairs_12_ft_time_scales"),
+                    ]
+                },
+            ],
+        ),
+        "docs_chairs_12_sampling": (
+            "results/chairs_12_sampling",
+            [f"{E}/chairs.yaml", f"{E}/chairs_12.yaml", f"{E}/chairs_12_sampling.yaml"],
+            ["results/chairs_12_sampling/evaluation/precision.csv"],
+            [csv("chairs_12_sampling")],
+            [{"precision": ["results/chairs_12_sampling/evaluation/precision.csv", csv("chairs_12_sampling")]}],
+        ),
+        "docs_compact_chairs": (
+            "results/compact_chairs",
+            [f"{E}/compact_chairs.yaml"],
+            ["results/compact_chairs/figures/compact_precision.png"],
+            [png("compact_chairs_precision")],
+            [{"copy": ["results/compact_chairs/figures/compact_precision.png", png("compact_chairs_precision")]}],
+        ),
+        "docs_compact_chairs_pvst": (
+            "results/compact_chairs_pvst",
+            [f"{E}/compact_chairs.yaml", f"{E}/compact_chairs_pvst.yaml"],
+            [
+                "results/compact_chairs_pvst/compact/precision.csv",
+                "results/compact_chairs_pvst/figures/compact_precision.png",
+            ],
+            [csv("compact_chairs_pvst"), png("compact_chairs_pvst_precision")],
+            [
+                {
+                    "compact": [
+                        "results/compact_chairs_pvst/compact/precision.csv",
+                        "pvst/polar/interior/64/T0.75",
+                        csv("compact_chairs_pvst"),
+                    ]
+                },
+                {
+                    "copy": [
+                        "results/compact_chairs_pvst/figures/compact_precision.png",
+                        png("compact_chairs_pvst_precision"),
+                    ]
+                },
+            ],
+        ),
+        "docs_compact_chairs_pvst_thesis": (
+            "results/compact_chairs_pvst_thesis",
+            [f"{E}/compact_chairs.yaml", f"{E}/compact_chairs_pvst.yaml", f"{E}/compact_chairs_pvst_thesis.yaml"],
+            ["results/compact_chairs_pvst_thesis/compact/precision.csv"],
+            [csv("compact_chairs_pvst_thesis")],
+            [
+                {
+                    "compact": [
+                        "results/compact_chairs_pvst_thesis/compact/precision.csv",
+                        "pvst/polar/interior/64/T0.75 (c: mhd, rho: l2)",
+                        csv("compact_chairs_pvst_thesis"),
+                    ]
+                }
+            ],
+        ),
+        "docs_compact_chairs_small": (
+            "results/compact_chairs_pvst_small",
+            [
+                f"{E}/compact_chairs.yaml",
+                f"{E}/compact_chairs_pvst.yaml",
+                f"{E}/compact_chairs_small.yaml",
+                f"{E}/compact_chairs_pvst_small.yaml",
+            ],
+            [
+                "results/compact_chairs_small/compact/precision.csv",
+                "results/compact_chairs_pvst_small/compact/precision.csv",
+            ],
+            [csv("compact_chairs_pvst_small")],
+            [
+                {
+                    "compact": [
+                        "results/compact_chairs_small/compact/precision.csv",
+                        "pvhk/polar/center/64",
+                        "results/compact_chairs_pvst_small/published/pvhk.csv",
+                    ]
+                },
+                {
+                    "compact": [
+                        "results/compact_chairs_pvst_small/compact/precision.csv",
+                        "pvst/polar/interior/64/T0.75",
+                        "results/compact_chairs_pvst_small/published/pvst.csv",
+                    ]
+                },
+                {
+                    "labelled": [
+                        "run",
+                        {
+                            "compact_chairs_small": "results/compact_chairs_pvst_small/published/pvhk.csv",
+                            "compact_chairs_pvst_small": "results/compact_chairs_pvst_small/published/pvst.csv",
+                        },
+                        csv("compact_chairs_pvst_small"),
+                    ]
+                },
+            ],
+        ),
+        "docs_compact_cups": (
+            "results/compact_cups",
+            [f"{E}/compact_cups.yaml"],
+            ["results/compact_cups/figures/compact_precision.png"],
+            [png("compact_cups_precision")],
+            [{"copy": ["results/compact_cups/figures/compact_precision.png", png("compact_cups_precision")]}],
+        ),
+        "docs_baselines": (
+            "results/baselines",
+            [f"{E}/baselines.yaml"],
+            [
+                "results/baselines/evaluation/precision.csv",
+                "results/baselines/comparison/holes.csv",
+                "results/baselines/figures/holes.png",
+                "results/baselines/figures/isomap_descriptors.png",
+            ],
+            [csv("baselines_precision"), csv("baselines_holes"), png("holes"), png("isomap_descriptors")],
+            [
+                {"copy": ["results/baselines/evaluation/precision.csv", csv("baselines_precision")]},
+                {"copy": ["results/baselines/comparison/holes.csv", csv("baselines_holes")]},
+                {"copy": ["results/baselines/figures/holes.png", png("holes")]},
+                {"copy": ["results/baselines/figures/isomap_descriptors.png", png("isomap_descriptors")]},
+            ],
+        ),
+        "docs_baselines_28": (
+            "results/baselines_28",
+            [f"{E}/baselines.yaml", f"{E}/baselines_28.yaml"],
+            ["results/baselines_28/evaluation/precision.csv"],
+            [csv("baselines_28_precision")],
+            [{"precision": ["results/baselines_28/evaluation/precision.csv", csv("baselines_28_precision")]}],
+        ),
+        "docs_multiview": (
+            "results/multiview",
+            [f"{E}/multiview.yaml"],
+            [
+                "results/multiview/multiview/summary.csv",
+                "results/multiview/figures/multiview.png",
+                "results/multiview/descriptors.parquet",
+            ],
+            [csv("multiview_cups_speakers"), png("multiview"), csv("multiview_ablation")],
+            [
+                {"copy": ["results/multiview/multiview/summary.csv", csv("multiview_cups_speakers")]},
+                {"copy": ["results/multiview/figures/multiview.png", png("multiview")]},
+                script("multiview_ablation", "--results", "results/multiview", "--out", csv("multiview_ablation")),
+            ],
+        ),
+        "docs_multiview_chairs": (
+            "results/multiview_chairs",
+            [f"{E}/multiview_chairs.yaml"],
+            [
+                "results/multiview_chairs/multiview/summary.csv",
+                "results/multiview_chairs/figures/multiview.png",
+                "results/multiview_chairs/descriptors.parquet",
+            ],
+            [
+                csv("multiview_chairs"),
+                png("multiview_chairs"),
+                csv("multiview_chairs_newcomers"),
+                csv("multiview_chairs_alpha"),
+            ],
+            [
+                {"copy": ["results/multiview_chairs/multiview/summary.csv", csv("multiview_chairs")]},
+                {"copy": ["results/multiview_chairs/figures/multiview.png", png("multiview_chairs")]},
+                script(
+                    *CHAIRS_ABLATION,
+                    *("--particles", "16", "40", "160", "--newcomer", "mean", "least", "--repopulate", "cell", "view"),
+                    *("--policies", "fixed", "--repetitions", "3", "--out", csv("multiview_chairs_newcomers")),
+                ),
+                script(
+                    *CHAIRS_ABLATION,
+                    *("--particles", "16", "80", "--alpha", "learned", "3", "1", "--repetitions", "2"),
+                    *("--out", csv("multiview_chairs_alpha")),
+                ),
+            ],
+        ),
+        "docs_people": (
+            "results/people",
+            [f"{E}/people.yaml"],
+            [f"{run}/people/{table}.csv" for run in PEOPLE_RUNS.values() for table in ("poses", "twins")]
+            + ["results/people/figures/people_poses.png", "results/people/figures/people_twins.png"],
+            [csv("people_poses"), csv("people_twins"), png("people_poses"), png("people_twins")],
+            [
+                {
+                    "labelled": [
+                        "run",
+                        {label: f"{run}/people/poses.csv" for label, run in PEOPLE_RUNS.items()},
+                        csv("people_poses"),
+                    ]
+                },
+                {
+                    "labelled": [
+                        "run",
+                        {label: f"{run}/people/twins.csv" for label, run in PEOPLE_RUNS.items()},
+                        csv("people_twins"),
+                    ]
+                },
+                {"copy": ["results/people/figures/people_poses.png", png("people_poses")]},
+                {"copy": ["results/people/figures/people_twins.png", png("people_twins")]},
+            ],
+        ),
+        "docs_twins": (
+            "results/twins",
+            [f"{E}/twins.yaml"],
+            ["results/twins/evaluation/predictions.parquet", "results/twins/catalog.csv"],
+            [csv("twins_precision"), png("colour_twins")],
+            [script("color_twins", "results/twins", "--out", csv("twins_precision"), "--figure", png("colour_twins"))],
+        ),
+        "docs_jasnom_cuts": (
+            None,
+            [],
+            [],
+            [csv("jasnom_cuts"), csv("jasnom_holes")],
+            [script("jasnom_cuts", "--out", csv("jasnom_cuts"), "--holes-out", csv("jasnom_holes"))],
+        ),
+        "docs_jasnom_scans": (
+            None,
+            [],
+            [],
+            [csv("jasnom_scans"), csv("jasnom_scans_precision"), csv("jasnom_scans_tried"), png("jasnom")],
+            [
+                script(
+                    "jasnom_scans",
+                    "--out",
+                    csv("jasnom_scans"),
+                    "--precision-out",
+                    csv("jasnom_scans_precision"),
+                    "--tried-out",
+                    csv("jasnom_scans_tried"),
+                    "--figure",
+                    png("jasnom"),
+                )
+            ],
+        ),
+        "docs_rump": (
+            None,
+            [],
+            [],
+            [csv("rump_proxy"), csv("rump_proxy_ablation"), png("rump_proxy")],
+            [
+                script(
+                    "rump_proxy",
+                    "--out",
+                    csv("rump_proxy"),
+                    "--ablation-out",
+                    f"{RUMP}/ablation.csv",
+                    "--figure",
+                    png("rump_proxy"),
+                ),
+                script(
+                    "rump_proxy",
+                    "--image-scale",
+                    "0.5",
+                    "--out",
+                    f"{RUMP}/bodies_320.csv",
+                    "--ablation-out",
+                    f"{RUMP}/ablation_320.csv",
+                ),
+                script(
+                    "rump_proxy",
+                    "--muscle",
+                    "0.5,0.5",
+                    "--ablation",
+                    "1.5",
+                    "--out",
+                    f"{RUMP}/bodies_muscle.csv",
+                    "--ablation-out",
+                    f"{RUMP}/ablation_muscle.csv",
+                ),
+                {
+                    "concat": [
+                        [f"{RUMP}/ablation.csv", f"{RUMP}/ablation_320.csv", f"{RUMP}/ablation_muscle.csv"],
+                        csv("rump_proxy_ablation"),
+                    ]
+                },
+            ],
+        ),
+        "docs_complex_steps": (  # draws the two published step tables (docs_chairs_12's and docs_main's)
+            None,
+            [],
+            [],
+            [png("complex_steps")],
+            [
+                script(
+                    "complex_ablation",
+                    "--plot",
+                    csv("chairs_12_steps"),
+                    csv("household_steps"),
+                    "--figure",
+                    png("complex_steps"),
+                )
+            ],
+        ),
+    }
+    return {name: Target(*entry) for name, entry in table.items()}
