@@ -29,7 +29,7 @@ from heatdata.descriptors import COLOR_KIND, DescriptorSpec, describe, kind_of
 from heatdata.errors import HeatdataError, LibraryError
 from heatdata.experiments.describe import descriptor_rows
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
-from heatdata.recognition.evaluate import TIME_RULES, library_subset
+from heatdata.recognition.evaluate import TIME_RULES, library_subset, nan_views
 from heatdata.typing import StrPath
 from heatdata.version import __version__
 from heatdata.views.depth import view_from_depth
@@ -180,10 +180,10 @@ def build_library(
 
 def _finite(rows: pd.DataFrame, spec: DescriptorSpec) -> pd.DataFrame:
     """The rows without NaN values: as ``classify`` leaves such library views out (logged)."""
-    finite = rows["values"].map(lambda v: bool(np.isfinite(v).all()))
-    if not finite.all():
-        log.warning("%s: %d views with NaN values (see their repairs) are left out", spec.name, (~finite).sum())
-    return rows[finite]
+    bad = nan_views(rows)
+    if bad:
+        log.warning("%s: %d views with NaN values (see their repairs) are left out", spec.name, len(bad))
+    return rows[~rows["view_id"].isin(bad)]
 
 
 def _views(rows: pd.DataFrame) -> int:
@@ -323,11 +323,10 @@ class Library:
         """
         plan = pd.DataFrame({"split": ["test"], "seed": [0]})
         rows = descriptor_rows([view], plan, [self.spec], time_scales=self.time_scales)
-        bad = rows["values"].map(lambda v: not np.isfinite(v).all())
-        if bad.all():
+        if nan_views(rows):  # as classify, which gives such a test view no prediction
             reasons = "; ".join(sorted({r for rs in rows["repairs"] for r in rs if "failed" in r})) or "NaN values"
             raise HeatdataError(f"{view.name}: {self.descriptor} cannot describe this view ({reasons})")
-        return rows[~bad]
+        return rows
 
     def distances(self, query: pd.DataFrame) -> np.ndarray:
         """The query's distance to each library view, by the kind's own distance (eq. 3.1, 5.14, chi-square).

@@ -147,7 +147,7 @@ def _usable(lib: pd.DataFrame, query: pd.DataFrame, descriptor: str) -> tuple[pd
     A PVST sample that never reaches its threshold, or a descriptor that failed on a view,
     is NaN. Such library views are left out; such test views get no prediction.
     """
-    bad_lib, bad_query = _nan_views(lib), _nan_views(query)
+    bad_lib, bad_query = nan_views(lib), nan_views(query)
     if bad_lib or bad_query:
         log.warning(
             "%s: %d library and %d test views have NaN values (see their repairs); the library views "
@@ -160,8 +160,18 @@ def _usable(lib: pd.DataFrame, query: pd.DataFrame, descriptor: str) -> tuple[pd
     return lib[~lib["view_id"].isin(bad_lib)], query[~unusable], query[unusable]
 
 
-def _nan_views(rows: pd.DataFrame) -> set[str]:
-    """The ``view_id`` of rows with a NaN value."""
+def nan_views(rows: pd.DataFrame) -> set[str]:
+    """The ``view_id`` of rows with a NaN value (a failed descriptor): left out of libraries, counted wrong as queries.
+
+    Parameters
+    ----------
+    rows : pandas.DataFrame
+        Descriptor rows (``view_id``, ``values``).
+
+    Returns
+    -------
+    set of str
+    """
     return set(rows.loc[~rows["values"].map(lambda v: bool(np.isfinite(v).all())), "view_id"])
 
 
@@ -300,7 +310,7 @@ def evaluate_table(
     if not own_time:
         raise HeatdataError(f"{path}: no library ({library_split!r}) rows of descriptor {descriptor!r}")
     train = pd.concat(own_time, ignore_index=True).assign(split="train")
-    bad = _nan_views(train)
+    bad = nan_views(train)
     if bad:
         log.warning("%s: %d library views have NaN values (see their repairs) and are left out", descriptor, len(bad))
     libraries = {
