@@ -84,8 +84,9 @@ def source_vertex(view: View, rule: str | int = "closest") -> int:
     x = view.vertices
     if rule == "closest":
         return int(np.argmin(np.einsum("ij,ij->i", x, x)))
-    if rule == "center":
-        return int(np.argmin(x[:, 0] ** 2 + x[:, 1] ** 2))
+    if rule == "center":  # in the camera frame turned to face the segment (View.canonical_rotation)
+        c = view.canonical_vertices
+        return int(np.argmin(c[:, 0] ** 2 + c[:, 1] ** 2))
     if rule == "interior":
         depth, _ = cKDTree(x[view.boundary]).query(x)
         return int(np.argmax(depth))

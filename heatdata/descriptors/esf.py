@@ -165,7 +165,7 @@ class ESF(HistogramKind):
     def compute(self, work, spec: DescriptorSpec, **context):
         view = work.view
         self.check_points(view)
-        values = esf_histogram(view.vertices, triplets=spec.triplets, seed=spec.seed, name=view.name)
+        values = esf_histogram(view.canonical_vertices, triplets=spec.triplets, seed=spec.seed, name=view.name)
         return [self.histogram(spec, values, view)]
 
 

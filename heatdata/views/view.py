@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from heatdata.core.geometry import rotation_between
 from heatdata.core.mesh import (
     boundary_loops,
     component_labels,
@@ -41,6 +42,8 @@ ZERO_AREA = 1e-10  # faces below this fraction of the median face area (twice th
 INTRINSIC_KEYS = ("fx", "fy", "cx", "cy", "width", "height")
 VIEW_ARRAYS = ("vertices", "faces", "colors", "pose", "angle", "intrinsics", "ids", "repairs")  # of a saved view
 MAX_IMAGE_PIXELS = 4096 * 4096  # larger depth, colour and mask images and organized clouds are refused unread
+CANONICAL_STEPS = 8  # fixed-point steps of the canonical rotation (2-3 reach CANONICAL_PIXELS)
+CANONICAL_PIXELS = 1e-3  # how near the optical axis the canonical frame centres the image's bounding box
 KINECT_INTRINSICS = {"fx": 580.0, "fy": 580.0, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480}
 
 
@@ -486,14 +489,56 @@ class View:
         )
 
     @cached_property
-    def image_center(self) -> np.ndarray:
-        """(2,) float64: centre of the segmented depth image (mean vertex pixel), 2.3.3."""
-        return self.pixels.mean(axis=0)
+    def canonical_rotation(self) -> np.ndarray:
+        """(3, 3) float64: the rotation about the optical centre that turns the camera to face the segment.
+
+        Eq. 2.8 and 2.3.3 take the source and the boundary's frame at "the centre of the segmented depth image"; a
+        view is described as if the camera looked straight at it. ``R`` is the smallest rotation taking a direction
+        ``d`` onto the optical axis (+z) such that, in the turned frame (``canonical_vertices = vertices @ R.T``),
+        the bounding box of the segment's image is centred on the axis: a fixed point, found from the ray through
+        the image bounding box's centre in a few steps. An object anywhere in the frame is then described as it
+        is at the image centre: panning or tilting the camera turns ``R`` with it (to within the sliver of roll two
+        smallest rotations leave; rolling the camera about its axis turns the image box, as it turns the boundary's
+        origin of 2.3.3). Of the segment centres measured (the points' centroid, the mean pixel, the 3D box of the
+        points, the image box), the image box gave the most stable ``"center"`` source (the recognition chapter's
+        page).
+        """
+        x = self.vertices
+        if np.any(x[:, 2] <= 0):
+            raise ViewError(f"{self.name}: vertices behind the camera (z <= 0)")
+        k = self.intrinsics
+        scale = np.array([k["fx"], k["fy"]])
+        axis = np.array([0.0, 0.0, 1.0])
+        direction, rotation = axis, np.eye(3)
+        for _ in range(CANONICAL_STEPS):
+            turned = x @ rotation.T
+            image = scale * turned[:, :2] / turned[:, 2:]
+            centre = (image.min(axis=0) + image.max(axis=0)) / 2
+            if np.hypot(*centre) < CANONICAL_PIXELS:
+                break
+            direction = rotation.T @ np.append(centre / scale, 1.0)
+            rotation = rotation_between(direction, axis)
+        return rotation
+
+    @cached_property
+    def canonical_vertices(self) -> np.ndarray:
+        """(n, 3) float64: the vertices in the camera frame turned to face the segment (:attr:`canonical_rotation`)."""
+        return self.vertices @ self.canonical_rotation.T
 
     @cached_property
     def planar(self) -> np.ndarray:
-        """(n, 2) float64: image-centred frame, x right and y up, in pixels (Fig. 2.6)."""
-        d = self.pixels - self.image_center
+        """(n, 2) float64: the image-centred frame of 2.3.3 (Fig. 2.6), x right and y up, in pixels.
+
+        The vertices are projected by the view's focal lengths in the canonical frame
+        (:attr:`canonical_rotation`) and centred on their mean, so the frame does not depend on where the
+        object stands in the image.
+        """
+        x = self.canonical_vertices
+        if np.any(x[:, 2] <= 0):
+            raise ViewError(f"{self.name}: vertices behind the camera (z <= 0)")
+        k = self.intrinsics
+        d = np.column_stack([k["fx"] * x[:, 0] / x[:, 2], k["fy"] * x[:, 1] / x[:, 2]])
+        d -= d.mean(axis=0)
         return np.column_stack([d[:, 0], -d[:, 1]])
 
     @cached_property

@@ -50,7 +50,11 @@ def test_source_rules():
     closest = hd.source_vertex(view, "closest")
     center = hd.source_vertex(view, "center")
     assert closest == np.argmin(np.linalg.norm(view.vertices, axis=1))  # eq. 2.7
-    assert center == np.argmin(np.hypot(view.vertices[:, 0], view.vertices[:, 1]))  # eq. 2.8
+    # eq. 2.8 in the camera frame turned to face the segment: its image's bounding box centred on the optical axis
+    turned = view.vertices @ view.canonical_rotation.T
+    image = turned[:, :2] / turned[:, 2:]
+    assert np.allclose(image.min(axis=0) + image.max(axis=0), 0.0, atol=1e-5)
+    assert center == np.argmin(np.hypot(turned[:, 0], turned[:, 1]))
     assert closest != center
     with pytest.raises(hd.ViewError, match="source rule"):
         hd.source_vertex(view, "nearest")

@@ -73,8 +73,12 @@ def test_candidate_descriptors_from_one_spectrum_match_one_solve_per_source(mug,
 
 
 def test_candidate_descriptors_on_a_view_of_two_parts(square):
+    from heatdata.core.geometry import rotation_between
+
+    turn = rotation_between([0.0, 0.0, 1.0], [0.1, 0.0, 1.0])  # the square again, the camera turned away from it
+    first = square.vertices + [0.0003, 0.0007, 0.0]  # no vertex on the x axis, where the boundary's origin is
     two = hd.View(
-        vertices=np.vstack([square.vertices, square.vertices + [0.1, 0, 0]]),
+        vertices=np.vstack([first, first @ turn.T]),
         colors=np.vstack([square.colors] * 2),
         faces=np.vstack([square.faces, square.faces + square.n_vertices]),
         view_id="two squares",
@@ -82,7 +86,7 @@ def test_candidate_descriptors_on_a_view_of_two_parts(square):
     sources = np.array([square.n_vertices + 220, 220])  # the centre of each square, second part first
     a, b = hd.candidate_descriptors(two, sources, hd.DescriptorSpec(kind="pvhk"))
     assert (a.source, b.source) == (square.n_vertices + 220, 220)
-    np.testing.assert_allclose(a.values, b.values, atol=1e-9)  # the same square, the same heat
+    np.testing.assert_allclose(a.values, b.values, atol=1e-9)  # the same square seen the same way, the same heat
 
 
 def test_candidate_pvsts_share_the_view_work_and_match_one_at_a_time(square, monkeypatch):
