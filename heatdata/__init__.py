@@ -82,7 +82,7 @@ from heatdata.views.view import View, kinect_intrinsics
 #: names imported on first use, by module
 _LAZY = {
     "heatdata.descriptors.sources": ["candidate_descriptors", "candidate_sources"],
-    "heatdata.experiments.library": ["Library", "Match", "Recognition", "SequenceStep", "load_library"],
+    "heatdata.recognition.library": ["Library", "Match", "Recognition", "SequenceStep", "load_library"],
     "heatdata.io.catalog": ["catalog_from_folder", "embedded_catalog", "load_catalog_model", "read_catalog"],
     "heatdata.io.models": ["Model", "hue_rotated", "load_model", "transformed"],
     "heatdata.io.sh3f": ["import_sh3f"],

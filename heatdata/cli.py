@@ -399,36 +399,112 @@ def _read_frame(frame: dict, args: argparse.Namespace):
     )
 
 
+def _scene(frame: dict, args: argparse.Namespace, library):
+    """One frame recognized as a scene (:meth:`Library.recognize_scene`), and the image an overlay is drawn on.
+
+    A depth image or organized cloud is segmented into the objects on its support plane; a saved view, or a depth
+    image cut by ``--mask`` or ``--depth-range``, is one object as it is.
+    """
+    from heatdata.reporting.figures.scenes import frame_image
+    from heatdata.views.depth import read_depth_frame
+    from heatdata.views.segment import SegmentSettings, segment_points, segment_view
+
+    settings = SegmentSettings(max_depth_jump=args.max_depth_jump)
+    path = Path(frame["depth"])
+    suffix = path.suffix.lower()
+    if suffix in (".pcd", ".ply") and not (frame["mask"] or args.depth_range):
+        from heatdata.views.clouds import read_cloud_grid
+
+        points, colors, intrinsics = read_cloud_grid(path, scale=args.scale)
+        segmentation = segment_points(points, intrinsics, colors, settings, name=path.stem)
+        return library.recognize_segments(segmentation, k=args.k), frame_image(points[..., 2], colors)
+    if suffix == ".npz" or frame["mask"] or args.depth_range:
+        view = _read_frame(frame, args)
+        note = "a saved view, as it is" if suffix == ".npz" else view.repairs[0]
+        image = _view_image(view) if suffix == ".npz" else None
+        answer = library.recognize_segments(segment_view(view, note), k=args.k)
+        if image is None:
+            depth, rgb, _ = read_depth_frame(path, frame["intrinsics"], frame["rgb"])
+            image = frame_image(depth, rgb)
+        return answer, image
+    depth, rgb, intrinsics = read_depth_frame(path, frame["intrinsics"], frame["rgb"])
+    answer = library.recognize_scene(depth, intrinsics, rgb, k=args.k, settings=settings, name=path.stem)
+    return answer, frame_image(depth, rgb)
+
+
+def _view_image(view) -> np.ndarray:
+    """(h, w, 3) uint8: a saved view drawn back on its image, its colours at its pixels, black elsewhere."""
+    k = view.intrinsics
+    image = np.zeros((k["height"], k["width"], 3), np.uint8)
+    pixels = np.round(view.pixels).astype(int)
+    inside = (pixels[:, 0] >= 0) & (pixels[:, 0] < k["width"]) & (pixels[:, 1] >= 0) & (pixels[:, 1] < k["height"])
+    image[pixels[inside, 1], pixels[inside, 0]] = np.round(view.colors[inside] * 255).astype(np.uint8)
+    return image
+
+
+def _print_scene(frame: dict, answer, library) -> None:
+    """The terminal's answer for one frame: a row per object, then what the frame and each object showed."""
+    found = len(answer.detections)
+    where = " on the support plane" if answer.plane is not None else ""
+    print(f"{frame['depth']}: {found} object{'s' if found != 1 else ''}{where}; {library!r}")
+    if not found:
+        print(f"no object found ({answer.repairs[-1] if answer.repairs else 'nothing in the frame'})")
+        return
+    rows = []
+    for number, d in enumerate(answer.detections, 1):
+        best = None if d.recognition is None else d.recognition.best
+        rows.append(
+            [
+                number,
+                d.object or "unknown",
+                d.label or "",
+                "" if best is None else f"{best.distance:.4g}",
+                "" if best is None else f"{best.azimuth:.0f}",
+                d.pixels,
+                " ".join(f"{c:+.3f}" for c in d.centroid),
+                "{},{}-{},{}".format(*d.bbox),
+            ]
+        )
+    columns = ["#", "object", "class", "distance", "azimuth", "pixels", "centroid x y z (m)", "bbox u0,v0-u1,v1"]
+    print(pd.DataFrame(rows, columns=columns).to_string(index=False))
+    for number, d in enumerate(answer.detections, 1):
+        for note in d.notes:
+            print(f"  {number}: {note}")
+    for note in answer.repairs:
+        print(f"  frame: {note}")
+
+
 def cmd_recognize(args: argparse.Namespace) -> None:
-    """What the sensor sees (thesis ch. 3-5): the objects a depth frame, organized cloud or saved view is nearest in
-    a built library, with the view angle of the nearest library view. Several frames (a folder, or files with
-    --moves, the degrees turned between them) are followed by the particle filter of ch. 4 (--exact: the
-    exhaustive filter), which prints the posterior over objects after each frame."""
-    from heatdata.experiments.library import load_library
+    """What the sensor sees (thesis ch. 3-5): every object of a depth frame or organized cloud, found on its support
+    plane and named by its nearest objects in a built library, with where it stands in the camera frame. A frame of
+    one isolated object, a saved view, or a depth image cut by --mask or --depth-range is one object. Several frames
+    of one object (a folder, or files with --moves, the degrees turned between them) are followed by the particle
+    filter of ch. 4 (--exact: the exhaustive filter), which prints the posterior over objects after each frame."""
+    from heatdata.recognition.library import load_library
 
     require_file(args.library, "library")
     frames = _frames(args)
     if len(frames) > 1 and args.moves is None:
         raise HeatdataError(f"{len(frames)} frames: give --moves, the degrees the sensor turned between them")
+    if args.overlay is not None:
+        if len(frames) > 1 or args.moves is not None:
+            raise HeatdataError("--overlay draws one frame's objects; give one frame without --moves")
+        check_output(args.overlay, inputs=[f[key] for f in frames for key in ("depth", "rgb", "mask") if f[key]])
+        if args.overlay.suffix.lower() != ".png":
+            raise HeatdataError(f"{args.overlay}: the overlay is written as a .png")
     library = load_library(args.library)
-    views = [_read_frame(frame, args) for frame in frames]
-    if len(views) == 1 and args.moves is None:
-        answer = library.recognize(views[0], k=args.k)
+    if len(frames) == 1 and args.moves is None:
+        answer, image = _scene(frames[0], args, library)
+        if args.overlay is not None:
+            from heatdata.reporting.figures.scenes import save_overlay
+
+            save_overlay(args.overlay, image, answer.detections)
         if args.json:
             print(json.dumps({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
             return
-        print(f"{frames[0]['depth']}: {views[0].n_vertices} vertices; {library!r}")
-        table = pd.DataFrame(
-            [
-                [rank, m.object, m.label, f"{m.distance:.4g}", f"{m.azimuth:.0f}", m.view_id]
-                for rank, m in enumerate(answer.matches, 1)
-            ],
-            columns=["rank", "object", "class", "distance", "azimuth", "nearest library view"],
-        )
-        print(table.to_string(index=False))
-        best = answer.best
-        print(f"recognized: {best.object} ({best.label}), seen from about {best.azimuth:.0f} deg azimuth")
+        _print_scene(frames[0], answer, library)
         return
+    views = [_read_frame(frame, args) for frame in frames]
     steps = library.recognize_sequence(
         views, args.moves or [0.0], exact=args.exact, particles=args.particles, seed=args.seed
     )
@@ -702,8 +778,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     rec.add_argument("--library", type=Path, required=True, help="a library file (results/libraries/*.parquet)")
     _frame_arguments(rec)
-    rec.add_argument("-k", type=_number(1, whole=True), default=5, help="objects to list (default 5)")
+    rec.add_argument(
+        "-k", type=_number(1, whole=True), default=5, help="nearest objects to keep per object (default 5)"
+    )
     rec.add_argument("--json", action="store_true", help="print JSON for programs")
+    rec.add_argument("--overlay", type=Path, help="draw the frame with each object tinted, boxed and named (a .png)")
     rec.add_argument(
         "--moves",
         type=_number(),

@@ -34,9 +34,9 @@ def main_job_library(folder, views: int = 8) -> None:
     import yaml
 
     import heatdata as hd
-    from heatdata.experiments.describe import descriptor_rows
-    from heatdata.experiments.library import build_library, write_library
+    from heatdata.descriptors.rows import descriptor_rows
     from heatdata.experiments.views import render_views, view_plan
+    from heatdata.recognition.library import build_library, write_library
 
     config = yaml.safe_load((ROOT / "config/config.yaml").read_text())
     (spec,) = [

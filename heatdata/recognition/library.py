@@ -19,20 +19,21 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from heatdata.descriptors import COLOR_KIND, DescriptorSpec, describe, kind_of
+from heatdata.descriptors.rows import descriptor_rows
 from heatdata.errors import HeatdataError, LibraryError
-from heatdata.experiments.describe import descriptor_rows
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
+from heatdata.recognition.answers import Detection, Match, Recognition, SceneRecognition, SequenceStep
 from heatdata.recognition.evaluate import TIME_RULES, library_subset, nan_views
 from heatdata.typing import StrPath
 from heatdata.version import __version__
 from heatdata.views.depth import view_from_depth
+from heatdata.views.segment import Segment, Segmentation, SegmentSettings, segment_frame
 from heatdata.views.view import View
 
 log = logging.getLogger(__name__)
@@ -47,6 +48,8 @@ PROBE_TOLERANCE = 1e-6
 PROBE_TIME = 2e-4
 #: independent views per library view kept for the particle filter's similarity (eq. 4.6)
 SIMILARITY_PER_VIEW = 1
+#: a scene's segment wider than this times the object it is taken for gets a note (objects touching each other)
+TOUCHING = 1.3
 
 
 def probe_view() -> View:
@@ -119,6 +122,7 @@ def build_library(
     render: dict | None = None,
     time_rule: str = "plausible",
     source: str = "",
+    sizes: dict | None = None,
 ) -> tuple[pd.DataFrame, dict]:
     """A library's rows and metadata from a run's descriptor table (the workflow's rule ``library``).
 
@@ -138,6 +142,9 @@ def build_library(
         Which objects' time scales a time-scaled query is compared at (Alg. 5.2, as ``classify``).
     source : str
         Where the rows came from (the run's table), for the reader.
+    sizes : dict, optional
+        Each object's real size, ``{object: [width, height, depth]}`` in metres (the catalogue's), by which a scene's
+        segment larger than the object it is taken for gets a note (objects touching each other).
 
     Returns
     -------
@@ -173,9 +180,20 @@ def build_library(
         "render": render or {},
         "probe": probe_values(spec).tolist(),
         "source": source,
+        "sizes": _checked_sizes(sizes or {}),
     }
     frame = pd.concat([library.assign(split="train"), independent.assign(split="similarity")], ignore_index=True)
     return frame, metadata
+
+
+def _checked_sizes(sizes: dict) -> dict:
+    """``{object: [width, height, depth]}`` in metres, finite and positive (objects without a size left out)."""
+    checked = {}
+    for obj, size in sizes.items():
+        values = np.asarray(size, dtype=np.float64)
+        if values.shape == (3,) and np.all(np.isfinite(values)) and np.all(values > 0):
+            checked[str(obj)] = values.tolist()
+    return checked
 
 
 def _finite(rows: pd.DataFrame, spec: DescriptorSpec) -> pd.DataFrame:
@@ -194,71 +212,6 @@ def _views(rows: pd.DataFrame) -> int:
 def write_library(rows: pd.DataFrame, metadata: dict, path: StrPath) -> None:
     """Write a library file (Parquet; written whole, then renamed)."""
     write_table(rows, Path(path), DESCRIPTOR_SCHEMA, {LIBRARY_KEY: metadata})
-
-
-@dataclass(frozen=True)
-class Match:
-    """One object a view is nearest: its distance, and the library view nearest to the query (whose azimuth
-    estimates the angle the query is seen from)."""
-
-    object: str
-    label: str
-    distance: float
-    azimuth: float
-    elevation: float
-    view_id: str
-
-
-@dataclass(frozen=True)
-class Recognition:
-    """What :meth:`Library.recognize` answers: the nearest objects, nearest first, and the query's repairs."""
-
-    descriptor: str
-    matches: list[Match]
-    repairs: list[str] = field(default_factory=list)
-
-    @property
-    def best(self) -> Match:
-        """The nearest object."""
-        return self.matches[0]
-
-    def to_dict(self) -> dict:
-        """The answer as plain types (``heatdata recognize --json``).
-
-        Returns
-        -------
-        dict
-            ``descriptor, object, label, azimuth`` of the best match, ``matches`` and ``repairs``.
-        """
-        return {
-            "descriptor": self.descriptor,
-            "object": self.best.object,
-            "label": self.best.label,
-            "azimuth": self.best.azimuth,
-            "matches": [m.__dict__ for m in self.matches],
-            "repairs": list(self.repairs),
-        }
-
-
-@dataclass(frozen=True)
-class SequenceStep:
-    """The filter's belief after one frame of a sequence (Alg. 4.1): the posterior over objects."""
-
-    frame: int
-    move: float
-    posterior: dict[str, float]
-    estimate: str
-    converged: bool
-
-    def to_dict(self) -> dict:
-        """The step as plain types (``heatdata recognize --json``).
-
-        Returns
-        -------
-        dict
-            ``frame, move, posterior, estimate, converged``.
-        """
-        return dict(self.__dict__)
 
 
 class Library:
@@ -285,6 +238,7 @@ class Library:
         self.time_rule = metadata["time_rule"]
         self.library_size = int(metadata["library_size"])
         self.render = metadata.get("render", {})
+        self.sizes = _checked_sizes(metadata.get("sizes") or {})
         scales = metadata.get("time_scales")
         self.time_scales = (
             None
@@ -380,11 +334,16 @@ class Library:
         -------
         Recognition
         """
+        answer = self._nearest(view, k)
+        notes = self._colour_note(bool(np.ptp(view.colors) > 0), view.name)
+        return Recognition(answer.descriptor, answer.matches, answer.repairs + notes)
+
+    def _nearest(self, view: View, k: int) -> Recognition:
+        """:meth:`recognize` without the warning for a view without colour."""
         if k < 1 or int(k) != k:
             raise HeatdataError(f"k must be a whole number >= 1, got {k}")
         query = self.describe(view)
         distance = self.distances(query)
-        notes = self._colour_note(view)
         matches = []
         for obj, positions in self._by_object.items():
             best = positions[int(np.argmin(distance[positions]))]
@@ -401,19 +360,117 @@ class Library:
                     )
                 )
         matches.sort(key=lambda m: (m.distance, self.objects.index(m.object)))
-        repairs = sorted({r for rs in query["repairs"] for r in rs}) + notes
+        repairs = sorted({r for rs in query["repairs"] for r in rs})
         return Recognition(self.descriptor, matches[: int(k)], repairs)
 
-    def _colour_note(self, view: View) -> list[str]:
-        """A warning when this library compares colours and ``view`` has none (a depth frame without its RGB)."""
-        if not uses_colour(self.spec) or np.ptp(view.colors) > 0:
+    def _colour_note(self, coloured: bool, what: str) -> list[str]:
+        """A warning when this library compares colours and a view (``what``, for the message) has none (a depth
+        frame without its RGB)."""
+        if coloured or not uses_colour(self.spec):
             return []
         note = (
-            f"{view.name} has no colour, and {self.descriptor} compares colours: the answer may be wrong "
+            f"{what} has no colour, and {self.descriptor} compares colours: the answer may be wrong "
             "(give the frame's colour image, --rgb, or use a shape-only library)"
         )
         log.warning("%s", note)
         return [note]
+
+    def recognize_scene(
+        self,
+        depth: np.ndarray,
+        intrinsics: dict,
+        rgb: np.ndarray | None = None,
+        *,
+        k: int = 5,
+        settings: SegmentSettings | None = None,
+        name: str = "frame",
+    ) -> SceneRecognition:
+        """Every object of a depth frame: the support plane, the objects on it, and what each is nearest.
+
+        The frame is segmented (:func:`heatdata.views.segment.segment_frame`: the plane by RANSAC, clusters by
+        DBSCAN) and each segment's view recognized (:meth:`recognize`); what a robot needs of each, where it is
+        and what it is, is a :class:`Detection`. A frame of one isolated object (no support plane) gives one
+        detection, as :meth:`recognize` does for its view.
+
+        Parameters
+        ----------
+        depth : (h, w) float
+            z-depth in metres; NaN, infinite or <= 0 where there is no reading.
+        intrinsics : dict
+            ``fx, fy, cx, cy, width, height``.
+        rgb : (h, w, 3) uint8 or float in [0, 1], optional
+            The colour registered to the depth image (give it to a library that compares colours).
+        k : int
+            Objects to list per detection.
+        settings : SegmentSettings, optional
+            The segmentation's settings.
+        name : str
+            The frame's name, for messages.
+
+        Returns
+        -------
+        SceneRecognition
+            The detections, largest first (none when nothing stands on the plane), the plane and notes.
+
+        Raises
+        ------
+        ViewError
+            An empty frame (no reading), intrinsics or a colour image that do not fit the depth image.
+        """
+        return self.recognize_segments(segment_frame(depth, intrinsics, rgb, settings, name=name), k=k)
+
+    def recognize_segments(self, segmentation: Segmentation, *, k: int = 5) -> SceneRecognition:
+        """:meth:`recognize_scene` of a frame already segmented (:func:`heatdata.views.segment.segment_points`).
+
+        Parameters
+        ----------
+        segmentation : Segmentation
+            The frame's plane and segments.
+        k : int
+            Objects to list per detection.
+
+        Returns
+        -------
+        SceneRecognition
+        """
+        repairs = list(segmentation.notes)
+        detections = []
+        for segment in segmentation.segments:
+            notes = list(segment.notes)
+            try:
+                answer: Recognition | None = self._nearest(segment.view, k)
+            except HeatdataError as exc:  # a segment the descriptor cannot describe is still a detection
+                answer = None
+                notes.append(f"not described: {exc}")
+            if answer is not None:
+                notes += self._size_note(segment, answer.best.object, segmentation.plane is not None)
+            detections.append(
+                Detection(
+                    answer,
+                    (float(segment.centroid[0]), float(segment.centroid[1]), float(segment.centroid[2])),
+                    segment.pixels,
+                    segment.bbox,
+                    notes,
+                    segment.mask,
+                )
+            )
+        if segmentation.segments:
+            repairs += self._colour_note(segmentation.coloured, "the frame")
+        return SceneRecognition(self.descriptor, detections, segmentation.plane, repairs)
+
+    def _size_note(self, segment: Segment, obj: str, on_plane: bool) -> list[str]:
+        """A note when ``segment`` is larger than the object it is taken for: objects touching, or one the library
+        lacks."""
+        if obj not in self.sizes:
+            return []
+        width, height, depth = self.sizes[obj]
+        size = np.hypot(width, depth) if on_plane else float(np.linalg.norm([width, height, depth]))
+        if segment.extent <= TOUCHING * size:
+            return []
+        return [
+            f"{segment.extent * 100:.0f} cm across, larger than the {obj} it is taken for ({size * 100:.0f} cm): "
+            "several objects touching each other form one segment, or the object is not in the library"
+        ]
 
     def _table(self, rows: pd.DataFrame) -> pd.DataFrame:
         return rows[["object", "azimuth", "values"]].assign(kind=self.spec.kind)
@@ -485,7 +542,7 @@ class Library:
         belief = ExhaustiveFilter(table) if exact else ParticleFilter(table, self.similarity(), particles, seed=seed)
         steps = []
         for frame, view in enumerate(views):
-            self._colour_note(view)
+            self._colour_note(bool(np.ptp(view.colors) > 0), view.name)
             move = float(gaps[frame - 1]) if frame else 0.0
             values = self.describe(view)["values"].iloc[0]
             belief.step([np.asarray(values, dtype=np.float64)], move)

@@ -1,0 +1,433 @@
+"""Scenes of the run's objects on a table, as a depth sensor sees them, and how well each is found and named.
+
+The workflow's scenes steps (config ``scenes``):
+
+- :func:`plan_scene`: 1-4 of the run's objects at random positions and yaw on a table (their footprints apart),
+  a wall behind it, and a camera 0.8-1.5 m from a point of the table at 20-50 deg elevation, its azimuth within
+  40 deg of the table's front; every draw from one seed per scene;
+- :func:`render_planned_scene`: the frame by :func:`heatdata.views.render.render_scene` with the sensor profile
+  (the Kinect's by default), and the ground truth: which object each pixel sees, each object's pose in the
+  camera frame, how many of its pixels have a reading, how much of it the other objects hide, whether the image
+  border cuts it;
+- :func:`write_scene`: the frame as a user's capture is written (a 16-bit depth PNG in millimetres,
+  ``<name>.rgb.png``, ``<name>.json`` intrinsics) plus ``<name>.labels.png`` (object ``i`` of the truth is
+  ``i + 1``) and ``<name>.truth.json``;
+- :func:`score_scene`: each detection of :meth:`heatdata.recognition.library.Library.recognize_scene` matched to
+  the object whose pixels it overlaps most (mask IoU >= 0.5), and each object no detection matched;
+- :func:`scene_summary`: detection recall (objects with at least :data:`MIN_OBJECT_PIXELS` readings), the share of
+  segments that match no object, naming accuracy for unoccluded objects and, apart, for partly occluded or cut
+  ones, and the latency per frame.
+
+The frames are renderings through a sensor profile, not sensor data.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import zlib
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from PIL import Image
+
+from heatdata.errors import HeatdataError
+from heatdata.io.files import atomic
+from heatdata.io.models import Model
+from heatdata.typing import StrPath
+from heatdata.views.depth import back_project
+from heatdata.views.render import Placement, SceneFrame, camera_pose, render_scene
+from heatdata.views.sensor import SensorProfile
+from heatdata.views.view import kinect_intrinsics
+
+log = logging.getLogger(__name__)
+
+TABLE_HEIGHT = 0.75  # m, the table top above the floor (the scene's y = 0)
+TABLE_THICKNESS = 0.03
+TABLE_COLOR = (0.55, 0.4, 0.25)
+WALL_COLOR = (0.85, 0.85, 0.8)
+FLOOR_COLOR = (0.45, 0.42, 0.4)
+FLOOR_SIZE = 8.0  # m square: beyond the table's edges the camera sees the floor, as in a room
+WALL_SIZE = (3.0, 2.4)  # m, width and height from the floor
+EDGE_MARGIN = 0.03  # m between an object's footprint and the table's edge
+GAP = 0.02  # m between two objects' footprints (objects do not touch)
+AZIMUTH_SPAN = 40.0  # degrees either side of the table's front
+TARGET_JITTER = 0.15  # m: where on the table the camera looks, about its centre
+MIN_OBJECT_PIXELS = 1000  # objects with fewer readings are not counted in the detection recall
+OCCLUDED = 0.05  # an object with more than this share of its pixels hidden by other objects is partly occluded
+IOU = 0.5  # a detection matches an object when their masks' intersection over union is at least this
+
+#: the scenes' defaults (config ``scenes``)
+SCENE_DEFAULTS = {
+    "count": 6,
+    "objects": [1, 4],
+    "distance": [0.8, 1.5],
+    "elevation": [20.0, 50.0],
+    "table": [1.2, 0.8],
+    "wall_gap": [0.0, 0.2],
+    "sensor": "kinect",
+    "image_scale": 1.0,
+    "seed": 0,
+}
+
+
+def box_model(name: str, extents: tuple[float, float, float], color: tuple[float, float, float]) -> Model:
+    """A box of one colour centred at the origin (a table top, a wall).
+
+    Parameters
+    ----------
+    name : str
+        The model's name.
+    extents : (3,) float
+        Sizes along x, y (up) and z, metres.
+    color : (3,) float
+        RGB in [0, 1].
+
+    Returns
+    -------
+    Model
+    """
+    import trimesh
+
+    box = trimesh.creation.box(extents=extents)
+    return Model.untextured(name, np.asarray(box.vertices), np.asarray(box.faces), color, label=name)
+
+
+def _transform(translation, yaw: float = 0.0) -> np.ndarray:
+    """(4, 4): a turn of ``yaw`` radians about +y, then a translation."""
+    c, s = np.cos(yaw), np.sin(yaw)
+    pose = np.eye(4)
+    pose[:3, :3] = [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]
+    pose[:3, 3] = translation
+    return pose
+
+
+def scene_seed(seed: int, index: int) -> int:
+    """The seed of scene ``index`` of a run seeded ``seed`` (the same scene whatever the count)."""
+    return int(np.random.SeedSequence([seed, zlib.crc32(b"scene"), index]).generate_state(1)[0])
+
+
+def choose_objects(objects: list[str], settings: dict, index: int) -> list[str]:
+    """The objects of scene ``index``: 1-4 of ``objects`` (``settings["objects"]``), drawn without repeats."""
+    if not objects:
+        raise HeatdataError("a scene needs objects: the run has none")
+    rng = np.random.default_rng(scene_seed(settings["seed"], index))
+    low, high = settings["objects"]
+    count = int(rng.integers(low, min(high, len(objects)) + 1)) if low <= len(objects) else len(objects)
+    return [str(o) for o in rng.choice(sorted(objects), size=max(1, count), replace=False)]
+
+
+def plan_scene(models: list[Model], settings: dict, index: int) -> dict:
+    """Where scene ``index`` puts ``models`` on the table, and where its camera is (seeded, see the module).
+
+    Parameters
+    ----------
+    models : list of Model
+        The scene's objects (:func:`choose_objects`).
+    settings : dict
+        The config's ``scenes`` (:data:`SCENE_DEFAULTS`).
+    index : int
+        The scene's number.
+
+    Returns
+    -------
+    dict
+        ``scene`` (its name), ``objects`` (``object, x, z, yaw``: the footprint's centre on the table and the turn
+        about +y in degrees), ``camera`` (``distance, elevation, azimuth, target``), ``wall_gap``, ``seed``.
+
+    Raises
+    ------
+    HeatdataError
+        An object that does not fit on the table, or objects that cannot be placed apart.
+    """
+    rng = np.random.default_rng(scene_seed(settings["seed"], index) + 1)
+    width, depth = settings["table"]
+    placed: list[dict] = []
+    for model in models:
+        radius = 0.5 * float(np.hypot(model.extents[0], model.extents[2]))
+        half_x, half_z = width / 2 - radius - EDGE_MARGIN, depth / 2 - radius - EDGE_MARGIN
+        if half_x <= 0 or half_z <= 0:
+            raise HeatdataError(f"{model.name} ({2 * radius:.2f} m across) does not fit on a {width} x {depth} m table")
+        for _ in range(200):
+            x, z = rng.uniform(-half_x, half_x), rng.uniform(-half_z, half_z)
+            if all(np.hypot(x - p["x"], z - p["z"]) >= radius + p["radius"] + GAP for p in placed):
+                break
+        else:
+            raise HeatdataError(f"scene {index}: no room for {model.name} apart from the other objects")
+        placed.append({"object": model.name, "x": float(x), "z": float(z), "yaw": float(rng.uniform(0, 360)),
+                       "radius": radius})  # fmt: skip
+    target = [float(rng.uniform(-TARGET_JITTER, TARGET_JITTER)), TABLE_HEIGHT,
+              float(rng.uniform(-TARGET_JITTER, TARGET_JITTER))]  # fmt: skip
+    return {
+        "scene": f"scene-{index:03d}",
+        "objects": [{k: v for k, v in p.items() if k != "radius"} for p in placed],
+        "camera": {
+            "distance": float(rng.uniform(*settings["distance"])),
+            "elevation": float(rng.uniform(*settings["elevation"])),
+            "azimuth": float(rng.uniform(-AZIMUTH_SPAN, AZIMUTH_SPAN)),
+            "target": target,
+        },
+        "wall_gap": float(rng.uniform(*settings["wall_gap"])),
+        "seed": scene_seed(settings["seed"], index),
+    }
+
+
+def room(width: float, depth: float, wall_gap: float) -> list[Placement]:
+    """The furniture of every scene: a ``width`` x ``depth`` m table, a wall ``wall_gap`` m behind it, the floor."""
+    table = box_model("table", (width, TABLE_THICKNESS, depth), TABLE_COLOR)
+    wall = box_model("wall", (WALL_SIZE[0], WALL_SIZE[1], 0.02), WALL_COLOR)
+    floor = box_model("floor", (FLOOR_SIZE, 0.02, FLOOR_SIZE), FLOOR_COLOR)
+    return [
+        Placement(table, _transform([0.0, TABLE_HEIGHT - TABLE_THICKNESS / 2, 0.0])),
+        Placement(wall, _transform([0.0, WALL_SIZE[1] / 2, -depth / 2 - wall_gap - 0.01])),
+        Placement(floor, _transform([0.0, -0.01, 0.0])),
+    ]
+
+
+def object_pose(model: Model, x: float, z: float, yaw_degrees: float) -> np.ndarray:
+    """(4, 4) model-to-scene pose of ``model`` standing on the table top, its footprint centred at ``(x, z)``."""
+    low, high = model.vertices.min(axis=0), model.vertices.max(axis=0)
+    centre = _transform([-(low[0] + high[0]) / 2, -low[1], -(low[2] + high[2]) / 2])
+    return _transform([x, TABLE_HEIGHT, z], np.radians(yaw_degrees)) @ centre
+
+
+def render_planned_scene(plan: dict, models: dict[str, Model], settings: dict) -> tuple[SceneFrame, dict]:
+    """The frame of a :func:`plan_scene` plan and its ground truth.
+
+    Parameters
+    ----------
+    plan : dict
+        A plan of :func:`plan_scene`.
+    models : dict of str to Model
+        Its objects' models by name.
+    settings : dict
+        The config's ``scenes``.
+
+    Returns
+    -------
+    frame : SceneFrame
+        Depth, colour and which model each pixel sees.
+    truth : dict
+        ``scene, camera`` (camera-to-scene 4 x 4), ``plane`` (the table top ``a, b, c, d`` in the camera frame, normal
+        towards the camera), ``sensor``, ``seed`` and ``objects``: per object ``object, label, pose`` (model to
+        camera, 4 x 4; the model frame is the catalogue model's, metres, +y up), ``pixels`` (readings),
+        ``visible`` (pixels its rays hit), ``occluded`` (share hidden by other objects), ``cut`` (by the image
+        border) and ``centroid`` (mean of its readings' points, camera frame).
+    """
+    width, depth = settings["table"]
+    placements = room(width, depth, plan["wall_gap"])
+    placements += [
+        Placement(models[o["object"]], object_pose(models[o["object"]], o["x"], o["z"], o["yaw"]))
+        for o in plan["objects"]
+    ]
+    cam = plan["camera"]
+    camera = camera_pose(np.asarray(cam["target"]), cam["azimuth"], cam["elevation"], cam["distance"])
+    intrinsics = kinect_intrinsics(settings.get("image_scale", 1.0))
+    sensor = SensorProfile.named(settings["sensor"])
+    frame = render_scene(placements, camera, intrinsics=intrinsics, sensor=sensor, seed=plan["seed"])
+    to_camera = np.linalg.inv(camera)
+    readings = np.isfinite(frame.depth)
+    objects = []
+    furniture = len(placements) - len(plan["objects"])
+    for index, placement in enumerate(placements[furniture:], start=furniture):
+        visible = frame.labels == index
+        alone = render_scene([*placements[:furniture], placement], camera, intrinsics=intrinsics, sensor="ideal")
+        alone_pixels = alone.labels == furniture
+        mine = visible & readings
+        points = back_project(frame.depth, intrinsics)[mine]
+        projected = _project(placement.model.vertices @ placement.pose[:3, :3].T + placement.pose[:3, 3], to_camera,
+                             intrinsics)  # fmt: skip
+        objects.append(
+            {
+                "object": placement.model.name,
+                "label": placement.model.label,
+                "pose": (to_camera @ placement.pose).tolist(),
+                "pixels": int(mine.sum()),
+                "visible": int(visible.sum()),
+                "occluded": float(1.0 - visible.sum() / alone_pixels.sum()) if alone_pixels.any() else 1.0,
+                "cut": bool(_cut(projected, intrinsics)),
+                "centroid": points.mean(axis=0).tolist() if len(points) else [float("nan")] * 3,
+            }
+        )
+    top = np.array([0.0, 1.0, 0.0, -TABLE_HEIGHT])  # y = TABLE_HEIGHT, normal up, in the scene's frame
+    plane = top @ camera  # a plane transforms by the inverse transpose of the point transform
+    truth = {
+        "scene": plan["scene"],
+        "camera": camera.tolist(),
+        "plane": (plane / np.linalg.norm(plane[:3])).tolist(),
+        "sensor": sensor.to_dict(),
+        "seed": plan["seed"],
+        "plan": plan,
+        "objects": objects,
+    }
+    return frame, truth
+
+
+def _project(points: np.ndarray, to_camera: np.ndarray, k: dict) -> np.ndarray:
+    p = points @ to_camera[:3, :3].T + to_camera[:3, 3]
+    return np.column_stack([k["fx"] * p[:, 0] / p[:, 2] + k["cx"], k["fy"] * p[:, 1] / p[:, 2] + k["cy"], p[:, 2]])
+
+
+def _cut(projected: np.ndarray, k: dict) -> bool:
+    """Whether a model's projected vertices leave the image (or pass behind the camera)."""
+    u, v, z = projected.T
+    return bool(np.any(z <= 0) or u.min() < 0 or v.min() < 0 or u.max() > k["width"] - 1 or v.max() > k["height"] - 1)
+
+
+def write_scene(frame: SceneFrame, truth: dict, depth_path: StrPath) -> None:
+    """Write a scene as a capture is written, with its truth: ``<name>.png`` (16-bit depth, mm), ``<name>.rgb.png``,
+    ``<name>.json`` (intrinsics), ``<name>.labels.png`` (truth object ``i`` is ``i + 1``, 0 the rest) and
+    ``<name>.truth.json``.
+
+    Parameters
+    ----------
+    frame : SceneFrame
+        The rendered frame.
+    truth : dict
+        Its truth (:func:`render_planned_scene`).
+    depth_path : str or Path
+        The depth PNG's path; the other files go beside it.
+    """
+    path = Path(depth_path)
+    base = path.with_suffix("")
+    millimetres = np.nan_to_num(np.round(frame.depth * 1000.0), nan=0.0)
+    if millimetres.max() > np.iinfo(np.uint16).max:
+        raise HeatdataError(f"{path}: depths beyond 65.5 m cannot be written as a depth PNG")
+    labels = np.zeros(frame.labels.shape, np.uint8)
+    furniture = len(frame.names) - len(truth["objects"])
+    for number in range(len(truth["objects"])):
+        labels[frame.labels == furniture + number] = number + 1
+    images: dict[Path, np.ndarray] = {
+        path: millimetres.astype(np.uint16),
+        Path(f"{base}.rgb.png"): np.round(frame.rgb * 255).astype(np.uint8),
+        Path(f"{base}.labels.png"): labels,
+    }
+    for target, image in images.items():
+        with atomic(target) as temporary:
+            Image.fromarray(image).save(temporary, format="PNG")
+    texts = {Path(f"{base}.json"): frame.intrinsics, Path(f"{base}.truth.json"): truth}
+    for target, data in texts.items():
+        with atomic(target) as temporary:
+            temporary.write_text(json.dumps(data, indent=1) + "\n")
+
+
+def scene_files(depth_path: StrPath) -> dict[str, Path]:
+    """The files of a scene written by :func:`write_scene`, by role: ``depth, rgb, intrinsics, labels, truth``."""
+    path = Path(depth_path)
+    base = path.with_suffix("")
+    return {
+        "depth": path,
+        "rgb": Path(f"{base}.rgb.png"),
+        "intrinsics": Path(f"{base}.json"),
+        "labels": Path(f"{base}.labels.png"),
+        "truth": Path(f"{base}.truth.json"),
+    }
+
+
+def score_scene(detections: list, labels: np.ndarray, depth: np.ndarray, truth: dict) -> pd.DataFrame:
+    """Each detection matched to the object its mask overlaps most (IoU >= :data:`IOU`), and each object missed.
+
+    Parameters
+    ----------
+    detections : list of Detection
+        :meth:`heatdata.recognition.library.Library.recognize_scene`'s, with their masks.
+    labels : (h, w) int
+        The truth's label image (:func:`write_scene`: object ``i`` is ``i + 1``).
+    depth : (h, w) float
+        The frame's depth (NaN or 0: no reading); an object's mask is its pixels with a reading.
+    truth : dict
+        The scene's truth.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per detection and per missed object: ``scene, detection`` (-1 for a missed object), ``object``
+        (the answer, "" for none), ``distance, pixels, truth`` (the matched object, "" for none), ``truth_label,
+        iou, correct, truth_pixels, occluded, cut, notes``.
+    """
+    readings = np.isfinite(depth) & (depth > 0)
+    masks = [(labels == i + 1) & readings for i in range(len(truth["objects"]))]
+    rows, matched = [], set()
+    for number, detection in enumerate(detections):
+        ious = [_iou(detection.mask, mask) for mask in masks]
+        best = int(np.argmax(ious)) if ious else -1
+        hit = best >= 0 and ious[best] >= IOU
+        if hit:
+            matched.add(best)
+        rows.append(_score_row(truth, number, detection, best if hit else None, ious[best] if ious else 0.0))
+    for index in sorted(set(range(len(masks))) - matched):
+        rows.append(_score_row(truth, -1, None, index, 0.0))
+    return pd.DataFrame(rows)
+
+
+def _iou(a: np.ndarray, b: np.ndarray) -> float:
+    union = int((a | b).sum())
+    return int((a & b).sum()) / union if union else 0.0
+
+
+def _score_row(truth: dict, number: int, detection, index: int | None, iou: float) -> dict:
+    item = truth["objects"][index] if index is not None else {}
+    answer = "" if detection is None or detection.object is None else detection.object
+    return {
+        "scene": truth["scene"],
+        "detection": number,
+        "object": answer,
+        "distance": float("nan") if detection is None else detection.distance,
+        "pixels": 0 if detection is None else detection.pixels,
+        "truth": item.get("object", ""),
+        "truth_label": item.get("label", ""),
+        "iou": float(iou),
+        "correct": bool(detection is not None and item and answer == item["object"]),
+        "truth_pixels": int(item.get("pixels", 0)),
+        "occluded": float(item.get("occluded", 0.0)),
+        "cut": bool(item.get("cut", False)),
+        "notes": [] if detection is None else list(detection.notes),
+    }
+
+
+def scene_summary(scores: pd.DataFrame, seconds: pd.DataFrame) -> pd.DataFrame:
+    """Detection, naming and latency of each library over the scenes (see the module docstring).
+
+    Parameters
+    ----------
+    scores : pandas.DataFrame
+        :func:`score_scene` rows of every scene, with a ``descriptor`` column.
+    seconds : pandas.DataFrame
+        ``descriptor, scene, seconds``: the time :meth:`recognize_scene` took on each frame.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per descriptor: ``scenes, objects`` (with at least :data:`MIN_OBJECT_PIXELS` readings),
+        ``recall``, ``segments``, ``false_segments`` (share matching no object), ``named`` and ``naming`` (right
+        names among detected unoccluded objects inside the frame), ``named_occluded`` and ``naming_occluded``
+        (partly occluded or cut ones), ``median_seconds``, ``p90_seconds``.
+    """
+    rows = []
+    for descriptor, table in scores.groupby("descriptor", sort=False):
+        countable = table[(table["truth"] != "") & (table["truth_pixels"] >= MIN_OBJECT_PIXELS)]
+        truth = countable.drop_duplicates(["scene", "truth"])
+        found = countable[countable["detection"] >= 0]
+        segments = table[table["detection"] >= 0]
+        matched = segments[segments["truth"] != ""]
+        clear = matched[(matched["occluded"] <= OCCLUDED) & ~matched["cut"]]
+        hidden = matched[(matched["occluded"] > OCCLUDED) | matched["cut"]]
+        times = seconds[seconds["descriptor"] == descriptor]["seconds"]
+        rows.append(
+            {
+                "descriptor": descriptor,
+                "scenes": int(table["scene"].nunique()),
+                "objects": len(truth),
+                "recall": len(found.drop_duplicates(["scene", "truth"])) / len(truth) if len(truth) else np.nan,
+                "segments": len(segments),
+                "false_segments": float((segments["truth"] == "").mean()) if len(segments) else np.nan,
+                "named": len(clear),
+                "naming": float(clear["correct"].mean()) if len(clear) else np.nan,
+                "named_occluded": len(hidden),
+                "naming_occluded": float(hidden["correct"].mean()) if len(hidden) else np.nan,
+                "median_seconds": float(times.median()) if len(times) else np.nan,
+                "p90_seconds": float(times.quantile(0.9)) if len(times) else np.nan,
+            }
+        )
+    return pd.DataFrame(rows)

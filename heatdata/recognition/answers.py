@@ -1,0 +1,181 @@
+"""What recognition answers: the nearest objects of a view, a sequence's belief, and the objects of a scene.
+
+Plain frozen dataclasses with a ``to_dict`` each, the shape of ``heatdata recognize --json``. Made by
+:class:`heatdata.recognition.library.Library`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Match:
+    """One object a view is nearest: its distance, and the library view nearest to the query (whose azimuth
+    estimates the angle the query is seen from)."""
+
+    object: str
+    label: str
+    distance: float
+    azimuth: float
+    elevation: float
+    view_id: str
+
+
+@dataclass(frozen=True)
+class Recognition:
+    """What :meth:`Library.recognize` answers: the nearest objects, nearest first, and the query's repairs."""
+
+    descriptor: str
+    matches: list[Match]
+    repairs: list[str] = field(default_factory=list)
+
+    @property
+    def best(self) -> Match:
+        """The nearest object."""
+        return self.matches[0]
+
+    def to_dict(self) -> dict:
+        """The answer as plain types (``heatdata recognize --json``).
+
+        Returns
+        -------
+        dict
+            ``descriptor, object, label, azimuth`` of the best match, ``matches`` and ``repairs``.
+        """
+        return {
+            "descriptor": self.descriptor,
+            "object": self.best.object,
+            "label": self.best.label,
+            "azimuth": self.best.azimuth,
+            "matches": [m.__dict__ for m in self.matches],
+            "repairs": list(self.repairs),
+        }
+
+
+@dataclass(frozen=True)
+class SequenceStep:
+    """The filter's belief after one frame of a sequence (Alg. 4.1): the posterior over objects."""
+
+    frame: int
+    move: float
+    posterior: dict[str, float]
+    estimate: str
+    converged: bool
+
+    def to_dict(self) -> dict:
+        """The step as plain types (``heatdata recognize --json``).
+
+        Returns
+        -------
+        dict
+            ``frame, move, posterior, estimate, converged``.
+        """
+        return dict(self.__dict__)
+
+
+@dataclass(frozen=True)
+class Detection:
+    """One object of a scene: where it is in the frame and what the library takes it for.
+
+    Attributes
+    ----------
+    recognition : Recognition or None
+        The nearest objects of its view, nearest first; None when its view could not be described (the reason is
+        in ``notes``).
+    centroid : (3,) float
+        The mean of its points in the camera frame, metres (x right, y down, z forward).
+    pixels : int
+        Its readings.
+    bbox : (4,) int
+        ``u0, v0, u1, v1``: the bounding box of its pixels, inclusive.
+    notes : list of str
+        What a user should know: cut by the image border, in several pieces, larger than the object it is taken
+        for (objects touching each other form one segment), not described.
+    mask : (h, w) bool
+        Its pixels (not in :meth:`to_dict`).
+    """
+
+    recognition: Recognition | None
+    centroid: tuple[float, float, float]
+    pixels: int
+    bbox: tuple[int, int, int, int]
+    notes: list[str] = field(default_factory=list)
+    mask: np.ndarray | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def object(self) -> str | None:
+        """The nearest object, or None."""
+        return None if self.recognition is None else self.recognition.best.object
+
+    @property
+    def label(self) -> str | None:
+        """The nearest object's class, or None."""
+        return None if self.recognition is None else self.recognition.best.label
+
+    @property
+    def distance(self) -> float:
+        """The distance to the nearest object's nearest library view (NaN when there is none)."""
+        return float("nan") if self.recognition is None else self.recognition.best.distance
+
+    def to_dict(self) -> dict:
+        """The detection as plain types (one of ``heatdata recognize --json``'s ``objects``).
+
+        Returns
+        -------
+        dict
+            ``object, label, distance, centroid, pixels, bbox, notes``, the nearest library view's ``azimuth`` and
+            the ``matches``.
+        """
+        best = None if self.recognition is None else self.recognition.best
+        return {
+            "object": self.object,
+            "label": self.label,
+            "distance": None if best is None else best.distance,
+            "centroid": [float(c) for c in self.centroid],
+            "pixels": int(self.pixels),
+            "bbox": [int(b) for b in self.bbox],
+            "notes": list(self.notes),
+            "azimuth": None if best is None else best.azimuth,
+            "matches": [] if self.recognition is None else [m.__dict__ for m in self.recognition.matches],
+        }
+
+
+@dataclass(frozen=True)
+class SceneRecognition:
+    """What :meth:`heatdata.recognition.library.Library.recognize_scene` answers: every object found in a frame.
+
+    Attributes
+    ----------
+    descriptor : str
+        The library's descriptor.
+    detections : list of Detection
+        One per segment, largest first.
+    plane : (4,) float or None
+        The support plane ``a, b, c, d`` in the camera frame (unit normal towards the camera), or None.
+    repairs : list of str
+        What the frame showed (the plane, or why there is none; clusters dropped) and warnings (no colour).
+    """
+
+    descriptor: str
+    detections: list[Detection]
+    plane: np.ndarray | None
+    repairs: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        """The answer as plain types (``heatdata recognize --json``).
+
+        Returns
+        -------
+        dict
+            ``descriptor``, ``objects`` (:meth:`Detection.to_dict` each), ``plane`` (a list, or None) and
+            ``repairs``.
+        """
+        return {
+            "descriptor": self.descriptor,
+            "objects": [d.to_dict() for d in self.detections],
+            "plane": None if self.plane is None else [float(x) for x in self.plane],
+            "repairs": list(self.repairs),
+        }

@@ -1,0 +1,169 @@
+"""Recognizing a scene as a user meets it: objects on a table, off the image centre, one the library lacks, objects
+touching, a bare table, an empty frame; through Library.recognize_scene and `heatdata recognize`."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+import trimesh
+from conftest import ROOT
+from PIL import Image
+
+import heatdata as hd
+from heatdata.descriptors.rows import descriptor_rows
+from heatdata.experiments.scenes import TABLE_HEIGHT, object_pose, room
+from heatdata.experiments.views import render_views, view_plan
+from heatdata.recognition.library import build_library, write_library
+from heatdata.views.render import Placement, camera_pose, render_scene
+
+OBJECTS = ["milk-carton", "beer-mug", "bread"]
+SPEC = hd.DescriptorSpec("hgd", color="hue-saturation")  # the default descriptor
+FURNITURE = 3  # room(): table, wall, floor
+
+
+@pytest.fixture(scope="module")
+def models():
+    catalog = hd.read_catalog(ROOT / "data/models/catalog.csv")
+    return {row["object"]: hd.load_catalog_model(row) for row in catalog.to_dict("records") if row["object"] in OBJECTS}
+
+
+@pytest.fixture(scope="module")
+def library(models, tmp_path_factory):
+    parts = []
+    for obj, model in models.items():
+        plan = view_plan([obj], 12, 2, elevation=30.0, distance=1.0, seed=0)
+        parts.append(descriptor_rows(render_views(model, plan), plan, [SPEC]))
+    sizes = {obj: model.extents.tolist() for obj, model in models.items()}
+    path = tmp_path_factory.mktemp("library") / "hgd-12.parquet"
+    write_library(*build_library(pd.concat(parts, ignore_index=True), SPEC, 12, sizes=sizes), path)
+    return hd.load_library(path)
+
+
+def scene(objects, *, elevation=35.0, distance=1.1, seed=0):
+    placements = [*room(1.2, 0.8, 0.05), *(Placement(m, object_pose(m, x, z, yaw)) for m, x, z, yaw in objects)]
+    camera = camera_pose(np.array([0.0, TABLE_HEIGHT, 0.0]), 10.0, elevation, distance)
+    return render_scene(placements, camera, sensor="kinect", seed=seed)
+
+
+def unknown_box():
+    box = trimesh.creation.box(extents=(0.1, 0.12, 0.1))
+    return hd.Model.untextured("crate", np.asarray(box.vertices), np.asarray(box.faces), (0.6, 0.6, 0.3), label="box")
+
+
+def test_every_object_on_the_table_is_found_named_and_placed(library, models):
+    frame = scene(
+        [(models["milk-carton"], -0.3, 0.1, 30.0), (models["beer-mug"], 0.05, -0.15, 200.0),
+         (models["bread"], 0.3, 0.15, 70.0), (unknown_box(), -0.05, 0.25, 10.0)]
+    )  # fmt: skip
+    answer = library.recognize_scene(frame.depth, frame.intrinsics, frame.rgb)
+    assert answer.plane is not None and len(answer.detections) == 4
+    truth = {}
+    readings = np.isfinite(frame.depth)
+    for number, name in enumerate([*OBJECTS, "crate"]):
+        mask = (frame.labels == FURNITURE + number) & readings
+        truth[name] = mask
+    named = {}
+    for detection in answer.detections:
+        overlap = {name: (mask & detection.mask).sum() / (mask | detection.mask).sum() for name, mask in truth.items()}
+        name = max(overlap, key=overlap.get)
+        assert overlap[name] > 0.7, overlap
+        named[name] = detection
+        points = hd.views.depth.back_project(frame.depth, frame.intrinsics)[detection.mask]
+        assert np.allclose(detection.centroid, points.mean(axis=0))
+        assert detection.pixels == detection.mask.sum()
+        rows, cols = np.nonzero(detection.mask)
+        assert detection.bbox == (cols.min(), rows.min(), cols.max(), rows.max())
+    for name in OBJECTS:  # off the image centre, each named right
+        assert named[name].object == name, (name, named[name].recognition.matches[:2])
+    assert named["crate"].object in OBJECTS  # named, though no library holds it ("unknown" comes with confidence)
+    shape = answer.to_dict()
+    assert set(shape) == {"descriptor", "objects", "plane", "repairs"} and len(shape["plane"]) == 4
+    assert {"object", "label", "distance", "centroid", "pixels", "bbox", "notes"} <= set(shape["objects"][0])
+    json.dumps(shape)
+
+
+def test_objects_touching_form_one_segment_that_says_so(library, models):
+    frame = scene([(models["milk-carton"], -0.05, 0.0, 0.0), (models["beer-mug"], 0.07, 0.0, 90.0)])
+    answer = library.recognize_scene(frame.depth, frame.intrinsics, frame.rgb)
+    (detection,) = answer.detections
+    assert any("several objects touching" in note for note in detection.notes), detection.notes
+
+
+def test_a_bare_table_an_empty_frame_and_an_isolated_object(library, models):
+    bare = scene([])
+    answer = library.recognize_scene(bare.depth, bare.intrinsics, bare.rgb)
+    assert answer.detections == [] and answer.plane is not None and "no object on the support plane" in answer.repairs
+    with pytest.raises(hd.ViewError, match="empty frame"):
+        library.recognize_scene(np.zeros((480, 640)), bare.intrinsics)
+    view = hd.render_view(models["bread"], 60.0, 30.0, 1.0, seed=2)
+    depth = np.full((480, 640), np.nan)
+    rgb = np.zeros((480, 640, 3))
+    pixels = np.round(view.pixels).astype(int)
+    depth[pixels[:, 1], pixels[:, 0]] = view.vertices[:, 2]
+    rgb[pixels[:, 1], pixels[:, 0]] = view.colors
+    answer = library.recognize_scene(depth, view.intrinsics, rgb)
+    assert answer.plane is None and len(answer.detections) == 1
+    assert answer.detections[0].object == library.recognize(view).best.object == "bread"
+
+
+def test_a_frame_without_colour_warns_once(library, models):
+    frame = scene([(models["beer-mug"], 0.0, 0.0, 0.0)])
+    answer = library.recognize_scene(frame.depth, frame.intrinsics)
+    assert sum("has no colour" in r for r in answer.repairs) == 1
+    coloured = library.recognize_scene(frame.depth, frame.intrinsics, frame.rgb)
+    assert not any("has no colour" in r for r in coloured.repairs)
+
+
+def write_frame(frame, folder):
+    millimetres = np.nan_to_num(np.round(frame.depth * 1000), nan=0).astype(np.uint16)
+    Image.fromarray(millimetres).save(folder / "frame.png")
+    Image.fromarray(np.round(frame.rgb * 255).astype(np.uint8)).save(folder / "frame.rgb.png")
+    (folder / "frame.json").write_text(json.dumps(frame.intrinsics))
+    return [
+        str(folder / "frame.png"),
+        "--intrinsics",
+        str(folder / "frame.json"),
+        "--rgb",
+        str(folder / "frame.rgb.png"),
+    ]
+
+
+def test_the_command_answers_for_each_object_draws_them_and_says_when_there_is_none(library, models, tmp_path, capsys):
+    from heatdata.cli import main
+
+    frame = scene([(models["milk-carton"], -0.2, 0.0, 30.0), (models["bread"], 0.2, 0.1, 0.0)])
+    command = ["recognize", *write_frame(frame, tmp_path), "--library", library.path]
+    assert main([*command, "--overlay", str(tmp_path / "overlay.png")]) == 0
+    out = capsys.readouterr().out
+    assert "2 objects on the support plane" in out and "milk-carton" in out and "bread" in out
+    assert "centroid x y z (m)" in out and "frame: support plane" in out
+    overlay = np.asarray(Image.open(tmp_path / "overlay.png"))
+    assert overlay.shape == (480, 640, 3) and not np.array_equal(overlay, np.round(frame.rgb * 255))
+    assert main([*command, "--json"]) == 0
+    answer = json.loads(capsys.readouterr().out)
+    assert sorted(o["object"] for o in answer["objects"]) == ["bread", "milk-carton"]
+    assert answer["plane"] is not None and answer["frame"].endswith("frame.png")
+
+    bare = tmp_path / "bare"
+    bare.mkdir()
+    assert main(["recognize", *write_frame(scene([]), bare), "--library", library.path]) == 0
+    assert "no object found (no object on the support plane)" in capsys.readouterr().out
+
+
+def test_the_command_refuses_what_it_cannot_draw_or_read(library, tmp_path, caplog):
+    from heatdata.cli import main
+
+    Image.fromarray(np.zeros((480, 640), np.uint16)).save(tmp_path / "empty.png")
+    (tmp_path / "empty.json").write_text(json.dumps(hd.kinect_intrinsics()))
+    base = ["recognize", str(tmp_path / "empty.png"), "--intrinsics", str(tmp_path / "empty.json")]
+    cases = [
+        ([*base, "--library", library.path], "empty frame"),
+        ([*base, "--library", library.path, "--overlay", str(tmp_path / "o.jpg")], "written as a .png"),
+        ([*base, "--library", library.path, "--overlay", str(tmp_path / "empty.png")], "empty.png"),
+    ]
+    for command, message in cases:
+        caplog.clear()
+        assert main(command) == 1, command
+        errors = [r.getMessage() for r in caplog.records if r.levelname == "ERROR"]
+        assert len(errors) == 1 and message in errors[0], errors
