@@ -496,9 +496,9 @@ def cmd_recognize(args: argparse.Namespace) -> None:
     if len(frames) == 1 and args.moves is None:
         answer, image = _scene(frames[0], args, library)
         if args.overlay is not None:
-            from heatdata.reporting.figures.scenes import save_overlay
+            from heatdata.reporting.figures.scenes import detection_marks, save_overlay
 
-            save_overlay(args.overlay, image, answer.detections)
+            save_overlay(args.overlay, image, detection_marks(answer.detections))
         if args.json:
             print(json.dumps({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
             return
@@ -813,7 +813,27 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _without_open3d_viewer() -> None:
+    """Spare the command open3d's web viewer: ``import open3d`` imports ``open3d.visualization.draw_plotly``, and
+    with it plotly and dash (0.3 s of a 0.5 s import), which no command draws with. A stand-in module that refuses
+    to draw takes its place in this process; code that imports heatdata as a library is left as it is."""
+    if "open3d" in sys.modules or OPEN3D_VIEWER in sys.modules:
+        return
+    import types
+
+    def refuse(*args, **kwargs):
+        raise RuntimeError("open3d's plotly viewer is not loaded in the heatdata command")
+
+    viewer = types.ModuleType(OPEN3D_VIEWER, "open3d's plotly viewer, not loaded in the heatdata command")
+    viewer.get_plotly_fig = viewer.draw_plotly = viewer.draw_plotly_server = refuse  # type: ignore[attr-defined]
+    sys.modules[OPEN3D_VIEWER] = viewer
+
+
+OPEN3D_VIEWER = "open3d.visualization.draw_plotly"
+
+
 def main(argv: list[str] | None = None) -> int:
+    _without_open3d_viewer()
     parser = build_parser()
     args = parser.parse_args(argv)
     setup_logging(args.verbose)

@@ -232,3 +232,21 @@ def test_render_creates_the_output_folder(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["view"] == str(tmp_path / "new" / "deep" / "v.npz")
     with pytest.raises(hd.ModelError, match="mirrors"):
         hd.load_model(tmp_path / "box.ply", size=(-0.1, 0.1, 0.1))
+
+
+def test_the_command_spares_open3d_its_web_viewer_and_still_segments():
+    code = (
+        "import sys; from heatdata.cli import _without_open3d_viewer; _without_open3d_viewer(); import open3d; "
+        "import numpy as np; cloud = open3d.geometry.PointCloud(open3d.utility.Vector3dVector("
+        "np.random.default_rng(0).random((200, 3)) * [1, 1, 0])); "
+        "plane = np.abs(cloud.segment_plane(0.01, 3, 50)[0]); "
+        "print('dash' in sys.modules, 'plotly' in sys.modules, np.round(plane, 3))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split()[:2] == ["False", "False"] and "1." in out, out
+    viewer = subprocess.run(
+        [sys.executable, "-c", "from heatdata.cli import _without_open3d_viewer; _without_open3d_viewer(); "
+         "import open3d; open3d.visualization.draw_plotly([])"],
+        capture_output=True, text=True, check=False,
+    )  # fmt: skip
+    assert viewer.returncode != 0 and "not loaded in the heatdata command" in viewer.stderr
