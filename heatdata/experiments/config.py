@@ -356,6 +356,52 @@ def check_stages(config: dict[str, Any], objects: list[str], specs: list[Descrip
         raise ConfigError(f"library_sizes {too_large} exceed views.train = {views['train']} rendered views")
 
 
+def run_scenes(config: dict[str, Any], objects: list[str], specs: list[DescriptorSpec]) -> dict[str, Any]:
+    """The scenes of the run (config ``scenes``): each scene's objects, the libraries that recognize them.
+
+    Parameters
+    ----------
+    config : dict
+        The validated config.
+    objects : list of str
+        The run's objects.
+    specs : list of DescriptorSpec
+        The run's descriptors.
+
+    Returns
+    -------
+    dict
+        ``scenes`` (scene name -> its objects; empty when the stage is off), ``descriptors`` (the spec names whose
+        libraries recognize them), ``size`` (their library views per object) and ``primary`` (the descriptor drawn
+        in the overlays).
+
+    Raises
+    ------
+    ConfigError
+        A descriptor not among the run's, a library size the run does not build, a range given high to low.
+    """
+    from heatdata.experiments.scenes import choose_objects
+
+    settings = config["scenes"]
+    if not settings["enabled"]:
+        return {"scenes": {}, "descriptors": [], "size": None, "primary": None}
+    for key in ("objects", "distance", "elevation", "wall_gap"):
+        low, high = settings[key]
+        if low > high:
+            raise ConfigError(f"scenes.{key}: [{low}, {high}] runs high to low")
+    names = [s.name for s in specs]
+    unknown = [d for d in settings["descriptors"] if d not in names]
+    if unknown:
+        raise ConfigError(f"scenes.descriptors: {unknown} are not among the run's descriptors ({', '.join(names)})")
+    size = settings["library_size"] or max(config["library_sizes"])
+    if size not in config["library_sizes"]:
+        raise ConfigError(f"scenes.library_size {size} is not one of library_sizes {config['library_sizes']}")
+    descriptors = settings["descriptors"] or names
+    primary = config["primary_descriptor"] if config["primary_descriptor"] in descriptors else descriptors[0]
+    scenes = {f"scene-{k:03d}": choose_objects(objects, settings, k) for k in range(settings["count"])}
+    return {"scenes": scenes, "descriptors": descriptors, "size": size, "primary": primary}
+
+
 def multiview_descriptor(config: dict[str, Any]) -> str:
     """The descriptor multi-view recognition uses: ``multiview.descriptor``, else the primary one."""
     return config["multiview"]["descriptor"] or config["primary_descriptor"]

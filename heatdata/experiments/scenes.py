@@ -27,6 +27,7 @@ import json
 import logging
 import zlib
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
@@ -35,11 +36,14 @@ from PIL import Image
 from heatdata.errors import HeatdataError
 from heatdata.io.files import atomic
 from heatdata.io.models import Model
+from heatdata.io.tables import DETECTION_SCHEMA
 from heatdata.typing import StrPath
 from heatdata.views.depth import back_project
-from heatdata.views.render import Placement, SceneFrame, camera_pose, render_scene
 from heatdata.views.sensor import SensorProfile
 from heatdata.views.view import kinect_intrinsics
+
+if TYPE_CHECKING:  # the renderer imports open3d: only where a scene is rendered, not where the workflow plans it
+    from heatdata.views.render import Placement, SceneFrame
 
 log = logging.getLogger(__name__)
 
@@ -175,6 +179,8 @@ def plan_scene(models: list[Model], settings: dict, index: int) -> dict:
 
 def room(width: float, depth: float, wall_gap: float) -> list[Placement]:
     """The furniture of every scene: a ``width`` x ``depth`` m table, a wall ``wall_gap`` m behind it, the floor."""
+    from heatdata.views.render import Placement
+
     table = box_model("table", (width, TABLE_THICKNESS, depth), TABLE_COLOR)
     wall = box_model("wall", (WALL_SIZE[0], WALL_SIZE[1], 0.02), WALL_COLOR)
     floor = box_model("floor", (FLOOR_SIZE, 0.02, FLOOR_SIZE), FLOOR_COLOR)
@@ -215,6 +221,8 @@ def render_planned_scene(plan: dict, models: dict[str, Model], settings: dict) -
         ``visible`` (pixels its rays hit), ``occluded`` (share hidden by other objects), ``cut`` (by the image
         border) and ``centroid`` (mean of its readings' points, camera frame).
     """
+    from heatdata.views.render import Placement, camera_pose, render_scene
+
     width, depth = settings["table"]
     placements = room(width, depth, plan["wall_gap"])
     placements += [
@@ -342,9 +350,9 @@ def score_scene(detections: list, labels: np.ndarray, depth: np.ndarray, truth: 
     Returns
     -------
     pandas.DataFrame
-        One row per detection and per missed object: ``scene, detection`` (-1 for a missed object), ``object``
-        (the answer, "" for none), ``distance, pixels, truth`` (the matched object, "" for none), ``truth_label,
-        iou, correct, truth_pixels, occluded, cut, notes``.
+        One row per detection and per missed object, the columns of :data:`heatdata.io.tables.DETECTION_SCHEMA`
+        but ``descriptor`` and ``seconds``: ``detection`` is -1 for a missed object, ``object`` "" for none, ``truth``
+        "" for a detection that matches no object; ``mask`` the detection's pixels in its box (:func:`pack_mask`).
     """
     readings = np.isfinite(depth) & (depth > 0)
     masks = [(labels == i + 1) & readings for i in range(len(truth["objects"]))]
@@ -358,7 +366,7 @@ def score_scene(detections: list, labels: np.ndarray, depth: np.ndarray, truth: 
         rows.append(_score_row(truth, number, detection, best if hit else None, ious[best] if ious else 0.0))
     for index in sorted(set(range(len(masks))) - matched):
         rows.append(_score_row(truth, -1, None, index, 0.0))
-    return pd.DataFrame(rows)
+    return pd.DataFrame(rows, columns=[c for c in DETECTION_SCHEMA.names if c not in ("descriptor", "seconds")])
 
 
 def _iou(a: np.ndarray, b: np.ndarray) -> float:
@@ -366,35 +374,55 @@ def _iou(a: np.ndarray, b: np.ndarray) -> float:
     return int((a & b).sum()) / union if union else 0.0
 
 
+def pack_mask(mask: np.ndarray, bbox) -> bytes:
+    """A detection's pixels inside its box ``u0, v0, u1, v1`` as packed bits (:func:`unpack_mask` reads them)."""
+    u0, v0, u1, v1 = bbox
+    return np.packbits(mask[v0 : v1 + 1, u0 : u1 + 1]).tobytes()
+
+
+def unpack_mask(data: bytes, bbox, shape: tuple[int, int]) -> np.ndarray:
+    """(h, w) bool: the mask :func:`pack_mask` packed, placed in a frame of ``shape``."""
+    u0, v0, u1, v1 = (int(b) for b in bbox)
+    size = (v1 - v0 + 1, u1 - u0 + 1)
+    mask = np.zeros(shape, bool)
+    mask[v0 : v1 + 1, u0 : u1 + 1] = np.unpackbits(np.frombuffer(data, np.uint8), count=size[0] * size[1]).reshape(size)
+    return mask
+
+
 def _score_row(truth: dict, number: int, detection, index: int | None, iou: float) -> dict:
     item = truth["objects"][index] if index is not None else {}
-    answer = "" if detection is None or detection.object is None else detection.object
+    found = detection is not None
+    best = detection.recognition.best if found and detection.recognition is not None else None
     return {
         "scene": truth["scene"],
         "detection": number,
-        "object": answer,
-        "distance": float("nan") if detection is None else detection.distance,
-        "pixels": 0 if detection is None else detection.pixels,
+        "object": "" if best is None else best.object,
+        "label": "" if best is None else best.label,
+        "distance": np.nan if best is None else best.distance,
+        "azimuth": np.nan if best is None else best.azimuth,
+        "pixels": detection.pixels if found else 0,
+        "centroid": list(detection.centroid) if found else [],
+        "bbox": list(detection.bbox) if found else [],
+        "notes": list(detection.notes) if found else [],
+        "mask": pack_mask(detection.mask, detection.bbox) if found else b"",
         "truth": item.get("object", ""),
         "truth_label": item.get("label", ""),
         "iou": float(iou),
-        "correct": bool(detection is not None and item and answer == item["object"]),
+        "correct": bool(best is not None and item and best.object == item["object"]),
         "truth_pixels": int(item.get("pixels", 0)),
         "occluded": float(item.get("occluded", 0.0)),
         "cut": bool(item.get("cut", False)),
-        "notes": [] if detection is None else list(detection.notes),
     }
 
 
-def scene_summary(scores: pd.DataFrame, seconds: pd.DataFrame) -> pd.DataFrame:
+def scene_summary(scores: pd.DataFrame) -> pd.DataFrame:
     """Detection, naming and latency of each library over the scenes (see the module docstring).
 
     Parameters
     ----------
     scores : pandas.DataFrame
-        :func:`score_scene` rows of every scene, with a ``descriptor`` column.
-    seconds : pandas.DataFrame
-        ``descriptor, scene, seconds``: the time :meth:`recognize_scene` took on each frame.
+        :func:`score_scene` rows of every scene, with ``descriptor`` and ``seconds`` (the time
+        :meth:`recognize_scene` took on the row's frame).
 
     Returns
     -------
@@ -402,7 +430,7 @@ def scene_summary(scores: pd.DataFrame, seconds: pd.DataFrame) -> pd.DataFrame:
         One row per descriptor: ``scenes, objects`` (with at least :data:`MIN_OBJECT_PIXELS` readings),
         ``recall``, ``segments``, ``false_segments`` (share matching no object), ``named`` and ``naming`` (right
         names among detected unoccluded objects inside the frame), ``named_occluded`` and ``naming_occluded``
-        (partly occluded or cut ones), ``median_seconds``, ``p90_seconds``.
+        (partly occluded or cut ones), ``median_seconds``, ``p90_seconds`` (per frame).
     """
     rows = []
     for descriptor, table in scores.groupby("descriptor", sort=False):
@@ -413,7 +441,7 @@ def scene_summary(scores: pd.DataFrame, seconds: pd.DataFrame) -> pd.DataFrame:
         matched = segments[segments["truth"] != ""]
         clear = matched[(matched["occluded"] <= OCCLUDED) & ~matched["cut"]]
         hidden = matched[(matched["occluded"] > OCCLUDED) | matched["cut"]]
-        times = seconds[seconds["descriptor"] == descriptor]["seconds"]
+        times = table.drop_duplicates("scene")["seconds"]
         rows.append(
             {
                 "descriptor": descriptor,
@@ -426,8 +454,144 @@ def scene_summary(scores: pd.DataFrame, seconds: pd.DataFrame) -> pd.DataFrame:
                 "naming": float(clear["correct"].mean()) if len(clear) else np.nan,
                 "named_occluded": len(hidden),
                 "naming_occluded": float(hidden["correct"].mean()) if len(hidden) else np.nan,
-                "median_seconds": float(times.median()) if len(times) else np.nan,
-                "p90_seconds": float(times.quantile(0.9)) if len(times) else np.nan,
+                "median_seconds": float(times.median()),
+                "p90_seconds": float(times.quantile(0.9)),
             }
         )
     return pd.DataFrame(rows)
+
+
+def render_scene_files(rows: list[dict], settings: dict, index: int, depth_path: StrPath) -> dict:
+    """Workflow step: scene ``index`` of the objects of catalogue ``rows``, rendered and written (:func:`write_scene`).
+
+    Parameters
+    ----------
+    rows : list of dict
+        The catalogue rows of the scene's objects (:func:`choose_objects`).
+    settings : dict
+        The config's ``scenes``.
+    index : int
+        The scene's number.
+    depth_path : str or Path
+        Where its depth PNG goes; the other files beside it.
+
+    Returns
+    -------
+    dict
+        The scene's truth.
+    """
+    from heatdata.io.catalog import load_catalog_model
+
+    models = {row["object"]: load_catalog_model(row) for row in rows}
+    plan = plan_scene(list(models.values()), settings, index)
+    frame, truth = render_planned_scene(plan, models, settings)
+    write_scene(frame, truth, depth_path)
+    seen = ", ".join(f"{o['object']} ({o['pixels']} px)" for o in truth["objects"])
+    log.info("%s: %s; camera %.2f m, %.0f deg", plan["scene"], seen, plan["camera"]["distance"],
+             plan["camera"]["elevation"])  # fmt: skip
+    return truth
+
+
+def read_scene(depth_path: StrPath) -> tuple[np.ndarray, np.ndarray | None, dict, np.ndarray, dict]:
+    """A scene written by :func:`write_scene`: depth (metres, NaN: no reading), colour, intrinsics, labels, truth."""
+    from heatdata.views.depth import read_depth_frame, read_image
+
+    files = scene_files(depth_path)
+    depth, rgb, intrinsics = read_depth_frame(files["depth"], files["intrinsics"], files["rgb"])
+    depth[depth <= 0] = np.nan
+    labels = read_image(files["labels"], "label image", "L")
+    truth = json.loads(files["truth"].read_text())
+    return depth, rgb, intrinsics, labels, truth
+
+
+def recognize_scene_files(library, depth_paths: list[StrPath]) -> pd.DataFrame:
+    """Workflow step: every scene recognized with ``library`` and scored against its truth (:func:`score_scene`).
+
+    The first scene is recognized twice and timed the second time, so every ``seconds`` is a warm library's.
+
+    Parameters
+    ----------
+    library : Library
+        A loaded library.
+    depth_paths : list of str or Path
+        The scenes' depth PNGs.
+
+    Returns
+    -------
+    pandas.DataFrame
+        :data:`heatdata.io.tables.DETECTION_SCHEMA` rows.
+    """
+    import time
+
+    parts = []
+    for number, path in enumerate(depth_paths):
+        depth, rgb, intrinsics, labels, truth = read_scene(path)
+        if number == 0:
+            library.recognize_scene(depth, intrinsics, rgb, name=truth["scene"])  # warm the library and the imports
+        tic = time.perf_counter()
+        answer = library.recognize_scene(depth, intrinsics, rgb, name=truth["scene"])
+        seconds = time.perf_counter() - tic
+        scores = score_scene(answer.detections, labels, depth, truth)
+        parts.append(scores.assign(descriptor=library.descriptor, seconds=seconds))
+        log.info(
+            "%s: %d objects found in %.0f ms: %s", truth["scene"], len(answer.detections), 1000 * seconds,
+            ", ".join(d.object or "?" for d in answer.detections),
+        )  # fmt: skip
+    return pd.concat(parts, ignore_index=True)
+
+
+def offaxis_precision(
+    library_rows: pd.DataFrame, moved_rows: pd.DataFrame, predictions: pd.DataFrame, size: int, time_rule: str
+) -> pd.DataFrame:
+    """Precision of the test views rendered off the optical axis, and of the control views, against the same views
+    centred (:func:`heatdata.experiments.views.render_offaxis_views`), per descriptor.
+
+    Parameters
+    ----------
+    library_rows : pandas.DataFrame
+        The run's descriptor rows of its library views (``split = "train"``).
+    moved_rows : pandas.DataFrame
+        The descriptor rows of the off-axis views (ids ``<object>/offaxis/<index>``) and of the control views
+        (``<object>/reseeded/<index>``).
+    predictions : pandas.DataFrame
+        The run's predictions of its centred test views (``<object>/test/<index>``).
+    size : int
+        Library views per object.
+    time_rule : str
+        As the run classifies.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``descriptor, views, centred, reseeded, off_axis`` (object precision), ``difference`` (off-axis less
+        centred, points), ``same_reseeded`` and ``same_off_axis`` (the shares of views answered as centred).
+    """
+    from heatdata.recognition.evaluate import evaluate_library_sizes
+
+    columns = ["descriptor", "views", "centred", "reseeded", "off_axis", "difference", "same_reseeded",
+               "same_off_axis"]  # fmt: skip
+    if moved_rows.empty:
+        return pd.DataFrame(columns=columns)
+    rows = pd.concat([library_rows, moved_rows], ignore_index=True)
+    table = []
+    for descriptor in moved_rows["descriptor"].unique():
+        answers = evaluate_library_sizes(rows, descriptor, [size], time_rule=time_rule)
+        kind = answers["view_id"].str.split("/").str[-2]
+        answers = answers.assign(view_id=answers["view_id"].str.replace(r"/(offaxis|reseeded)/", "/test/", regex=True))
+        off = answers[kind == "offaxis"].set_index("view_id")
+        control = answers[kind == "reseeded"].set_index("view_id").loc[off.index]
+        centred = predictions[(predictions["descriptor"] == descriptor) & (predictions["library_size"] == size)]
+        centred = centred.set_index("view_id").loc[off.index]
+        table.append(
+            {
+                "descriptor": descriptor,
+                "views": len(off),
+                "centred": float(centred["correct"].mean()),
+                "reseeded": float(control["correct"].mean()),
+                "off_axis": float(off["correct"].mean()),
+                "difference": 100.0 * float(off["correct"].mean() - centred["correct"].mean()),
+                "same_reseeded": float((control["predicted_object"] == centred["predicted_object"]).mean()),
+                "same_off_axis": float((off["predicted_object"] == centred["predicted_object"]).mean()),
+            }
+        )
+    return pd.DataFrame(table, columns=columns)

@@ -63,14 +63,20 @@ def render_views(
     plan: pd.DataFrame,
     *,
     noise: bool = True,
+    sensor: str | None = None,
     intrinsics: dict | None = None,
     components: str = "largest",
+    offsets: np.ndarray | None = None,
+    split: str | None = None,
     progress_every: int = 40,
 ) -> list[View]:
     """Render every planned view of ``model`` (rows of :func:`view_plan` for this object).
 
+    ``sensor``: a sensor profile in place of ``noise`` (:class:`heatdata.views.sensor.SensorProfile`);
     ``intrinsics``: the camera's (default the Kinect's, :func:`heatdata.views.view.kinect_intrinsics`);
-    ``components``: ``"largest"`` or ``"all"`` (:func:`heatdata.render_view`).
+    ``components``: ``"largest"`` or ``"all"`` (:func:`heatdata.render_view`); ``offsets``: (len(plan), 2) pixels
+    at which each view's object stands off the image centre (the camera turned), default none; ``split``: the
+    name of the views' split in their ids (default the plan's).
     """
     views = []
     start = time.perf_counter()
@@ -82,10 +88,12 @@ def render_views(
                 row.elevation,
                 row.distance,
                 noise=noise,
+                sensor=sensor,
                 seed=row.seed,
                 intrinsics=intrinsics,
+                image_offset=(0.0, 0.0) if offsets is None else tuple(offsets[count - 1]),
                 components=components,
-                view_id=f"{model.name}/{row.split}/{row.index:03d}",
+                view_id=f"{model.name}/{split or row.split}/{row.index:03d}",
             )
         )
         if count % progress_every == 0 or count == len(plan):
@@ -106,7 +114,7 @@ def render_object_views(row: dict, views: dict) -> pd.DataFrame:
     """Workflow step: the planned views of one catalogue object as a :data:`VIEW_SCHEMA` frame.
 
     ``views`` holds ``train, test, elevation, distance, noise, seed`` and optionally
-    ``image_scale`` and ``components`` (config ``views``).
+    ``sensor``, ``image_scale`` and ``components`` (config ``views``).
     """
     from heatdata.io.catalog import load_catalog_model
     from heatdata.views.frames import views_to_frame
@@ -123,10 +131,63 @@ def render_object_views(row: dict, views: dict) -> pd.DataFrame:
     intrinsics = kinect_intrinsics(views.get("image_scale", 1.0))
     return views_to_frame(
         render_views(
-            model, plan, noise=views["noise"], intrinsics=intrinsics, components=views.get("components", "largest")
+            model,
+            plan,
+            noise=views["noise"],
+            sensor=views.get("sensor"),
+            intrinsics=intrinsics,
+            components=views.get("components", "largest"),
         ),
         plan,
     )
+
+
+def render_offaxis_views(row: dict, views: dict, count: int) -> pd.DataFrame:
+    """Workflow step: ``count`` of one object's test views rendered again, off the optical axis and, as a control,
+    centred with another noise draw.
+
+    Each off-axis view is the test view of the same index, azimuth and noise seed, the camera turned (not moved) so
+    that the object's centre lands at a random pixel (seeded by the view's seed) that keeps the object inside the
+    image; its id is ``<object>/offaxis/<index>``, beside the run's ``<object>/test/<index>``. Each control view
+    (``<object>/reseeded/<index>``) is the test view again with the next noise seed: how much an answer changes
+    when nothing but the sensor's noise and the pixels that sample the surface change.
+
+    Parameters
+    ----------
+    row : dict
+        The object's catalogue row.
+    views : dict
+        The config's ``views``.
+    count : int
+        Test views to render again, evenly spaced among the run's.
+
+    Returns
+    -------
+    pandas.DataFrame
+        A :data:`VIEW_SCHEMA` frame (split ``test``); each off-axis view's pixel offset is in its repairs.
+    """
+    from heatdata.io.catalog import load_catalog_model
+    from heatdata.views.frames import views_to_frame
+
+    model = load_catalog_model(row)
+    plan = view_plan([model.name], 1, views["test"], elevation=views["elevation"], distance=views["distance"],
+                     seed=views["seed"])  # fmt: skip
+    plan = plan[plan["split"] == "test"]
+    plan = plan.iloc[np.unique(np.linspace(0, len(plan) - 1, min(count, len(plan))).round().astype(int))]
+    intrinsics = kinect_intrinsics(views.get("image_scale", 1.0))
+    radius = intrinsics["fx"] * 0.5 * float(np.linalg.norm(model.extents)) / views["distance"] + 4.0
+    room = np.array([intrinsics["width"], intrinsics["height"]]) / 2.0 - radius
+    offsets = np.array(
+        [np.random.default_rng(seed).uniform(-1.0, 1.0, 2) * np.maximum(room, 0.0) for seed in plan["seed"]]
+    )
+    options = dict(noise=views["noise"], sensor=views.get("sensor"), intrinsics=intrinsics,
+                   components=views.get("components", "largest"))  # fmt: skip
+    moved = render_views(model, plan, offsets=offsets, split="offaxis", **options)
+    for view, (du, dv) in zip(moved, offsets, strict=True):
+        view.repairs.append(f"rendered {du:+.0f}, {dv:+.0f} px off the image centre (the camera turned)")
+    reseeded = plan.assign(seed=plan["seed"] + 1)
+    control = render_views(model, reseeded, split="reseeded", **options)
+    return views_to_frame(moved + control, pd.concat([plan, reseeded], ignore_index=True))
 
 
 def capture_view_table(

@@ -130,6 +130,33 @@ TRIAL_SCHEMA = pa.schema(
 )
 
 
+#: one object found in a scene, or one object of a scene no detection found (heatdata.experiments.scenes.score_scene)
+DETECTION_SCHEMA = pa.schema(
+    [
+        ("scene", pa.string()),
+        ("descriptor", pa.string()),
+        ("detection", pa.int64()),
+        ("object", pa.string()),
+        ("label", pa.string()),
+        ("distance", pa.float64()),
+        ("azimuth", pa.float64()),
+        ("pixels", pa.int64()),
+        ("centroid", pa.list_(pa.float64())),
+        ("bbox", pa.list_(pa.int64())),
+        ("notes", pa.list_(pa.string())),
+        ("mask", pa.binary()),
+        ("truth", pa.string()),
+        ("truth_label", pa.string()),
+        ("iou", pa.float64()),
+        ("correct", pa.bool_()),
+        ("truth_pixels", pa.int64()),
+        ("occluded", pa.float64()),
+        ("cut", pa.bool_()),
+        ("seconds", pa.float64()),
+    ]
+)
+
+
 #: mu(s, s') of eq. 4.6 (heatdata.recognition.multiview.appearance.learn_similarity)
 SIMILARITY_SCHEMA = pa.schema(
     [

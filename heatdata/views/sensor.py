@@ -113,7 +113,13 @@ class SensorProfile:
         raise RenderError(f"a sensor profile is a name or a mapping, got {profile!r}")
 
     def to_dict(self) -> dict:
-        """The fields as plain types (a table's metadata, a scene's ground truth)."""
+        """The fields as plain types (a table's metadata, a scene's ground truth).
+
+        Returns
+        -------
+        dict
+            Each field's value by name.
+        """
         return asdict(self)
 
     def measure(self, depth: np.ndarray, colors: np.ndarray | None, fx: float, rng: np.random.Generator) -> np.ndarray:

@@ -76,10 +76,18 @@ MULTIVIEW = {
     "step": 45,
     "max_degrees": 360,
 }
+SCENES = {
+    "enabled": True,
+    "count": 2,
+    "objects": [1, 2],
+    "descriptors": ["pvhk/polar/center/32", "hgd/color=hue-saturation"],
+    "offaxis": 2,
+}
 EXPERIMENTS = {
     "compact": COMPACT,
     "comparison": COMPARISON,
     "multiview": MULTIVIEW,
+    "scenes": SCENES,
     "ablation": str(ROOT / "config" / "experiments" / "chairs_ablation.csv"),
 }
 
@@ -935,6 +943,52 @@ def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
         tmp_path / "run2", {**config, "stitch": {"pairs": [{**pair, "object": "plastic-cup"}]}}, "--dry-run"
     )
     assert duplicate.returncode != 0 and "already one of the run's objects" in duplicate.stdout + duplicate.stderr
+
+
+# -- scenes --------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.slow
+def test_scenes_are_rendered_recognized_scored_and_drawn(tiny_run, capsys):
+    import json
+
+    from PIL import Image
+
+    from heatdata.cli import main
+    from heatdata.io.tables import DETECTION_SCHEMA
+
+    results = tiny_run / "results"
+    frames = results / "scenes" / "frames"
+    for scene in ("scene-000", "scene-001"):
+        for part in (".png", ".rgb.png", ".json", ".labels.png", ".truth.json"):
+            assert (frames / f"{scene}{part}").is_file(), (scene, part)
+        truth = json.loads((frames / f"{scene}.truth.json").read_text())
+        assert 1 <= len(truth["objects"]) <= 2 and {o["object"] for o in truth["objects"]} <= {
+            "plastic-cup",
+            "beer-mug",
+        }
+        assert np.asarray(Image.open(results / "scenes" / "overlays" / f"{scene}.png")).shape == (480, 640, 3)
+    detections, meta = read_table(results / "scenes" / "detections" / "hgd_color=hue-saturation.parquet")
+    assert list(detections.columns) == DETECTION_SCHEMA.names and meta["library"].endswith("-8.parquet")
+    assert set(detections["scene"]) == {"scene-000", "scene-001"} and (detections["seconds"] > 0).all()
+    summary = pd.read_csv(results / "scenes" / "summary.csv")
+    assert summary["descriptor"].tolist() == SCENES["descriptors"]
+    assert {"recall", "false_segments", "naming", "naming_occluded", "median_seconds"} <= set(summary.columns)
+    offaxis = pd.read_csv(results / "scenes" / "offaxis.csv")
+    assert len(offaxis) == len(tiny_config()["descriptors"]) and (offaxis["views"] == 2 * 2).all()
+    assert offaxis[["same_reseeded", "same_off_axis"]].stack().between(0, 1).all()
+    moved, _ = read_table(results / "scenes" / "offaxis" / "views" / "beer-mug.parquet")
+    kinds = moved["view_id"].str.split("/").str[1]
+    assert sorted(kinds) == ["offaxis", "offaxis", "reseeded", "reseeded"]
+    off = moved[kinds == "offaxis"]
+    assert all(any("off the image centre" in r for r in repairs) for repairs in off["repairs"])
+    page = (results / "figures" / "scenes.html").read_text()
+    assert page.count("<img") == 2 and "Objects anywhere in the frame" in page
+    library = results / "libraries" / "hgd_color=hue-saturation-8.parquet"
+    assert main(["recognize", str(frames / "scene-000.png"), "--intrinsics", str(frames / "scene-000.json"),
+                 "--rgb", str(frames / "scene-000.rgb.png"), "--library", str(library), "--json"]) == 0  # fmt: skip
+    answer = json.loads(capsys.readouterr().out)
+    assert answer["plane"] is not None and len(answer["objects"]) >= 1
 
 
 # -- libraries and `heatdata recognize` (issue 33) -----------------------------------------------------------

@@ -8,7 +8,8 @@ import heatdata
 from heatdata.descriptors import file_name
 from heatdata.errors import ConfigError
 from heatdata.experiments.config import (CONFUSION_PATTERN, check_numbers, check_stages, descriptor_specs,
-                                         multiview_descriptor, run_captures, run_catalog, stitched_objects)
+                                         multiview_descriptor, run_captures, run_catalog, run_scenes,
+                                         stitched_objects)
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
@@ -30,6 +31,7 @@ try:
     OBJECTS = CATALOG.index.tolist()
     check_stages(config, OBJECTS, SPECS)
     CAPTURES = run_captures(config, OBJECTS)  # object -> its captured frames
+    SCENES = run_scenes(config, OBJECTS, SPECS)  # the scenes' objects, the libraries that recognize them
 except ConfigError as exc:
     raise WorkflowError(f"config error: {exc}") from None
 # the descriptors by file name (pvhk/polar/center/64 -> pvhk_polar_center_64): the classify jobs' wildcard
@@ -51,6 +53,11 @@ def model_input(obj):
     return CATALOG.loc[obj, "path"]
 
 
+def catalog_row_of(obj):
+    """An object's catalogue row as JSON: a params value, so editing one row reruns what uses that object."""
+    return json.dumps(CATALOG.loc[obj].to_dict(), sort_keys=True, default=str)
+
+
 def catalog_row(wildcards):
-    """The object's catalogue row as JSON: a params value, so editing one row reruns one object."""
-    return json.dumps(CATALOG.loc[wildcards.object].to_dict(), sort_keys=True, default=str)
+    """The wildcard object's catalogue row (catalog_row_of)."""
+    return catalog_row_of(wildcards.object)

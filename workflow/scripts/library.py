@@ -22,5 +22,6 @@ library, metadata = build_library(
     render=snakemake.params.render,
     time_rule=snakemake.params.time_rule,
     source=snakemake.input.descriptors,
+    sizes={obj: [float(x) for x in size] for obj, size in snakemake.params.sizes.items()},
 )
 write_library(library, metadata, snakemake.output[0])

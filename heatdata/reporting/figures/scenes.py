@@ -1,19 +1,34 @@
-"""Overlays of a recognized scene: the frame with each detection's pixels tinted, boxed and named.
+"""Overlays of a recognized scene: the frame with each object's pixels tinted, boxed and named.
 
-Drawn with Pillow (no matplotlib), so ``heatdata recognize --overlay`` costs a few milliseconds.
+Drawn with Pillow (no matplotlib), so ``heatdata recognize --overlay`` costs a few milliseconds. The same drawing
+serves a :class:`heatdata.recognition.answers.SceneRecognition` (the command) and a scene's rows of a detection
+table (the workflow's report, which also names the true object where the answer differs).
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 import numpy as np
+import pandas as pd
 from PIL import Image, ImageDraw, ImageFont
 
 from heatdata.io.files import atomic
 from heatdata.typing import StrPath
 
-#: one tint per detection, in order (colour-blind-safe, Okabe & Ito)
+#: one tint per object, in order (colour-blind-safe, Okabe & Ito)
 TINTS = [(230, 159, 0), (86, 180, 233), (0, 158, 115), (240, 228, 66), (0, 114, 178), (213, 94, 0), (204, 121, 167)]
 ALPHA = 0.45  # the tint's weight over the frame
+
+
+@dataclass(frozen=True)
+class Mark:
+    """One object drawn on a frame: its pixels (None: its box alone), its box ``u0, v0, u1, v1`` and its label."""
+
+    mask: np.ndarray | None
+    bbox: tuple[int, int, int, int]
+    text: str
 
 
 def frame_image(depth: np.ndarray, rgb: np.ndarray | None = None) -> np.ndarray:
@@ -30,47 +45,66 @@ def frame_image(depth: np.ndarray, rgb: np.ndarray | None = None) -> np.ndarray:
     return np.repeat(np.round(grey * 255).astype(np.uint8)[..., None], 3, axis=2)
 
 
-def overlay_image(image: np.ndarray, detections: list, *, truth: list[str] | None = None) -> Image.Image:
-    """The frame with each detection tinted, its bounding box drawn and labelled ``number object (distance)``.
+def detection_marks(detections: list) -> list[Mark]:
+    """The marks of :class:`heatdata.recognition.answers.Detection` s: ``number object (distance)``."""
+    marks = []
+    for number, detection in enumerate(detections, 1):
+        text = f"{number} {detection.object or 'unknown'}"
+        if math.isfinite(detection.distance):
+            text += f" ({detection.distance:.3g})"
+        marks.append(Mark(detection.mask, detection.bbox, text))
+    return marks
+
+
+def row_marks(rows: pd.DataFrame, shape: tuple[int, int]) -> list[Mark]:
+    """The marks of a scene's rows of a detection table (:func:`heatdata.experiments.scenes.score_scene`): the
+    answer, and the true object in brackets where it differs."""
+    from heatdata.experiments.scenes import unpack_mask
+
+    marks = []
+    for row in rows[rows["detection"] >= 0].sort_values("detection").itertuples():
+        text = f"{row.detection + 1} {row.object or 'unknown'}"
+        if row.object != row.truth:
+            text += f" [{row.truth or 'no object'}]"
+        u0, v0, u1, v1 = (int(b) for b in row.bbox)
+        marks.append(Mark(unpack_mask(row.mask, row.bbox, shape), (u0, v0, u1, v1), text))
+    return marks
+
+
+def overlay_image(image: np.ndarray, marks: list[Mark]) -> Image.Image:
+    """The frame with each mark's pixels tinted, its box drawn and its label written above it.
 
     Parameters
     ----------
     image : (h, w, 3) uint8
         The frame (:func:`frame_image`).
-    detections : list of Detection
-        With their masks (:meth:`heatdata.recognition.library.Library.recognize_scene`).
-    truth : list of str, optional
-        The true object of each detection ("" for none), drawn after the answer where it differs.
+    marks : list of Mark
+        What to draw (:func:`detection_marks`, :func:`row_marks`).
 
     Returns
     -------
     PIL.Image.Image
     """
     canvas = np.asarray(image, np.float64).copy()
-    for number, detection in enumerate(detections):
-        if detection.mask is not None:
+    for number, mark in enumerate(marks):
+        if mark.mask is not None:
             colour = np.array(TINTS[number % len(TINTS)], np.float64)
-            canvas[detection.mask] = (1 - ALPHA) * canvas[detection.mask] + ALPHA * colour
+            canvas[mark.mask] = (1 - ALPHA) * canvas[mark.mask] + ALPHA * colour
     picture = Image.fromarray(np.round(canvas).astype(np.uint8))
     draw = ImageDraw.Draw(picture)
     font = ImageFont.load_default(size=max(11, picture.height // 32))
-    for number, detection in enumerate(detections):
+    for number, mark in enumerate(marks):
         tint = TINTS[number % len(TINTS)]
-        u0, v0, u1, v1 = detection.bbox
+        u0, v0, u1, v1 = mark.bbox
         draw.rectangle((u0, v0, u1, v1), outline=tint, width=2)
-        text = f"{number + 1} {detection.object or 'unknown'}"
-        if np.isfinite(detection.distance):
-            text += f" ({detection.distance:.3g})"
-        if truth is not None and truth[number] != (detection.object or ""):
-            text += f" [{truth[number] or 'no object'}]"
-        left, top, right, bottom = draw.textbbox((u0, v0), text, font=font)
+        left, top, right, bottom = draw.textbbox((u0, v0), mark.text, font=font)
         y = v0 - (bottom - top) - 4 if v0 - (bottom - top) - 4 >= 0 else v1 + 2
         draw.rectangle((u0, y, u0 + right - left + 4, y + bottom - top + 4), fill=(0, 0, 0))
-        draw.text((u0 + 2, y + 2 - (top - v0)), text, fill=tint, font=font)
+        draw.text((u0 + 2, y + 2 - (top - v0)), mark.text, fill=tint, font=font)
     return picture
 
 
-def save_overlay(path: StrPath, image: np.ndarray, detections: list, *, truth: list[str] | None = None) -> None:
+def save_overlay(path: StrPath, image: np.ndarray, marks: list[Mark]) -> None:
     """Write :func:`overlay_image` as a PNG (written whole, then renamed)."""
     with atomic(path) as temporary:
-        overlay_image(image, detections, truth=truth).save(temporary, format="PNG")
+        overlay_image(image, marks).save(temporary, format="PNG")

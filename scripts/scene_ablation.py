@@ -1,0 +1,124 @@
+"""Why a kind names objects in scenes worse than it names centred test views: an ablation on a scenes run.
+
+A scenes run (``config/experiments/scenes.yaml``) recognizes each scene's segments with every library. This script
+takes the first ``--scenes`` of its scenes and names each unoccluded object inside the frame (with at least 1,000
+readings) again, one factor at a time:
+
+1. ``segmented``: the run's answer for the segment that matches the object (mask IoU >= 0.5);
+2. ``true mask``: the object's own pixels in the same frame (the truth), its largest connected piece;
+3. ``true mask, noise profile, 30 deg, 1 m``: the same scene rendered again without the Kinect's other effects and
+   with the camera at the library's elevation and distance (the objects where they were);
+4. ``true mask, the camera facing the object``: each object alone on the table, seen from the scene camera's
+   azimuth at 30 deg and 1 m, the camera aimed at the object's centre as the library's views are.
+
+    .venv/bin/python scripts/scene_ablation.py results/scenes_run --scenes 30 --out docs/results/scenes_ablation.csv
+
+Rendered scenes, not real sensor data. One row per factor and descriptor.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from heatdata.experiments.scenes import (
+    MIN_OBJECT_PIXELS,
+    OCCLUDED,
+    object_pose,
+    plan_scene,
+    read_scene,
+    render_planned_scene,
+    room,
+)
+from heatdata.io.catalog import load_catalog_model, read_catalog
+from heatdata.io.tables import read_table
+from heatdata.recognition.library import load_library
+from heatdata.views.depth import view_from_depth
+from heatdata.views.render import Placement, camera_pose, render_scene
+from heatdata.views.view import kinect_intrinsics
+
+
+def named(library, depth, rgb, intrinsics, mask) -> str:
+    """The library's answer for the pixels ``mask`` of a frame (its largest piece, as a captured mask's view)."""
+    return library.recognize(view_from_depth(depth, intrinsics, rgb, mask), k=1).best.object
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("run", type=Path, help="a scenes run's results folder")
+    parser.add_argument("--scenes", type=int, default=30, help="the first this many scenes (default 30)")
+    parser.add_argument("--out", type=Path, required=True)
+    args = parser.parse_args()
+    tables = [read_table(path) for path in sorted((args.run / "scenes" / "detections").glob("*.parquet"))]
+    detections = pd.concat([table for table, _ in tables])
+    settings, size = tables[0][1]["scenes"], tables[0][1]["library_size"]
+    libraries = {
+        name: load_library(args.run / "libraries" / f"{name.replace('/', '_')}-{size}.parquet")
+        for name in detections["descriptor"].unique()
+    }
+    catalog = read_catalog(args.run / "catalog.csv").set_index("object")
+    frames = sorted((args.run / "scenes" / "frames").glob("scene-*[0-9].png"))[: args.scenes]
+    answers: list[dict] = []
+    tic = time.perf_counter()
+    for path in frames:
+        depth, rgb, intrinsics, labels, truth = read_scene(path)
+        plan = truth["plan"]
+        models = {o["object"]: load_catalog_model({**catalog.loc[o["object"]].to_dict(), "object": o["object"]})
+                  for o in plan["objects"]}  # fmt: skip
+        fixed = {**settings, "sensor": "noise", "elevation": [30.0, 30.0], "distance": [1.0, 1.0]}
+        again = _render(plan, models, fixed)
+        for number, item in enumerate(truth["objects"], 1):
+            if item["pixels"] < MIN_OBJECT_PIXELS or item["occluded"] > OCCLUDED or item["cut"]:
+                continue
+            spot = plan["objects"][number - 1]
+            alone = _facing(models[item["object"]], spot, plan, settings)
+            for name, library in libraries.items():
+                mine = detections[(detections["descriptor"] == name) & (detections["scene"] == truth["scene"])]
+                found = mine[mine["truth"] == item["object"]]
+                rows = {
+                    "segmented": found["object"].iloc[0] if len(found) else "",
+                    "true mask": named(library, depth, rgb, intrinsics, (labels == number) & np.isfinite(depth)),
+                    "true mask, noise profile, 30 deg, 1 m": named(library, *again[:3], again[3] == number),
+                    "true mask, the camera facing the object": named(library, *alone),
+                }
+                answers += [
+                    {"factor": factor, "descriptor": name, "object": item["object"], "answer": answer}
+                    for factor, answer in rows.items()
+                ]
+        print(f"{path.stem}: {len(answers)} answers ({time.perf_counter() - tic:.0f} s)", flush=True)
+    table = pd.DataFrame(answers)
+    table["correct"] = table["object"] == table["answer"]
+    summary = (
+        table.groupby(["factor", "descriptor"], sort=False)["correct"].agg(objects="size", naming="mean").reset_index()
+    )
+    summary.to_csv(args.out, index=False)
+    print(summary.to_string(index=False))
+
+
+def _render(plan: dict, models: dict, settings: dict):
+    """The plan's scene rendered with ``settings``: the objects where they were (the same draws), the camera drawn
+    from the settings' ranges; depth, colour, intrinsics and labels (object ``i`` is ``i + 1``)."""
+    moved = plan_scene(list(models.values()), settings, int(plan["scene"].split("-")[1]))
+    frame, truth = render_planned_scene(moved, models, settings)
+    furniture = len(frame.names) - len(truth["objects"])
+    labels = np.where(frame.labels >= furniture, frame.labels - furniture + 1, 0)
+    return frame.depth, frame.rgb, frame.intrinsics, labels * np.isfinite(frame.depth)
+
+
+def _facing(model, spot: dict, plan: dict, settings: dict):
+    """One object alone on the table, the camera at the scene's azimuth, 30 deg and 1 m, aimed at its centre."""
+    pose = object_pose(model, spot["x"], spot["z"], spot["yaw"])
+    centre = pose[:3, :3] @ model.center + pose[:3, 3]
+    camera = camera_pose(centre, plan["camera"]["azimuth"], 30.0, 1.0)
+    placements = [*room(*settings["table"], plan["wall_gap"]), Placement(model, pose)]
+    frame = render_scene(placements, camera, intrinsics=kinect_intrinsics(), sensor="noise", seed=plan["seed"])
+    mask = (frame.labels == len(placements) - 1) & np.isfinite(frame.depth)
+    return frame.depth, frame.rgb, frame.intrinsics, mask
+
+
+if __name__ == "__main__":
+    main()
