@@ -496,6 +496,57 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
                 },
             ],
         ),
+        "docs_canonical": (  # the centre the canonical frame faces, on the main job's views
+            "results",
+            ["config/config.yaml"],
+            views_of("results"),
+            [csv("canonical_centres")],
+            [script("canonical_centres", "results", "--out", csv("canonical_centres"))],
+        ),
+        "docs_kinect": (
+            "results/kinect",
+            [f"{E}/kinect.yaml"],
+            ["results/evaluation/precision.csv", "results/kinect/evaluation/precision.csv"],
+            [csv("household_sensor")],
+            [
+                {"precision": ["results/evaluation/precision.csv", "results/kinect/published/noise.csv"]},
+                {"precision": ["results/kinect/evaluation/precision.csv", "results/kinect/published/kinect.csv"]},
+                {
+                    "labelled": [
+                        "sensor",
+                        {
+                            "noise (2.6.1)": "results/kinect/published/noise.csv",
+                            "kinect": "results/kinect/published/kinect.csv",
+                        },
+                        csv("household_sensor"),
+                    ]
+                },
+            ],
+        ),
+        "docs_scenes": (
+            "results/scenes_run",
+            [f"{E}/scenes.yaml"],
+            [
+                "results/scenes_run/scenes/summary.csv",
+                "results/scenes_run/scenes/offaxis.csv",
+                "results/scenes_run/scenes/overlays/scene-001.png",
+                "results/scenes_run/scenes/overlays/scene-004.png",
+            ],
+            [
+                csv("scenes_summary"),
+                csv("scenes_offaxis"),
+                csv("scenes_ablation"),
+                png("scene_overlay_1"),
+                png("scene_overlay_4"),
+            ],
+            [
+                {"copy": ["results/scenes_run/scenes/summary.csv", csv("scenes_summary")]},
+                {"copy": ["results/scenes_run/scenes/offaxis.csv", csv("scenes_offaxis")]},
+                {"copy": ["results/scenes_run/scenes/overlays/scene-001.png", png("scene_overlay_1")]},
+                {"copy": ["results/scenes_run/scenes/overlays/scene-004.png", png("scene_overlay_4")]},
+                script("scene_ablation", "results/scenes_run", "--scenes", "30", "--out", csv("scenes_ablation")),
+            ],
+        ),
         "docs_complex_steps": (  # draws the two published step tables (docs_chairs_12's and docs_main's)
             None,
             [],
