@@ -174,11 +174,7 @@ def view_from_depth(
         Intrinsics that do not match the image, an RGB image or mask of another size, no
         valid pixel (after segmentation), no triangle.
     """
-    depth = np.array(depth_m, dtype=np.float64)
-    if depth.ndim != 2:
-        raise ViewError(f"{view_id}: a depth image is (h, w), got shape {depth.shape}")
-    k = check_intrinsics(intrinsics, depth.shape, view_id)
-    depth[~np.isfinite(depth) | (depth <= 0)] = np.nan
+    depth, k = checked_depth(depth_m, intrinsics, view_id)
     readings = int(np.isfinite(depth).sum())
     if readings == 0:
         raise ViewError(f"{view_id}: the depth image has no valid pixel (all zero, NaN or negative)")
@@ -210,6 +206,33 @@ def view_from_depth(
         label=label,
         repairs=[note],
     )
+
+
+def checked_depth(depth: np.ndarray, intrinsics: dict, name: str) -> tuple[np.ndarray, dict]:
+    """A depth image as (h, w) float64 metres with NaN where there is no reading, and its checked intrinsics.
+
+    Parameters
+    ----------
+    depth : (h, w) float
+        z-depth in metres; NaN, infinite or <= 0 where there is no reading.
+    intrinsics : dict
+        ``fx, fy, cx, cy, width, height`` matching the image.
+    name : str
+        The frame, for messages.
+
+    Returns
+    -------
+    depth : (h, w) float64
+        A copy, NaN where there is no reading.
+    intrinsics : dict
+        :func:`heatdata.views.view.check_intrinsics` of them.
+    """
+    depth = np.array(depth, dtype=np.float64)
+    if depth.ndim != 2:
+        raise ViewError(f"{name}: a depth image is (h, w), got shape {depth.shape}")
+    k = check_intrinsics(intrinsics, depth.shape, name)
+    depth[~np.isfinite(depth) | (depth <= 0)] = np.nan
+    return depth, k
 
 
 def checked_rgb(rgb: np.ndarray, shape: tuple[int, int], name: str) -> np.ndarray:

@@ -34,7 +34,7 @@ import numpy as np
 
 from heatdata.core.mesh import component_labels, mesh_edges
 from heatdata.errors import ViewError
-from heatdata.views.depth import MAX_DEPTH_JUMP, back_project, checked_rgb, grid_faces, grid_view
+from heatdata.views.depth import MAX_DEPTH_JUMP, back_project, checked_depth, checked_rgb, grid_faces, grid_view
 from heatdata.views.view import MIN_VERTICES, View, check_intrinsics
 
 log = logging.getLogger(__name__)
@@ -202,11 +202,7 @@ def segment_frame(
     ViewError
         Intrinsics that do not match the image, an RGB image of another size, or no reading at all.
     """
-    depth = np.array(depth, dtype=np.float64)
-    if depth.ndim != 2:
-        raise ViewError(f"{name}: a depth image is (h, w), got shape {depth.shape}")
-    k = check_intrinsics(intrinsics, depth.shape, name)
-    depth[~np.isfinite(depth) | (depth <= 0)] = np.nan
+    depth, k = checked_depth(depth, intrinsics, name)
     return segment_points(back_project(depth, k), k, rgb, settings, name=name)
 
 
