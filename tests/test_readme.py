@@ -27,14 +27,16 @@ def run(tmp_path, code: str, cwd=ROOT) -> str:
     return result.stdout
 
 
-def main_job_library(folder, views: int = 8) -> None:
-    """What the README's example reads from the main job: the primary descriptor's library file, here of the 14
-    embedded objects at ``views`` library views (the main job's has 40), built by the workflow's own steps."""
+def main_job_library(folder, views: int = 8) -> dict:
+    """What the README's example reads from the main job, built by the workflow's own steps: the primary
+    descriptor's library file, here of the 14 embedded objects at ``views`` library views (the main job's has 40),
+    and its scene 0; returns the scene's truth."""
     import pandas as pd
     import yaml
 
     import heatdata as hd
     from heatdata.descriptors.rows import descriptor_rows
+    from heatdata.experiments.scenes import SCENE_DEFAULTS, choose_objects, render_scene_files
     from heatdata.experiments.views import render_views, view_plan
     from heatdata.recognition.library import build_library, write_library
 
@@ -51,16 +53,22 @@ def main_job_library(folder, views: int = 8) -> None:
         rows.append(descriptor_rows(render_views(model, plan), plan, [spec]))
     library, metadata = build_library(pd.concat(rows, ignore_index=True), spec, views)
     write_library(library, metadata, folder / "results/libraries" / f"{hd.descriptors.file_name(spec.name)}-40.parquet")
+    scenes = {**SCENE_DEFAULTS, **config["scenes"]}  # and the main job's scene 0, as its rule scene writes it
+    names = choose_objects(catalog["object"].tolist(), scenes, 0)
+    rows = [{**row, "object": row["object"]} for row in catalog.to_dict("records") if row["object"] in names]
+    return render_scene_files(rows, scenes, 0, folder / "results/scenes/frames/scene-000.png")
 
 
 @pytest.mark.slow
 def test_the_readme_example_runs_as_written_in_fifteen_lines(tmp_path):
     code = python_block("README.md", "## The library")
     assert len(code.strip().splitlines()) <= 15
-    main_job_library(tmp_path)
+    truth = main_job_library(tmp_path)
     out = run(tmp_path, code, cwd=tmp_path)
     assert "beer-mug seen from about" in out
-    assert "[('beer-mug'," in out and out.count("'beer-mug'") == 3
+    found = re.findall(r"^(\S+) at \[", out, re.M)
+    large = {o["object"] for o in truth["objects"] if o["pixels"] >= 1000}  # every object found is there, named
+    assert large and large <= set(found) <= {o["object"] for o in truth["objects"]}, (out, truth["objects"])
 
 
 @pytest.mark.slow

@@ -4,10 +4,11 @@ leaves outside its scope, as PCL's ``3d_rec_framework`` global pipeline does it)
 :func:`segment_frame` reads a depth frame (and its colour) the way a tabletop pipeline does:
 
 1. **planes**: up to :data:`MAX_PLANES` planes by RANSAC (open3d's ``segment_plane``, seeded), each holding at
-   least ``plane_share`` of the readings; a **support plane** faces up in the image (its normal within 60 deg of
-   the image's up), spans at least ``plane_size`` metres and has (almost) nothing hanging below its edges (an
-   object's own face has: a box's top its sides, a chair's seat its legs). Of these, the highest one that
-   anything stands on is the support (a table before the floor beneath it), else the largest (a bare table);
+   least ``plane_share`` of the readings; a **support plane** spans at least ``plane_size`` metres and has (almost)
+   nothing hanging below its edges (an object's own face has: a box's top its sides, a chair's seat its legs). Of
+   these, those facing up in the image (the normal within 60 deg of the image's up) come first (a table before the
+   wall behind it; a camera looking straight down has no other), and of them the highest that anything stands on
+   is the support (a table before the floor beneath it), else the largest (a bare table);
 2. **the workspace**: the readings between ``min_height`` and ``max_height`` above the support plane whose foot on
    it lies inside the plane's outline (the convex hull of its inliers): not the wall behind the table, not the
    floor beyond it. Without a support plane (a frame of one isolated object, as the library's views are) every
@@ -31,6 +32,7 @@ import logging
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.spatial import QhullError
 
 from heatdata.core.mesh import component_labels, mesh_edges
 from heatdata.errors import ViewError
@@ -44,6 +46,7 @@ PLANE_POINTS = 20_000  # readings RANSAC samples from (a pixel stride), the inli
 CLUSTER_POINTS = 8_000  # workspace points DBSCAN clusters (a pixel stride); the rest join their block's
 FACING = np.cos(np.radians(30))  # a plane's region faces within 30 deg of its normal
 HANGING_DEPTH = 0.05  # m: readings this far below a plane and under its edges hang from it (an object's sides)
+HANGING_MARGIN = 0.02  # m: feet this far outside a plane's outline are still under its edge (the outline stops short)
 HANGING_SHARE = 0.1  # a support plane has at most this many readings hanging below it, per reading on it
 EDGE_ON = 10.0  # degrees: a support plane seen at a median angle below this is seen edge-on
 FLAT_SHARE = 0.95  # a cluster with this share of its points on one plane wider than plane_size is background
@@ -319,11 +322,11 @@ class _Outline:
     def contains_grid(self, points: np.ndarray, candidates: np.ndarray, margin: float, stride: int) -> np.ndarray:
         """(h, w) bool: :meth:`contains` of the ``candidates`` pixels of an organized grid of ``points``, tested
         on a pixel stride and exactly only where the stride's answer changes (the outline's edge)."""
+        from scipy.ndimage import maximum_filter, minimum_filter
+
         coarse = np.zeros(points[::stride, ::stride].shape[:2], bool)
         sampled = candidates[::stride, ::stride]
         coarse[sampled] = self.contains(points[::stride, ::stride][sampled], margin)
-        from scipy.ndimage import maximum_filter, minimum_filter
-
         edge = maximum_filter(coarse, size=3, mode="nearest") != minimum_filter(coarse, size=3, mode="nearest")
         height, width = candidates.shape
         inside = np.repeat(np.repeat(coarse, stride, axis=0), stride, axis=1)[:height, :width] & candidates
@@ -369,14 +372,18 @@ def _support_plane(
         if span < settings.plane_size:
             notes.append(f"a plane {span:.2f} m across is smaller than a support plane ({settings.plane_size:g} m)")
             continue
-        outline = _Outline(plane, sampled[on])
+        try:
+            outline = _Outline(plane, sampled[on])
+        except QhullError:  # its points on one line: a plane seen exactly edge-on
+            notes.append(f"a plane {span:.2f} m across is seen as a line, edge-on: not a support")
+            continue
         near = (np.abs(height) >= settings.min_height) & (np.abs(height) <= settings.max_height)
         standing = int(outline.contains(sampled[near & (height > 0)]).sum())
         # a box's sides hang from its top: below it, their feet on its edge, one piece of surface with it (the floor
         # seen under a table's edge is another piece)
         piece = np.bincount(pieces[on]).argmax()
         deep = (height < -HANGING_DEPTH) & (height >= -settings.max_height) & (pieces == piece)
-        hanging = int(outline.contains(sampled[deep]).sum())
+        hanging = int(outline.contains(sampled[deep], -HANGING_MARGIN).sum())
         if hanging > HANGING_SHARE * on.sum():
             notes.append(
                 f"a plane {span:.2f} m across has {hanging * stride**2} readings hanging below its edges: the face of "
@@ -384,14 +391,15 @@ def _support_plane(
             )
             continue
         candidates.append((plane, outline, span, standing))
-    facing_up = [c for c in candidates if -c[0][1] >= 0.5]  # normal within 60 deg of the image's up (-y)
-    if not facing_up:
+    if not candidates:
         notes.append(
-            f"no support plane (none faces up in the image, holds {settings.plane_share:.0%} of the {readings} "
-            f"readings, spans {settings.plane_size:g} m and has nothing hanging below its edges): every reading "
-            "may be an object"
+            f"no support plane (none holds {settings.plane_share:.0%} of the {readings} readings, spans "
+            f"{settings.plane_size:g} m and has nothing hanging below its edges): every reading may be an object"
         )
         return None, np.zeros(valid.shape, bool), None
+    # a table before the wall behind it (its normal within 60 deg of the image's up, -y); a camera looking down
+    # on its table has no other plane
+    facing_up = [c for c in candidates if -c[0][1] >= 0.5] or candidates
     # the highest plane something stands on (a table before the floor beneath it), else the largest
     bearing = [c for c in facing_up if c[3] > 0]
     plane, outline, span, _ = min(bearing, key=lambda c: c[0][3]) if bearing else max(facing_up, key=lambda c: c[2])

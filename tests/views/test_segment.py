@@ -134,3 +134,10 @@ def test_bad_settings_are_refused():
     for fields in ({"plane_distance": 0.0}, {"plane_share": 1.5}, {"min_height": 2.0}, {"min_pixels": 2.5}):
         with pytest.raises(hd.ViewError, match="bad segmentation settings"):
             SegmentSettings(**fields)
+
+
+def test_a_table_seen_from_straight_above_is_still_the_support():
+    frame = table_scene([(BOX, -0.2, 0.0, 0.0), (CAN, 0.15, 0.1, 0.0)], elevation=89.0, distance=1.0, sensor="ideal")
+    found = segment_frame(frame.depth, frame.intrinsics, frame.rgb)
+    assert found.plane is not None and np.abs(found.plane[:3] @ [0.0, 0.0, -1.0]) > 0.99
+    assert len(found.segments) == 2
