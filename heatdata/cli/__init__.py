@@ -9,15 +9,16 @@ from __future__ import annotations
 import argparse
 import json
 import logging
-import os
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 from tqdm.contrib.logging import logging_redirect_tqdm
 
+from heatdata.cli.arguments import frame_arguments, number
+from heatdata.cli.demo import add_demo
+from heatdata.cli.recognize import add_recognize
 from heatdata.descriptors import (
     COLOR_KIND,
     DEFAULT_KIND,
@@ -25,10 +26,9 @@ from heatdata.descriptors import (
     KINDS,
     DescriptorSpec,
     describe,
-    file_name,
 )
 from heatdata.errors import HeatdataError
-from heatdata.io.files import atomic, check_folder, check_output, require_file
+from heatdata.io.files import check_output, require_file
 from heatdata.io.tables import (
     DESCRIPTOR_SCHEMA,
     PREDICTION_SCHEMA,
@@ -39,103 +39,10 @@ from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN
 from heatdata.log import progress, setup_logging
 from heatdata.recognition.evaluate import TIME_RULES
 from heatdata.version import __version__
-from heatdata.views.depth import MAX_DEPTH_JUMP
 
 # Each command imports what it alone needs (the renderer's open3d, trimesh, matplotlib), so that a command
 # starts in the time its own work needs: `heatdata recognize` answers a frame in under a second.
 log = logging.getLogger("heatdata")
-
-
-def demo_specs() -> list[DescriptorSpec]:
-    """The demo's descriptors: the PVHK's sampling and source rules, and a C-PVHK."""
-    from heatdata.experiments.demo import DEMO_SPECS
-
-    return [*DEMO_SPECS, DescriptorSpec(COLOR_KIND, 64, "center", "polar", "c3")]
-
-
-def cmd_demo(args: argparse.Namespace) -> None:
-    """Render the embedded objects, describe every view, classify the test views."""
-    from heatdata.experiments.demo import describe_and_classify
-    from heatdata.experiments.views import view_plan
-    from heatdata.io.catalog import embedded_catalog, read_catalog
-    from heatdata.recognition.metrics import precision_by_object
-    from heatdata.reporting.figures.recognition import plot_confusion, plot_view_confusion
-    from heatdata.reporting.figures.views import draw_example_views
-
-    start = time.perf_counter()
-    specs = demo_specs()
-    args.catalog = args.catalog or embedded_catalog()
-    out = check_folder(args.out, inputs=[args.catalog])
-    for name in ("descriptors.parquet", "predictions.parquet", "precision.csv", "views.png", "summary.md"):
-        check_output(out / name, inputs=[args.catalog])
-    catalog = read_catalog(args.catalog)
-    if args.objects:
-        wanted = args.objects.split(",")
-        unknown = sorted(set(wanted) - set(catalog["object"]))
-        if unknown:
-            raise HeatdataError(f"{args.catalog}: unknown object(s) {unknown}")
-        catalog = catalog[catalog["object"].isin(wanted)]
-    plan = view_plan(
-        catalog["object"].tolist(),
-        args.train,
-        args.test,
-        elevation=args.elevation,
-        distance=args.distance,
-        seed=args.seed,
-    )
-    descriptors, predictions = describe_and_classify(catalog, plan, specs, noise=not args.no_noise, jobs=args.jobs)
-    run = {k: v for k, v in vars(args).items() if k != "func"}
-    write_table(descriptors, out / "descriptors.parquet", DESCRIPTOR_SCHEMA, run)
-    write_table(predictions, out / "predictions.parquet", PREDICTION_SCHEMA, run)
-    precision = precision_by_object(predictions)
-    with atomic(out / "precision.csv") as temporary:
-        precision.to_csv(temporary)
-    for spec in specs:
-        subset = predictions[predictions["descriptor"] == spec.name]
-        plot_confusion(subset, out / f"confusion_objects_{file_name(spec.name)}.png", spec.name)
-        plot_view_confusion(subset, out / f"confusion_views_{file_name(spec.name)}.png", spec.name)
-    draw_example_views(
-        catalog,
-        out / "views.png",
-        elevation=args.elevation,
-        distance=args.distance,
-        noise=not args.no_noise,
-        seed=args.seed,
-    )
-    summary = _summary_markdown(precision, descriptors, args, time.perf_counter() - start, len(specs))
-    with atomic(out / "summary.md") as temporary:
-        temporary.write_text(summary)
-    print(summary)
-
-
-def _summary_markdown(
-    precision: pd.DataFrame, descriptors: pd.DataFrame, args: argparse.Namespace, seconds: float, kinds: int
-) -> str:
-    from heatdata.reporting.figures.common import RENDERED_NOTE
-
-    overall = precision.loc["all"].sort_values(ascending=False)
-    lines = [
-        "# heatdata demo: nearest-neighbour recognition of the embedded objects",
-        "",
-        f"{RENDERED_NOTE}",
-        "",
-        f"- objects: {descriptors['object'].nunique()}; library: {args.train} views per object; "
-        f"test: {args.test} views per object; elevation {args.elevation} deg; distance {args.distance} m; "
-        f"noise {'off' if args.no_noise else 'on (tau = 1.42e-3 1/m)'}; seed {args.seed}",
-        f"- views: {descriptors['view_id'].nunique()}, mean {descriptors['n_vertices'].mean():.0f} vertices "
-        f"(max {descriptors['n_vertices'].max()})",
-        f"- description time per view ({kinds} descriptors, one core): "
-        f"{descriptors.groupby('view_id')['seconds'].sum().mean() * 1e3:.0f} ms",
-        f"- heatdata {__version__}; wall time {seconds:.0f} s with {args.jobs} processes",
-        "",
-        "## Object precision (fraction of test views whose nearest library view is the same object)",
-        "",
-        "| descriptor | precision |",
-        "|---|---|",
-    ]
-    lines += [f"| {name} | {value:.1%} |" for name, value in overall.items()]
-    lines += ["", "## Per object", "", precision.map(lambda v: f"{v:.1%}").to_markdown(), ""]
-    return "\n".join(lines)
 
 
 def cmd_render(args: argparse.Namespace) -> None:
@@ -356,174 +263,6 @@ def _option_value(text: str):
     return None if text == "none" else text
 
 
-def _frames(args: argparse.Namespace) -> list[dict]:
-    """The frames to recognize: the files given, or the frames of one folder (``find_frames``)."""
-    from heatdata.experiments.captures import FRAME_SUFFIXES, find_frames
-
-    if len(args.frames) == 1 and Path(args.frames[0]).is_dir():
-        if args.intrinsics or args.rgb or args.mask:
-            raise HeatdataError(
-                f"{args.frames[0]}: the frames of a folder carry their own <name>.json, <name>.rgb.png and "
-                "<name>.mask.png (or a camera.json); --intrinsics, --rgb and --mask are for one frame"
-            )
-        return find_frames(args.frames[0])
-    frames = []
-    for path in args.frames:
-        require_file(path, "frame")
-        if Path(path).suffix.lower() not in FRAME_SUFFIXES:
-            raise HeatdataError(f"{path}: a frame is a depth image (.png, .npy), a cloud (.pcd, .ply) or a view (.npz)")
-        frames.append({"name": Path(path).stem, "depth": str(path), "intrinsics": "", "rgb": "", "mask": ""})
-    if (args.rgb or args.mask) and len(frames) > 1:
-        raise HeatdataError("--rgb and --mask belong to one frame; give a folder of frames for a sequence")
-    for frame in frames:
-        frame.update(intrinsics=str(args.intrinsics or ""), rgb=str(args.rgb or ""), mask=str(args.mask or ""))
-    return frames
-
-
-def _read_frame(frame: dict, args: argparse.Namespace):
-    """A frame's view: a saved view, or a depth image or organized cloud (``read_frame``)."""
-    if Path(frame["depth"]).suffix.lower() == ".npz":
-        from heatdata.views.view import View
-
-        return View.load(frame["depth"])
-    from heatdata.views.depth import read_frame
-
-    return read_frame(
-        frame["depth"],
-        frame["intrinsics"],
-        frame["rgb"],
-        frame["mask"],
-        depth_range=args.depth_range,
-        scale=args.scale,
-        max_depth_jump=args.max_depth_jump,
-    )
-
-
-def _scene(frame: dict, args: argparse.Namespace, library):
-    """One frame recognized as a scene (:meth:`Library.recognize_scene`), and the image an overlay is drawn on.
-
-    A depth image or organized cloud is segmented into the objects on its support plane; a saved view, or a depth
-    image cut by ``--mask`` or ``--depth-range``, is one object as it is.
-    """
-    from heatdata.reporting.figures.scenes import frame_image
-    from heatdata.views.depth import read_depth_frame
-    from heatdata.views.segment import SegmentSettings, segment_points, segment_view
-
-    settings = SegmentSettings(max_depth_jump=args.max_depth_jump)
-    path = Path(frame["depth"])
-    suffix = path.suffix.lower()
-    if suffix in (".pcd", ".ply") and not (frame["mask"] or args.depth_range):
-        from heatdata.views.clouds import read_cloud_grid
-
-        points, colors, intrinsics = read_cloud_grid(path, scale=args.scale)
-        segmentation = segment_points(points, intrinsics, colors, settings, name=path.stem)
-        return library.recognize_segments(segmentation, k=args.k), frame_image(points[..., 2], colors)
-    if suffix == ".npz" or frame["mask"] or args.depth_range:
-        view = _read_frame(frame, args)
-        note = "a saved view, as it is" if suffix == ".npz" else view.repairs[0]
-        image = _view_image(view) if suffix == ".npz" else None
-        answer = library.recognize_segments(segment_view(view, note), k=args.k)
-        if image is None:
-            depth, rgb, _ = read_depth_frame(path, frame["intrinsics"], frame["rgb"])
-            image = frame_image(depth, rgb)
-        return answer, image
-    depth, rgb, intrinsics = read_depth_frame(path, frame["intrinsics"], frame["rgb"])
-    answer = library.recognize_scene(depth, intrinsics, rgb, k=args.k, settings=settings, name=path.stem)
-    return answer, frame_image(depth, rgb)
-
-
-def _view_image(view) -> np.ndarray:
-    """(h, w, 3) uint8: a saved view drawn back on its image, its colours at its pixels, black elsewhere."""
-    k = view.intrinsics
-    image = np.zeros((k["height"], k["width"], 3), np.uint8)
-    pixels = np.round(view.pixels).astype(int)
-    inside = (pixels[:, 0] >= 0) & (pixels[:, 0] < k["width"]) & (pixels[:, 1] >= 0) & (pixels[:, 1] < k["height"])
-    image[pixels[inside, 1], pixels[inside, 0]] = np.round(view.colors[inside] * 255).astype(np.uint8)
-    return image
-
-
-def _print_scene(frame: dict, answer, library) -> None:
-    """The terminal's answer for one frame: a row per object, then what the frame and each object showed."""
-    found = len(answer.detections)
-    where = " on the support plane" if answer.plane is not None else ""
-    print(f"{frame['depth']}: {found} object{'s' if found != 1 else ''}{where}; {library!r}")
-    if not found:
-        print(f"no object found ({answer.repairs[-1] if answer.repairs else 'nothing in the frame'})")
-        return
-    rows = []
-    for number, d in enumerate(answer.detections, 1):
-        best = None if d.recognition is None else d.recognition.best
-        rows.append(
-            [
-                number,
-                d.object or "unknown",
-                d.label or "",
-                "" if best is None else f"{best.distance:.4g}",
-                "" if best is None else f"{best.azimuth:.0f}",
-                d.pixels,
-                " ".join(f"{c:+.3f}" for c in d.centroid),
-                "{},{}-{},{}".format(*d.bbox),
-            ]
-        )
-    columns = ["#", "object", "class", "distance", "azimuth", "pixels", "centroid x y z (m)", "bbox u0,v0-u1,v1"]
-    print(pd.DataFrame(rows, columns=columns).to_string(index=False))
-    for number, d in enumerate(answer.detections, 1):
-        for note in d.notes:
-            print(f"  {number}: {note}")
-    for note in answer.repairs:
-        print(f"  frame: {note}")
-
-
-def cmd_recognize(args: argparse.Namespace) -> None:
-    """What the sensor sees (thesis ch. 3-5): every object of a depth frame or organized cloud, found on its support
-    plane and named by its nearest objects in a built library, with where it stands in the camera frame. A frame of
-    one isolated object, a saved view, or a depth image cut by --mask or --depth-range is one object. Several frames
-    of one object (a folder, or files with --moves, the degrees turned between them) are followed by the particle
-    filter of ch. 4 (--exact: the exhaustive filter), which prints the posterior over objects after each frame."""
-    from heatdata.recognition.library import load_library
-
-    require_file(args.library, "library")
-    frames = _frames(args)
-    if len(frames) > 1 and args.moves is None:
-        raise HeatdataError(f"{len(frames)} frames: give --moves, the degrees the sensor turned between them")
-    if args.overlay is not None:
-        if len(frames) > 1 or args.moves is not None:
-            raise HeatdataError("--overlay draws one frame's objects; give one frame without --moves")
-        check_output(args.overlay, inputs=[f[key] for f in frames for key in ("depth", "rgb", "mask") if f[key]])
-        if args.overlay.suffix.lower() != ".png":
-            raise HeatdataError(f"{args.overlay}: the overlay is written as a .png")
-    library = load_library(args.library)
-    if len(frames) == 1 and args.moves is None:
-        answer, image = _scene(frames[0], args, library)
-        if args.overlay is not None:
-            from heatdata.reporting.figures.scenes import detection_marks, save_overlay
-
-            save_overlay(args.overlay, image, detection_marks(answer.detections))
-        if args.json:
-            print(json.dumps({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
-            return
-        _print_scene(frames[0], answer, library)
-        return
-    views = [_read_frame(frame, args) for frame in frames]
-    steps = library.recognize_sequence(
-        views, args.moves or [0.0], exact=args.exact, particles=args.particles, seed=args.seed
-    )
-    if args.json:
-        print(json.dumps({"library": str(args.library), "exact": args.exact, "steps": [s.to_dict() for s in steps]}))
-        return
-    print(f"{len(views)} frames; {library!r}; {'exhaustive filter' if args.exact else f'{args.particles} particles'}")
-    for step, frame in zip(steps, frames, strict=True):
-        top = sorted(step.posterior.items(), key=lambda item: -item[1])[: args.k]
-        belief = ", ".join(f"{obj} {p:.2f}" for obj, p in top)
-        state = "converged" if step.converged else "not converged"
-        print(f"frame {step.frame + 1} ({frame['name']}, moved {step.move:g} deg): {belief} ({state})")
-    last = steps[-1]
-    print(
-        f"{'converged on' if last.converged else 'not converged; most probable:'} {last.estimate} "
-        f"({last.posterior[last.estimate]:.0%}) after {len(steps)} frames"
-    )
-
-
 def cmd_kinds(args: argparse.Namespace) -> None:
     """List every descriptor kind, whether this machine can compute it, and its options."""
     for name, kind in KINDS.items():
@@ -541,48 +280,6 @@ def cmd_import_sh3f(args: argparse.Namespace) -> None:
     print(f"{len(table)} models in {Path(args.out) / 'catalog.csv'}")
 
 
-def _number(low: float | None = None, *, positive: bool = False, whole: bool = False):
-    """An argparse type: a finite number (above ``low``; > 0 with ``positive``; an integer with ``whole``)."""
-
-    def parse(text: str):
-        try:
-            value = int(text) if whole else float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not a {'whole ' if whole else ''}number") from None
-        if not np.isfinite(value) or (positive and value <= 0) or (low is not None and value < low):
-            need = "a positive number" if positive else "a finite number" if low is None else f"a number >= {low:g}"
-            raise argparse.ArgumentTypeError(f"{text!r}: need {need}")
-        return value
-
-    return parse
-
-
-def _frame_arguments(parser: argparse.ArgumentParser) -> None:
-    """The options of a depth frame or an organized cloud (view-from-depth, recognize)."""
-    parser.add_argument("--intrinsics", type=Path, help="JSON or YAML: fx, fy, cx, cy, width, height (depth images)")
-    parser.add_argument("--rgb", type=Path, help="colour image registered to the depth image")
-    parser.add_argument("--mask", type=Path, help="image whose non-zero pixels are the object's")
-    parser.add_argument(
-        "--depth-range",
-        type=_number(0.0),
-        nargs=2,
-        metavar=("NEAR", "FAR"),
-        help="without a mask: keep the pixels between these depths, metres",
-    )
-    parser.add_argument(
-        "--scale",
-        type=_number(positive=True),
-        default=1.0,
-        help="cloud units to metres (default 1; MeshLab range maps are often mm: 0.001)",
-    )
-    parser.add_argument(
-        "--max-depth-jump",
-        type=_number(positive=True),
-        default=MAX_DEPTH_JUMP,
-        help=f"relative depth step that cuts the mesh (default {MAX_DEPTH_JUMP})",
-    )
-
-
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="heatdata",
@@ -594,49 +291,30 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
     sub = parser.add_subparsers(dest="command", required=True)
 
-    demo = sub.add_parser(
-        "demo",
-        help="render, describe and classify the embedded objects without Snakemake",
-        description=cmd_demo.__doc__,
-    )
-    demo.add_argument("--catalog", type=Path, help="catalogue CSV (default: the embedded models)")
-    demo.add_argument("--objects", help="comma-separated object ids (default: all in the catalogue)")
-    demo.add_argument("--out", default="results/demo", help="output folder (default: results/demo)")
-    demo.add_argument("--train", type=_number(1, whole=True), default=40, help="library views per object (default 40)")
-    demo.add_argument("--test", type=_number(1, whole=True), default=120, help="test views per object (default 120)")
-    demo.add_argument("--elevation", type=_number(), default=30.0, help="view elevation, degrees (default 30)")
-    demo.add_argument(
-        "--distance", type=_number(positive=True), default=1.0, help="camera distance, metres (default 1)"
-    )
-    demo.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
-    demo.add_argument("--no-noise", action="store_true", help="render without sensor noise")
-    demo.add_argument(
-        "--jobs", type=_number(1, whole=True), default=os.cpu_count() or 1, help="processes (default: all cores)"
-    )
-    demo.set_defaults(func=cmd_demo)
+    add_demo(sub)
 
     render = sub.add_parser("render", help="render one partial view of a model", description=cmd_render.__doc__)
     render.add_argument("model", type=Path, help="OBJ, PLY, STL, OFF or GLB file")
     render.add_argument("--out", type=Path, required=True, help="output .npz view (its folder is created)")
     render.add_argument(
-        "--azimuth", type=_number(), default=0.0, help="camera azimuth about the model's +y axis, degrees (default 0)"
+        "--azimuth", type=number(), default=0.0, help="camera azimuth about the model's +y axis, degrees (default 0)"
     )
-    render.add_argument("--elevation", type=_number(), default=30.0, help="camera elevation, degrees (default 30)")
+    render.add_argument("--elevation", type=number(), default=30.0, help="camera elevation, degrees (default 30)")
     render.add_argument(
         "--distance",
-        type=_number(positive=True),
+        type=number(positive=True),
         default=1.0,
         help="camera distance from the model's centre, metres (default 1)",
     )
     render.add_argument(
         "--size",
-        type=_number(0.0),
+        type=number(0.0),
         nargs=3,
         metavar=("W", "H", "D"),
         help="real size in metres (width x, height y, depth z)",
     )
-    render.add_argument("--scale", type=_number(positive=True), default=1.0, help="file units to metres (default 1)")
-    render.add_argument("--seed", type=_number(0, whole=True), default=0, help="seed of the sensor noise (default 0)")
+    render.add_argument("--scale", type=number(positive=True), default=1.0, help="file units to metres (default 1)")
+    render.add_argument("--seed", type=number(0, whole=True), default=0, help="seed of the sensor noise (default 0)")
     render.add_argument("--no-noise", action="store_true", help="render without the Kinect noise of thesis 2.6.1")
     render.set_defaults(func=cmd_render)
 
@@ -654,7 +332,7 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         help="output .npz view and/or .ply mesh with colours (repeatable)",
     )
-    _frame_arguments(depth)
+    frame_arguments(depth)
     depth.set_defaults(func=cmd_view_from_depth)
 
     join = sub.add_parser(
@@ -669,18 +347,18 @@ def build_parser() -> argparse.ArgumentParser:
     join.add_argument("-o", "--out", type=Path, required=True, help="the stitched mesh (.ply keeps vertex colours)")
     join.add_argument(
         "--alpha",
-        type=_number(positive=True),
+        type=number(positive=True),
         default=ALPHA,
         help=f"steepness of the interpenetration penalty, relative to the sampling (default {ALPHA:g})",
     )
     join.add_argument(
         "--beta",
-        type=_number(0.0),
+        type=number(0.0),
         default=BETA,
         help=f"weight of the interpenetration penalty J2, eq. 7.4; 0 to patch a hole (default {BETA:g})",
     )
     join.add_argument(
-        "--gamma", type=_number(0.0), default=GAMMA, help=f"weight of the crease term J3 (default {GAMMA:g})"
+        "--gamma", type=number(0.0), default=GAMMA, help=f"weight of the crease term J3 (default {GAMMA:g})"
     )
     join.add_argument(
         "--scans",
@@ -691,22 +369,22 @@ def build_parser() -> argparse.ArgumentParser:
     )
     join.add_argument(
         "--along",
-        type=_number(0.0),
+        type=number(0.0),
         help="weight of the gap along the seam's continuation in J1: below 1 tolerates a band of "
         f"unseen surface (default {ALONG:g}; with --scans {SCAN_ALONG:g})",
     )
     join.add_argument(
         "--robust",
-        type=_number(0.0),
+        type=number(0.0),
         help=f"soft-L1 width of the residuals, in boundary radii (default 0: squares; with --scans {SCAN_ROBUST:g})",
     )
     join.add_argument(
         "--samples",
-        type=_number(8, whole=True),
+        type=number(8, whole=True),
         default=128,
         help="boundary samples for the alignment; the coarse search tries twice as many (default 128)",
     )
-    join.add_argument("--scale", type=_number(positive=True), default=1.0, help="file units to metres (default 1)")
+    join.add_argument("--scale", type=number(positive=True), default=1.0, help="file units to metres (default 1)")
     join.add_argument(
         "--motion",
         type=Path,
@@ -747,7 +425,7 @@ def build_parser() -> argparse.ArgumentParser:
     cls.add_argument("--descriptor", help="descriptor name (default: every one in the table)")
     cls.add_argument(
         "--library-size",
-        type=_number(1, whole=True),
+        type=number(1, whole=True),
         action="append",
         metavar="N",
         help="library views per object, evenly spaced in azimuth among the train views "
@@ -763,37 +441,7 @@ def build_parser() -> argparse.ArgumentParser:
     cls.add_argument("--out", type=Path, help="write predictions.parquet here")
     cls.set_defaults(func=cmd_classify)
 
-    rec = sub.add_parser(
-        "recognize",
-        help="the objects a depth frame (or a sequence) is nearest in a built library (thesis ch. 3-5)",
-        description=cmd_recognize.__doc__,
-        epilog="E.g. heatdata recognize depth.png --intrinsics camera.json "
-        "--library results/libraries/hgd_color=hue-saturation-40.parquet",
-    )
-    rec.add_argument(
-        "frames",
-        type=Path,
-        nargs="+",
-        help="depth image (.png 16-bit mm, .npy m), organized cloud (.pcd, .ply), view (.npz), or a folder of them",
-    )
-    rec.add_argument("--library", type=Path, required=True, help="a library file (results/libraries/*.parquet)")
-    _frame_arguments(rec)
-    rec.add_argument(
-        "-k", type=_number(1, whole=True), default=5, help="nearest objects to keep per object (default 5)"
-    )
-    rec.add_argument("--json", action="store_true", help="print JSON for programs")
-    rec.add_argument("--overlay", type=Path, help="draw the frame with each object tinted, boxed and named (a .png)")
-    rec.add_argument(
-        "--moves",
-        type=_number(),
-        nargs="+",
-        metavar="DEG",
-        help="degrees the sensor turned between frames: one per gap, or one for all (a sequence)",
-    )
-    rec.add_argument("--exact", action="store_true", help="a sequence by the exhaustive filter, not particles")
-    rec.add_argument("--particles", type=_number(1, whole=True), default=100, help="particles (default 100)")
-    rec.add_argument("--seed", type=_number(0, whole=True), default=0, help="the particle filter's seed (default 0)")
-    rec.set_defaults(func=cmd_recognize)
+    add_recognize(sub)
 
     kinds = sub.add_parser("kinds", help="list the descriptor kinds and their options", description=cmd_kinds.__doc__)
     kinds.set_defaults(func=cmd_kinds)
@@ -850,7 +498,3 @@ def main(argv: list[str] | None = None) -> int:
         log.error("interrupted; no output was left half written")
         return 130
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

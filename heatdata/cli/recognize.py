@@ -1,0 +1,215 @@
+"""``heatdata recognize``: every object of a frame, one object, or a sequence of frames, against a built library."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from heatdata.cli.arguments import frame_arguments, number
+from heatdata.errors import HeatdataError
+from heatdata.io.files import check_output, require_file
+
+
+def _frames(args: argparse.Namespace) -> list[dict]:
+    """The frames to recognize: the files given, or the frames of one folder (``find_frames``)."""
+    from heatdata.experiments.captures import FRAME_SUFFIXES, find_frames
+
+    if len(args.frames) == 1 and Path(args.frames[0]).is_dir():
+        if args.intrinsics or args.rgb or args.mask:
+            raise HeatdataError(
+                f"{args.frames[0]}: the frames of a folder carry their own <name>.json, <name>.rgb.png and "
+                "<name>.mask.png (or a camera.json); --intrinsics, --rgb and --mask are for one frame"
+            )
+        return find_frames(args.frames[0])
+    frames = []
+    for path in args.frames:
+        require_file(path, "frame")
+        if Path(path).suffix.lower() not in FRAME_SUFFIXES:
+            raise HeatdataError(f"{path}: a frame is a depth image (.png, .npy), a cloud (.pcd, .ply) or a view (.npz)")
+        frames.append({"name": Path(path).stem, "depth": str(path), "intrinsics": "", "rgb": "", "mask": ""})
+    if (args.rgb or args.mask) and len(frames) > 1:
+        raise HeatdataError("--rgb and --mask belong to one frame; give a folder of frames for a sequence")
+    for frame in frames:
+        frame.update(intrinsics=str(args.intrinsics or ""), rgb=str(args.rgb or ""), mask=str(args.mask or ""))
+    return frames
+
+
+def _read_frame(frame: dict, args: argparse.Namespace):
+    """A frame's view: a saved view, or a depth image or organized cloud (``read_frame``)."""
+    if Path(frame["depth"]).suffix.lower() == ".npz":
+        from heatdata.views.view import View
+
+        return View.load(frame["depth"])
+    from heatdata.views.depth import read_frame
+
+    return read_frame(
+        frame["depth"],
+        frame["intrinsics"],
+        frame["rgb"],
+        frame["mask"],
+        depth_range=args.depth_range,
+        scale=args.scale,
+        max_depth_jump=args.max_depth_jump,
+    )
+
+
+def _scene(frame: dict, args: argparse.Namespace, library):
+    """One frame recognized as a scene (:meth:`Library.recognize_scene`), and the image an overlay is drawn on.
+
+    A depth image or organized cloud is segmented into the objects on its support plane; a saved view, or a depth
+    image cut by ``--mask`` or ``--depth-range``, is one object as it is.
+    """
+    from heatdata.reporting.figures.scenes import frame_image
+    from heatdata.views.depth import read_depth_frame
+    from heatdata.views.segment import SegmentSettings, segment_points, segment_view
+
+    settings = SegmentSettings(max_depth_jump=args.max_depth_jump)
+    path = Path(frame["depth"])
+    suffix = path.suffix.lower()
+    if suffix in (".pcd", ".ply") and not (frame["mask"] or args.depth_range):
+        from heatdata.views.clouds import read_cloud_grid
+
+        points, colors, intrinsics = read_cloud_grid(path, scale=args.scale)
+        segmentation = segment_points(points, intrinsics, colors, settings, name=path.stem)
+        return library.recognize_segments(segmentation, k=args.k), frame_image(points[..., 2], colors)
+    if suffix == ".npz" or frame["mask"] or args.depth_range:
+        view = _read_frame(frame, args)
+        note = "a saved view, as it is" if suffix == ".npz" else view.repairs[0]
+        image = _view_image(view) if suffix == ".npz" else None
+        answer = library.recognize_segments(segment_view(view, note), k=args.k)
+        if image is None:
+            depth, rgb, _ = read_depth_frame(path, frame["intrinsics"], frame["rgb"])
+            image = frame_image(depth, rgb)
+        return answer, image
+    depth, rgb, intrinsics = read_depth_frame(path, frame["intrinsics"], frame["rgb"])
+    answer = library.recognize_scene(depth, intrinsics, rgb, k=args.k, settings=settings, name=path.stem)
+    return answer, frame_image(depth, rgb)
+
+
+def _view_image(view) -> np.ndarray:
+    """(h, w, 3) uint8: a saved view drawn back on its image, its colours at its pixels, black elsewhere."""
+    k = view.intrinsics
+    image = np.zeros((k["height"], k["width"], 3), np.uint8)
+    pixels = np.round(view.pixels).astype(int)
+    inside = (pixels[:, 0] >= 0) & (pixels[:, 0] < k["width"]) & (pixels[:, 1] >= 0) & (pixels[:, 1] < k["height"])
+    image[pixels[inside, 1], pixels[inside, 0]] = np.round(view.colors[inside] * 255).astype(np.uint8)
+    return image
+
+
+def _print_scene(frame: dict, answer, library) -> None:
+    """The terminal's answer for one frame: a row per object, then what the frame and each object showed."""
+    found = len(answer.detections)
+    where = " on the support plane" if answer.plane is not None else ""
+    print(f"{frame['depth']}: {found} object{'s' if found != 1 else ''}{where}; {library!r}")
+    if not found:
+        print(f"no object found ({answer.repairs[-1] if answer.repairs else 'nothing in the frame'})")
+        return
+    rows = []
+    for rank, d in enumerate(answer.detections, 1):
+        best = None if d.recognition is None else d.recognition.best
+        rows.append(
+            [
+                rank,
+                d.object or "unknown",
+                d.label or "",
+                "" if best is None else f"{best.distance:.4g}",
+                "" if best is None else f"{best.azimuth:.0f}",
+                d.pixels,
+                " ".join(f"{c:+.3f}" for c in d.centroid),
+                "{},{}-{},{}".format(*d.bbox),
+            ]
+        )
+    columns = ["#", "object", "class", "distance", "azimuth", "pixels", "centroid x y z (m)", "bbox u0,v0-u1,v1"]
+    print(pd.DataFrame(rows, columns=columns).to_string(index=False))
+    for rank, d in enumerate(answer.detections, 1):
+        for note in d.notes:
+            print(f"  {rank}: {note}")
+    for note in answer.repairs:
+        print(f"  frame: {note}")
+
+
+def cmd_recognize(args: argparse.Namespace) -> None:
+    """What the sensor sees (thesis ch. 3-5): every object of a depth frame or organized cloud, found on its support
+    plane and named by its nearest objects in a built library, with where it stands in the camera frame. A frame of
+    one isolated object, a saved view, or a depth image cut by --mask or --depth-range is one object. Several frames
+    of one object (a folder, or files with --moves, the degrees turned between them) are followed by the particle
+    filter of ch. 4 (--exact: the exhaustive filter), which prints the posterior over objects after each frame."""
+    from heatdata.recognition.library import load_library
+
+    require_file(args.library, "library")
+    frames = _frames(args)
+    if len(frames) > 1 and args.moves is None:
+        raise HeatdataError(f"{len(frames)} frames: give --moves, the degrees the sensor turned between them")
+    if args.overlay is not None:
+        if len(frames) > 1 or args.moves is not None:
+            raise HeatdataError("--overlay draws one frame's objects; give one frame without --moves")
+        check_output(args.overlay, inputs=[f[key] for f in frames for key in ("depth", "rgb", "mask") if f[key]])
+        if args.overlay.suffix.lower() != ".png":
+            raise HeatdataError(f"{args.overlay}: the overlay is written as a .png")
+    library = load_library(args.library)
+    if len(frames) == 1 and args.moves is None:
+        answer, image = _scene(frames[0], args, library)
+        if args.overlay is not None:
+            from heatdata.reporting.figures.scenes import detection_marks, save_overlay
+
+            save_overlay(args.overlay, image, detection_marks(answer.detections))
+        if args.json:
+            print(json.dumps({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
+            return
+        _print_scene(frames[0], answer, library)
+        return
+    views = [_read_frame(frame, args) for frame in frames]
+    steps = library.recognize_sequence(
+        views, args.moves or [0.0], exact=args.exact, particles=args.particles, seed=args.seed
+    )
+    if args.json:
+        print(json.dumps({"library": str(args.library), "exact": args.exact, "steps": [s.to_dict() for s in steps]}))
+        return
+    print(f"{len(views)} frames; {library!r}; {'exhaustive filter' if args.exact else f'{args.particles} particles'}")
+    for step, frame in zip(steps, frames, strict=True):
+        top = sorted(step.posterior.items(), key=lambda item: -item[1])[: args.k]
+        belief = ", ".join(f"{obj} {p:.2f}" for obj, p in top)
+        state = "converged" if step.converged else "not converged"
+        print(f"frame {step.frame + 1} ({frame['name']}, moved {step.move:g} deg): {belief} ({state})")
+    last = steps[-1]
+    print(
+        f"{'converged on' if last.converged else 'not converged; most probable:'} {last.estimate} "
+        f"({last.posterior[last.estimate]:.0%}) after {len(steps)} frames"
+    )
+
+
+def add_recognize(sub) -> None:
+    """The ``recognize`` command's arguments, on the ``heatdata`` parser's subcommands ``sub``."""
+    rec = sub.add_parser(
+        "recognize",
+        help="the objects a depth frame (or a sequence) is nearest in a built library (thesis ch. 3-5)",
+        description=cmd_recognize.__doc__,
+        epilog="E.g. heatdata recognize depth.png --intrinsics camera.json "
+        "--library results/libraries/hgd_color=hue-saturation-40.parquet",
+    )
+    rec.add_argument(
+        "frames",
+        type=Path,
+        nargs="+",
+        help="depth image (.png 16-bit mm, .npy m), organized cloud (.pcd, .ply), view (.npz), or a folder of them",
+    )
+    rec.add_argument("--library", type=Path, required=True, help="a library file (results/libraries/*.parquet)")
+    frame_arguments(rec)
+    rec.add_argument("-k", type=number(1, whole=True), default=5, help="nearest objects to keep per object (default 5)")
+    rec.add_argument("--json", action="store_true", help="print JSON for programs")
+    rec.add_argument("--overlay", type=Path, help="draw the frame with each object tinted, boxed and named (a .png)")
+    rec.add_argument(
+        "--moves",
+        type=number(),
+        nargs="+",
+        metavar="DEG",
+        help="degrees the sensor turned between frames: one per gap, or one for all (a sequence)",
+    )
+    rec.add_argument("--exact", action="store_true", help="a sequence by the exhaustive filter, not particles")
+    rec.add_argument("--particles", type=number(1, whole=True), default=100, help="particles (default 100)")
+    rec.add_argument("--seed", type=number(0, whole=True), default=0, help="the particle filter's seed (default 0)")
+    rec.set_defaults(func=cmd_recognize)
