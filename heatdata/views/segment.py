@@ -46,9 +46,10 @@ PLANE_POINTS = 20_000  # readings RANSAC samples from (a pixel stride), the inli
 CLUSTER_POINTS = 8_000  # workspace points DBSCAN clusters (a pixel stride); the rest join their block's
 FACING = np.cos(np.radians(30))  # a plane's region faces within 30 deg of its normal
 HANGING_DEPTH = 0.05  # m: readings this far below a plane and under its edges hang from it (an object's sides)
-HANGING_MARGIN = 0.02  # m: feet this far outside a plane's outline are still under its edge (the outline stops short)
+HANGING_MARGIN = 0.02  # m: feet this near a plane's outline, either side, are along its edge (the outline stops short)
 HANGING_SHARE = 0.1  # a support plane has at most this many readings hanging below it, per reading on it
 EDGE_ON = 10.0  # degrees: a support plane seen at a median angle below this is seen edge-on
+FOOTING = 0.5  # readings this share of the plane's distance above it may be an object's foot, where one touches
 FLAT_SHARE = 0.95  # a cluster with this share of its points on one plane wider than plane_size is background
 
 
@@ -248,17 +249,21 @@ def segment_points(
     colors = None if colors is None else checked_rgb(colors, valid.shape, name)
     notes: list[str] = []
     plane, inliers, outline = _support_plane(points, valid, settings, notes)
+    footing = np.zeros(valid.shape, bool)
     if plane is None or outline is None:
         workspace = valid.copy()
     else:
         height = points @ plane[:3] + plane[3]
         with np.errstate(invalid="ignore"):
-            low = settings.min_height * depth_scale(points)
-            workspace = valid & ~inliers & (height > low) & (height <= settings.max_height)
+            scale = depth_scale(points)
+            workspace = valid & ~inliers & (height > settings.min_height * scale) & (height <= settings.max_height)
+            # the band an object's foot stands in, above the plane's noise: a segment grows into it where it touches
+            footing = valid & (height > FOOTING * settings.plane_distance * scale) & ~workspace
         stride = max(1, int(np.sqrt(workspace.sum() / PLANE_POINTS)))
         # within the outline by a margin: not the wall rising at its edge
         workspace = outline.contains_grid(points, workspace, settings.plane_distance, stride)
-    segments = _clusters(points, colors, workspace, plane, settings, notes, name, k)
+        footing &= (height <= settings.min_height * scale) & outline.contains_grid(points, footing, 0.0, stride)
+    segments = _clusters(points, colors, workspace, footing, plane, settings, notes, name, k)
     if not segments:
         notes.append(
             "no object on the support plane" if plane is not None else "no object in the frame (only flat background)"
@@ -314,24 +319,28 @@ class _Outline:
         stride = max(1, len(inliers) // PLANE_POINTS)  # the hull of a sample is the hull, but for a sliver
         self.equations = ConvexHull(inliers[::stride] @ self.basis.T).equations
 
-    def contains(self, points: np.ndarray, margin: float = 0.0) -> np.ndarray:
-        """(k,) bool: which of ``points`` (k, 3) have their foot at least ``margin`` inside the outline."""
+    def contains(self, points: np.ndarray, margin: float | np.ndarray = 0.0) -> np.ndarray:
+        """(k,) bool: which of ``points`` (k, 3) have their foot at least ``margin`` (one, or (k,)) inside the
+        outline."""
         feet = points @ self.basis.T
-        return np.all(feet @ self.equations[:, :2].T + self.equations[:, 2] <= -margin, axis=1)
+        limit = -np.reshape(np.asarray(margin, dtype=np.float64), (-1, 1))
+        return np.all(feet @ self.equations[:, :2].T + self.equations[:, 2] <= limit, axis=1)
 
     def contains_grid(self, points: np.ndarray, candidates: np.ndarray, margin: float, stride: int) -> np.ndarray:
-        """(h, w) bool: :meth:`contains` of the ``candidates`` pixels of an organized grid of ``points``, tested
-        on a pixel stride and exactly only where the stride's answer changes (the outline's edge)."""
+        """(h, w) bool: :meth:`contains` of the ``candidates`` pixels of an organized grid of ``points`` by ``margin``
+        grown with depth (:func:`depth_scale`), tested on a pixel stride and exactly only where the stride's answer
+        changes (the outline's edge)."""
         from scipy.ndimage import maximum_filter, minimum_filter
 
         coarse = np.zeros(points[::stride, ::stride].shape[:2], bool)
         sampled = candidates[::stride, ::stride]
-        coarse[sampled] = self.contains(points[::stride, ::stride][sampled], margin)
+        coarse_points = points[::stride, ::stride][sampled]
+        coarse[sampled] = self.contains(coarse_points, margin * depth_scale(coarse_points))
         edge = maximum_filter(coarse, size=3, mode="nearest") != minimum_filter(coarse, size=3, mode="nearest")
         height, width = candidates.shape
         inside = np.repeat(np.repeat(coarse, stride, axis=0), stride, axis=1)[:height, :width] & candidates
         exact = np.repeat(np.repeat(edge, stride, axis=0), stride, axis=1)[:height, :width] & candidates
-        inside[exact] = self.contains(points[exact], margin)
+        inside[exact] = self.contains(points[exact], margin * depth_scale(points[exact]))
         return inside
 
 
@@ -379,11 +388,12 @@ def _support_plane(
             continue
         near = (np.abs(height) >= settings.min_height) & (np.abs(height) <= settings.max_height)
         standing = int(outline.contains(sampled[near & (height > 0)]).sum())
-        # a box's sides hang from its top: below it, their feet on its edge, one piece of surface with it (the floor
-        # seen under a table's edge is another piece)
+        # a box's sides hang from its top: below it, their feet along its edge, one piece of surface with it (the floor
+        # seen under a table's front is deep inside its outline, and mostly another piece)
         piece = np.bincount(pieces[on]).argmax()
-        deep = (height < -HANGING_DEPTH) & (height >= -settings.max_height) & (pieces == piece)
-        hanging = int(outline.contains(sampled[deep], -HANGING_MARGIN).sum())
+        deep = sampled[(height < -HANGING_DEPTH) & (height >= -settings.max_height) & (pieces == piece)]
+        along = outline.contains(deep, -HANGING_MARGIN) & ~outline.contains(deep, HANGING_MARGIN)
+        hanging = int(along.sum())
         if hanging > HANGING_SHARE * on.sum():
             notes.append(
                 f"a plane {span:.2f} m across has {hanging * stride**2} readings hanging below its edges: the face of "
@@ -465,14 +475,17 @@ def _clusters(
     points: np.ndarray,
     colors: np.ndarray | None,
     workspace: np.ndarray,
+    footing: np.ndarray,
     plane: np.ndarray | None,
     settings: SegmentSettings,
     notes: list[str],
     name: str,
     intrinsics: dict,
 ) -> list[Segment]:
-    """The workspace's clusters, each a :class:`Segment` (DBSCAN on a pixel stride, the rest joining the nearest)."""
+    """The workspace's clusters, each a :class:`Segment` (DBSCAN on a pixel stride, the rest joining the nearest),
+    grown into the ``footing`` pixels they touch (an object's foot, near the plane)."""
     import open3d as o3d
+    from scipy.ndimage import binary_propagation
 
     count = int(workspace.sum())
     if count < settings.min_pixels:
@@ -510,6 +523,8 @@ def _clusters(
             continue
         mask = np.zeros(workspace.shape, bool)
         mask[rows[labels == label], cols[labels == label]] = True
+        if footing.any():
+            mask = binary_propagation(mask, structure=np.ones((3, 3)), mask=mask | footing)
         segment = _segment(points, colors, mask, plane, settings, f"{name}/{len(segments)}", intrinsics)
         if segment is None:
             flat += 1
@@ -542,9 +557,8 @@ def _segment(
         extent = _span(cloud, plane)
     if extent > settings.plane_size:
         o3d.utility.random.seed(settings.seed)
-        _, flat = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(cloud)).segment_plane(
-            settings.plane_distance, 3, 200
-        )
+        tolerance = settings.plane_distance * float(np.median(depth_scale(cloud)))
+        _, flat = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(cloud)).segment_plane(tolerance, 3, 200)
         if len(flat) >= FLAT_SHARE * len(cloud):
             return None
     notes = []
