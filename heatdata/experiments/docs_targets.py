@@ -527,6 +527,7 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
             "results/scenes_run",
             [f"{E}/scenes.yaml"],
             [
+                "results/scenes_run/catalog.csv",  # the ablation renders the scenes' objects again
                 "results/scenes_run/scenes/summary.csv",
                 "results/scenes_run/scenes/offaxis.csv",
                 "results/scenes_run/scenes/overlays/scene-001.png",
