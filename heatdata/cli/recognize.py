@@ -60,33 +60,32 @@ def _read_frame(frame: dict, args: argparse.Namespace):
 def _scene(frame: dict, args: argparse.Namespace, library):
     """One frame recognized as a scene (:meth:`Library.recognize_scene`), and the image an overlay is drawn on.
 
-    A depth image or organized cloud is segmented into the objects on its support plane; a saved view, or a depth
-    image cut by ``--mask`` or ``--depth-range``, is one object as it is.
+    A depth image (its readings in ``--mask`` or ``--depth-range``, when given) or an organized cloud is segmented
+    into the objects on its support plane, or into the one object it holds; a saved view is one object as it is.
     """
     from heatdata.reporting.figures.scenes import frame_image
-    from heatdata.views.depth import read_depth_frame
+    from heatdata.views.depth import CLOUD_SUFFIXES, read_depth_frame, read_image
     from heatdata.views.segment import SegmentSettings, segment_points, segment_view
 
     settings = SegmentSettings(max_depth_jump=args.max_depth_jump)
     path = Path(frame["depth"])
     suffix = path.suffix.lower()
-    if suffix in (".pcd", ".ply") and not (frame["mask"] or args.depth_range):
+    if suffix == ".npz":
+        view = _read_frame(frame, args)
+        return library.recognize_segments(segment_view(view, "a saved view, as it is"), k=args.k), _view_image(view)
+    if suffix in CLOUD_SUFFIXES:
+        if frame["mask"] or args.depth_range:
+            _read_frame(frame, args)  # refuses them, as for every cloud
         from heatdata.views.clouds import read_cloud_grid
 
         points, colors, intrinsics = read_cloud_grid(path, scale=args.scale)
         segmentation = segment_points(points, intrinsics, colors, settings, name=path.stem)
         return library.recognize_segments(segmentation, k=args.k), frame_image(points[..., 2], colors)
-    if suffix == ".npz" or frame["mask"] or args.depth_range:
-        view = _read_frame(frame, args)
-        note = "a saved view, as it is" if suffix == ".npz" else view.repairs[0]
-        image = _view_image(view) if suffix == ".npz" else None
-        answer = library.recognize_segments(segment_view(view, note), k=args.k)
-        if image is None:
-            depth, rgb, _ = read_depth_frame(path, frame["intrinsics"], frame["rgb"])
-            image = frame_image(depth, rgb)
-        return answer, image
     depth, rgb, intrinsics = read_depth_frame(path, frame["intrinsics"], frame["rgb"])
-    answer = library.recognize_scene(depth, intrinsics, rgb, k=args.k, settings=settings, name=path.stem)
+    mask = read_image(frame["mask"], "mask", "L") > 0 if frame["mask"] else None
+    answer = library.recognize_scene(
+        depth, intrinsics, rgb, k=args.k, settings=settings, mask=mask, depth_range=args.depth_range, name=path.stem
+    )
     return answer, frame_image(depth, rgb)
 
 
@@ -134,8 +133,9 @@ def _print_scene(frame: dict, answer, library) -> None:
 
 def cmd_recognize(args: argparse.Namespace) -> None:
     """What the sensor sees (thesis ch. 3-5): every object of a depth frame or organized cloud, found on its support
-    plane and named by its nearest objects in a built library, with where it stands in the camera frame. A frame of
-    one isolated object, a saved view, or a depth image cut by --mask or --depth-range is one object. Several frames
+    plane and named by its nearest objects in a built library, with where it stands in the camera frame. --mask or
+    --depth-range keep part of a depth frame (each object in it is still one answer); a frame of one isolated object,
+    or a saved view, is one object. Several frames
     of one object (a folder, or files with --moves, the degrees turned between them) are followed by the particle
     filter of ch. 4 (--exact: the exhaustive filter), which prints the posterior over objects after each frame."""
     from heatdata.recognition.library import load_library

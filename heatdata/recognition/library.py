@@ -383,6 +383,8 @@ class Library:
         *,
         k: int = 5,
         settings: SegmentSettings | None = None,
+        mask: np.ndarray | None = None,
+        depth_range: tuple[float, float] | None = None,
         name: str = "frame",
     ) -> SceneRecognition:
         """Every object of a depth frame: the support plane, the objects on it, and what each is nearest.
@@ -404,6 +406,10 @@ class Library:
             Objects to list per detection.
         settings : SegmentSettings, optional
             The segmentation's settings.
+        mask : (h, w) bool, optional
+            The pixels to look at (objects cut out by the user; each object in it is still one answer).
+        depth_range : (near, far) metres, optional
+            Without a mask: the depths to look at.
         name : str
             The frame's name, for messages.
 
@@ -417,7 +423,8 @@ class Library:
         ViewError
             An empty frame (no reading), intrinsics or a colour image that do not fit the depth image.
         """
-        return self.recognize_segments(segment_frame(depth, intrinsics, rgb, settings, name=name), k=k)
+        segmentation = segment_frame(depth, intrinsics, rgb, settings, mask=mask, depth_range=depth_range, name=name)
+        return self.recognize_segments(segmentation, k=k)
 
     def recognize_segments(self, segmentation: Segmentation, *, k: int = 5) -> SceneRecognition:
         """:meth:`recognize_scene` of a frame already segmented (:func:`heatdata.views.segment.segment_points`).

@@ -175,26 +175,8 @@ def view_from_depth(
         valid pixel (after segmentation), no triangle.
     """
     depth, k = checked_depth(depth_m, intrinsics, view_id)
-    readings = int(np.isfinite(depth).sum())
-    if readings == 0:
-        raise ViewError(f"{view_id}: the depth image has no valid pixel (all zero, NaN or negative)")
     colors = None if rgb is None else checked_rgb(rgb, depth.shape, view_id)
-    if mask is not None:
-        mask = np.asarray(mask)
-        if mask.shape != depth.shape:
-            raise ViewError(f"{view_id}: the mask is {mask.shape[1::-1]} but the depth image is {depth.shape[::-1]}")
-        depth[~mask.astype(bool)] = np.nan
-        note = f"segmented by the mask: {int(np.isfinite(depth).sum())} of {readings} readings"
-    elif depth_range is not None:
-        near, far = map(float, depth_range)
-        if not 0 <= near < far:
-            raise ViewError(f"{view_id}: depth_range must be (near, far) with 0 <= near < far, got {depth_range}")
-        depth[(depth < near) | (depth > far)] = np.nan
-        note = f"segmented by depth {near:g}-{far:g} m: {int(np.isfinite(depth).sum())} of {readings} readings"
-    else:
-        note = f"not segmented: all {readings} readings"
-    if not np.isfinite(depth).any():
-        raise ViewError(f"{view_id}: no valid pixel is left after segmentation ({note.split(':')[0]})")
+    depth, note = cut_depth(depth, mask, depth_range, view_id)
     log.info("%s: %s", view_id, note)
     return grid_view(
         back_project(depth, k),
@@ -233,6 +215,57 @@ def checked_depth(depth: np.ndarray, intrinsics: dict, name: str) -> tuple[np.nd
     k = check_intrinsics(intrinsics, depth.shape, name)
     depth[~np.isfinite(depth) | (depth <= 0)] = np.nan
     return depth, k
+
+
+def cut_depth(
+    depth: np.ndarray, mask: np.ndarray | None, depth_range: tuple[float, float] | None, name: str
+) -> tuple[np.ndarray, str]:
+    """A checked depth image (:func:`checked_depth`) kept where ``mask`` is true, else within ``depth_range``.
+
+    Parameters
+    ----------
+    depth : (h, w) float64
+        Metres, NaN where there is no reading.
+    mask : (h, w) bool, optional
+        The pixels to keep.
+    depth_range : (near, far) metres, optional
+        Without a mask: the depths to keep.
+    name : str
+        The frame, for messages.
+
+    Returns
+    -------
+    depth : (h, w) float64
+        A copy, NaN outside the cut.
+    note : str
+        What was kept, for the view's or the answer's repairs.
+
+    Raises
+    ------
+    ViewError
+        A mask of another size, a range that is not ``0 <= near < far``, no reading at all or none left.
+    """
+    depth = depth.copy()
+    readings = int(np.isfinite(depth).sum())
+    if readings == 0:
+        raise ViewError(f"{name}: the depth image has no valid pixel (all zero, NaN or negative)")
+    if mask is not None:
+        mask = np.asarray(mask)
+        if mask.shape != depth.shape:
+            raise ViewError(f"{name}: the mask is {mask.shape[1::-1]} but the depth image is {depth.shape[::-1]}")
+        depth[~mask.astype(bool)] = np.nan
+        note = f"segmented by the mask: {int(np.isfinite(depth).sum())} of {readings} readings"
+    elif depth_range is not None:
+        near, far = map(float, depth_range)
+        if not 0 <= near < far:
+            raise ViewError(f"{name}: depth_range must be (near, far) with 0 <= near < far, got {depth_range}")
+        depth[(depth < near) | (depth > far)] = np.nan
+        note = f"segmented by depth {near:g}-{far:g} m: {int(np.isfinite(depth).sum())} of {readings} readings"
+    else:
+        note = f"not segmented: all {readings} readings"
+    if not np.isfinite(depth).any():
+        raise ViewError(f"{name}: no valid pixel is left after segmentation ({note.split(':')[0]})")
+    return depth, note
 
 
 def checked_rgb(rgb: np.ndarray, shape: tuple[int, int], name: str) -> np.ndarray:

@@ -12,10 +12,13 @@ leaves outside its scope, as PCL's ``3d_rec_framework`` global pipeline does it)
 2. **the workspace**: the readings between ``min_height`` and ``max_height`` above the support plane whose foot on
    it lies inside the plane's outline (the convex hull of its inliers): not the wall behind the table, not the
    floor beyond it. Without a support plane (a frame of one isolated object, as the library's views are) every
-   reading is in the workspace;
-3. **clusters** of the workspace's points (open3d's ``cluster_dbscan``, ``cluster_distance`` apart at most);
+   reading is in the workspace; and when nothing stands on the support plane of a frame whose readings cover less
+   than half the image, the plane was an object's own face (a chair's seat) and the frame is segmented without it;
+3. **clusters** of the workspace's points (open3d's ``cluster_dbscan``, ``cluster_distance`` apart at most, or three
+   pixels' spacing in a far or coarse frame);
    clusters under ``min_pixels`` are dropped (speckle, flying pixels), and so is a cluster that is one flat surface
-   wider than ``plane_size`` (a wall seen without a table);
+   wider than ``plane_size`` (a wall seen without a table), but in a frame of one isolated object (readings on less
+   than half the image), where it is the object's face;
 4. each cluster becomes a :class:`heatdata.View`, triangulated from its own pixels as a depth frame is
    (:func:`heatdata.views.depth.grid_view`), with every connected piece kept but specks below
    :data:`heatdata.views.view.MIN_VERTICES` vertices.
@@ -36,7 +39,15 @@ from scipy.spatial import QhullError
 
 from heatdata.core.mesh import component_labels, mesh_edges
 from heatdata.errors import ViewError
-from heatdata.views.depth import MAX_DEPTH_JUMP, back_project, checked_depth, checked_rgb, grid_faces, grid_view
+from heatdata.views.depth import (
+    MAX_DEPTH_JUMP,
+    back_project,
+    checked_depth,
+    checked_rgb,
+    cut_depth,
+    grid_faces,
+    grid_view,
+)
 from heatdata.views.view import MIN_VERTICES, View, check_intrinsics
 
 log = logging.getLogger(__name__)
@@ -49,6 +60,9 @@ HANGING_DEPTH = 0.05  # m: readings this far below a plane and under its edges h
 HANGING_MARGIN = 0.02  # m: feet this near a plane's outline, either side, are along its edge (the outline stops short)
 HANGING_SHARE = 0.1  # a support plane has at most this many readings hanging below it, per reading on it
 EDGE_ON = 10.0  # degrees: a support plane seen at a median angle below this is seen edge-on
+DBSCAN_POINTS = 10  # neighbours within cluster_distance that make a core point (fewer where the samples are sparser)
+ISOLATED = 0.5  # a frame whose readings cover less of the image than this is of one object, when nothing stands on
+# its support plane (the void around an object cut out of its frame, as a library's view is)
 FOOTING = 0.5  # readings this share of the plane's distance above it may be an object's foot, where one touches
 FLAT_SHARE = 0.95  # a cluster with this share of its points on one plane wider than plane_size is background
 
@@ -179,6 +193,8 @@ def segment_frame(
     rgb: np.ndarray | None = None,
     settings: SegmentSettings | None = None,
     *,
+    mask: np.ndarray | None = None,
+    depth_range: tuple[float, float] | None = None,
     name: str = "frame",
 ) -> Segmentation:
     """The support plane of a depth frame and a view of each object on it (see the module docstring).
@@ -193,6 +209,10 @@ def segment_frame(
         Colour registered to the depth image (default grey).
     settings : SegmentSettings, optional
         The plane, workspace and clustering settings.
+    mask : (h, w) bool, optional
+        The pixels to segment (an object cut out by the user: two objects in one mask are two segments).
+    depth_range : (near, far) metres, optional
+        Without a mask: the depths to segment.
     name : str
         The frame's name, for messages and the views' ids (``name/0``, ``name/1``...).
 
@@ -207,7 +227,11 @@ def segment_frame(
         Intrinsics that do not match the image, an RGB image of another size, or no reading at all.
     """
     depth, k = checked_depth(depth, intrinsics, name)
-    return segment_points(back_project(depth, k), k, rgb, settings, name=name)
+    if mask is None and depth_range is None:
+        return segment_points(back_project(depth, k), k, rgb, settings, name=name)
+    depth, note = cut_depth(depth, mask, depth_range, name)
+    found = segment_points(back_project(depth, k), k, rgb, settings, name=name)
+    return Segmentation(found.plane, found.segments, [note, *found.notes], found.coloured)
 
 
 def segment_points(
@@ -263,7 +287,15 @@ def segment_points(
         # within the outline by a margin: not the wall rising at its edge
         workspace = outline.contains_grid(points, workspace, settings.plane_distance, stride)
         footing &= (height <= settings.min_height * scale) & outline.contains_grid(points, footing, 0.0, stride)
-    segments = _clusters(points, colors, workspace, footing, plane, settings, notes, name, k)
+    isolated = valid.sum() < ISOLATED * valid.size
+    segments = _clusters(points, colors, workspace, footing, plane, settings, notes, name, k, isolated)
+    if not segments and plane is not None and isolated:
+        notes.append(
+            f"nothing stands on that plane, and the readings cover {valid.sum() / valid.size:.0%} of the image: a "
+            "frame of one object seen over a face of its own (a chair's seat); segmented without a support"
+        )
+        plane = None
+        segments = _clusters(points, colors, valid, np.zeros(valid.shape, bool), None, settings, notes, name, k, True)
     if not segments:
         notes.append(
             "no object on the support plane" if plane is not None else "no object in the frame (only flat background)"
@@ -481,6 +513,7 @@ def _clusters(
     notes: list[str],
     name: str,
     intrinsics: dict,
+    isolated: bool,
 ) -> list[Segment]:
     """The workspace's clusters, each a :class:`Segment` (DBSCAN on a pixel stride, the rest joining the nearest),
     grown into the ``footing`` pixels they touch (an object's foot, near the plane)."""
@@ -497,10 +530,12 @@ def _clusters(
     sampled = (rows % stride == 0) & (cols % stride == 0)
     cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points[rows[sampled], cols[sampled]]))
     grid = np.full(workspace.shape, -1, np.int64)
-    # DBSCAN's radius widens with the stride, so that a thin part sampled sparsely stays one cluster
-    grid[rows[sampled], cols[sampled]] = cloud.cluster_dbscan(
-        settings.cluster_distance * stride, max(3, 10 // stride**2)
-    )
+    # DBSCAN's radius is the cluster distance, or three pixels' spacing where the pixels lie farther apart (a far or
+    # coarse frame: a chair's leg holds its core points), widened with the stride
+    spacing = float(np.median(points[rows[sampled], cols[sampled], 2])) / intrinsics["fx"]
+    radius = stride * max(settings.cluster_distance, 3.0 * spacing)
+    core = max(3, int(DBSCAN_POINTS * (settings.cluster_distance / radius) ** 2))  # as many neighbours per area
+    grid[rows[sampled], cols[sampled]] = cloud.cluster_dbscan(radius, core)
     # the other pixels join the cluster of a sampled corner of their stride cell, the first near enough
     labels = grid[rows, cols]
     height, width = workspace.shape
@@ -513,7 +548,7 @@ def _clusters(
         open_ = labels < 0
         candidate = grid[anchor_rows[open_], anchor_cols[open_]]
         gap = np.linalg.norm(points[rows[open_], cols[open_]] - points[anchor_rows[open_], anchor_cols[open_]], axis=1)
-        labels[open_] = np.where((candidate >= 0) & (gap <= settings.cluster_distance * stride), candidate, -1)
+        labels[open_] = np.where((candidate >= 0) & (gap <= radius), candidate, -1)
     sizes = np.bincount(labels[labels >= 0]) if (labels >= 0).any() else np.zeros(0, np.int64)
     segments: list[Segment] = []
     small = flat = 0
@@ -525,7 +560,7 @@ def _clusters(
         mask[rows[labels == label], cols[labels == label]] = True
         if footing.any():
             mask = binary_propagation(mask, structure=np.ones((3, 3)), mask=mask | footing)
-        segment = _segment(points, colors, mask, plane, settings, f"{name}/{len(segments)}", intrinsics)
+        segment = _segment(points, colors, mask, plane, settings, f"{name}/{len(segments)}", intrinsics, isolated)
         if segment is None:
             flat += 1
             continue
@@ -546,8 +581,10 @@ def _segment(
     settings: SegmentSettings,
     view_id: str,
     intrinsics: dict,
+    isolated: bool,
 ) -> Segment | None:
-    """The :class:`Segment` of the pixels ``mask``; None for a flat background surface."""
+    """The :class:`Segment` of the pixels ``mask``; None for a flat background surface (not in a frame of one
+    isolated object, where a flat cluster is the object's face)."""
     import open3d as o3d
 
     cloud = points[mask]
@@ -555,7 +592,7 @@ def _segment(
         extent = float(np.linalg.norm(np.ptp(cloud, axis=0)))
     else:
         extent = _span(cloud, plane)
-    if extent > settings.plane_size:
+    if extent > settings.plane_size and not isolated:
         o3d.utility.random.seed(settings.seed)
         tolerance = settings.plane_distance * float(np.median(depth_scale(cloud)))
         _, flat = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(cloud)).segment_plane(tolerance, 3, 200)

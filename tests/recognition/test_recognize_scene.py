@@ -167,3 +167,17 @@ def test_the_command_refuses_what_it_cannot_draw_or_read(library, tmp_path, capl
         assert main(command) == 1, command
         errors = [r.getMessage() for r in caplog.records if r.levelname == "ERROR"]
         assert len(errors) == 1 and message in errors[0], errors
+
+
+def test_a_mask_over_two_objects_gives_two_answers(library, models, tmp_path, capsys):
+    from heatdata.cli import main
+
+    frame = scene([(models["milk-carton"], -0.15, 0.0, 30.0), (models["beer-mug"], 0.15, 0.1, 0.0)])
+    mask = np.isin(frame.labels, [FURNITURE, FURNITURE + 1])  # the user's mask of both objects, no table
+    answer = library.recognize_scene(frame.depth, frame.intrinsics, frame.rgb, mask=mask)
+    assert sorted(d.object for d in answer.detections) == ["beer-mug", "milk-carton"]
+    assert answer.repairs[0].startswith("segmented by the mask") and answer.plane is None
+    Image.fromarray((mask * 255).astype(np.uint8)).save(tmp_path / "frame.mask.png")
+    command = ["recognize", *write_frame(frame, tmp_path), "--mask", str(tmp_path / "frame.mask.png")]
+    assert main([*command, "--library", library.path, "--json"]) == 0
+    assert len(json.loads(capsys.readouterr().out)["objects"]) == 2
