@@ -99,8 +99,9 @@ def overlay_image(image: np.ndarray, marks: list[Mark]) -> Image.Image:
         draw.rectangle((u0, v0, u1, v1), outline=tint, width=2)
         left, top, right, bottom = draw.textbbox((u0, v0), mark.text, font=font)
         y = v0 - (bottom - top) - 4 if v0 - (bottom - top) - 4 >= 0 else v1 + 2
-        draw.rectangle((u0, y, u0 + right - left + 4, y + bottom - top + 4), fill=(0, 0, 0))
-        draw.text((u0 + 2, y + 2 - (top - v0)), mark.text, fill=tint, font=font)
+        x = max(0, min(u0, picture.width - (right - left) - 4))  # the label stays inside the frame
+        draw.rectangle((x, y, x + right - left + 4, y + bottom - top + 4), fill=(0, 0, 0))
+        draw.text((x + 2, y + 2 - (top - v0)), mark.text, fill=tint, font=font)
     return picture
 
 
