@@ -3,9 +3,10 @@
 Cold: a fresh process that imports heatdata, loads the library (its rows, then the probe check), reads the depth
 PNG and its colour image, builds the view, describes it and searches the library; each stage timed, and the whole
 process's wall time from outside; and `heatdata recognize --json` on the same frames, which answers a frame as a
-scene (the support plane looked for, none found in a frame of one chair, the chair one object). Warm: one loaded `Library` answering a stream of
-frames, each from its files on disk. The frames are test views of the library's own run (rendered, then written as
-16-bit depth PNGs with their colour, as a sensor would save them), so each answer can be checked.
+scene (the support plane looked for, none found in a frame of one chair, the chair one object). Warm: one loaded
+`Library` answering a stream of frames, each from its files on disk. The frames are test views of the library's own
+run (rendered, then written as 16-bit depth PNGs with their colour, as a sensor would save them), so each answer can
+be checked.
 
     .venv/bin/snakemake --cores 2 --configfile config/experiments/chairs.yaml config/experiments/chairs_library.yaml \\
         results/chairs_library/libraries/hgd_color=hue-saturation-40.parquet
