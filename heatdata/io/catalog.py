@@ -199,6 +199,32 @@ def _size(row: pd.Series | dict) -> tuple[float, float, float] | None:
     return width, height, depth
 
 
+def catalog_sizes(catalog: pd.DataFrame) -> dict[str, list[float]]:
+    """Each object's real size, where its catalogue row gives one.
+
+    Parameters
+    ----------
+    catalog : pandas.DataFrame
+        Catalogue rows with an ``object`` column (as :func:`read_catalog` returns).
+
+    Returns
+    -------
+    dict
+        ``{object: [width, height, depth]}`` in metres; objects without a size (their file's units) left out.
+
+    Raises
+    ------
+    ModelError
+        A row gives some of the three sizes but not all, or a size that is not a number.
+    """
+    sizes = {}
+    for row in catalog.to_dict("records"):
+        size = _size(row)
+        if size is not None:
+            sizes[str(row["object"])] = list(size)
+    return sizes
+
+
 def load_catalog_model(row: pd.Series | dict) -> Model:
     """Load the model of one catalogue row, scaled to its real size.
 

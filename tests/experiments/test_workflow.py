@@ -1023,7 +1023,9 @@ def test_a_library_recognizes_every_test_view_as_classify_does(tiny_run):
             answer = library.recognize(view, k=2)
             assert answer.best.object == expected.loc[view.view_id, "predicted_object"], (path.name, view.view_id)
             assert answer.best.view_id == expected.loc[view.view_id, "predicted_view_id"], (path.name, view.view_id)
-            assert answer.best.distance == pytest.approx(expected.loc[view.view_id, "distance"], rel=1e-5)
+            # the library's distances are float32 (mhd_matrix), the evaluation's exact search float64: a distance
+            # between values near 1 keeps five digits (2e-6 to 1.1e-5 apart in this run)
+            assert answer.best.distance == pytest.approx(expected.loc[view.view_id, "distance"], rel=1e-4)
             assert [m.distance for m in answer.matches] == sorted(m.distance for m in answer.matches)
             checked += 1
     assert checked >= 11 * len(views)

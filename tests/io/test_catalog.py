@@ -9,7 +9,7 @@ import pytest
 from conftest import make_sh3f
 
 import heatdata as hd
-from heatdata.io.catalog import catalog_from_folder, color_twins
+from heatdata.io.catalog import catalog_from_folder, catalog_sizes, color_twins
 from heatdata.io.sh3f import extract_sh3f_model, parse_properties, sh3f_entries
 
 SH3F_DIR = Path("/usr/share/sweethome3d/furniture")
@@ -117,6 +117,16 @@ def test_catalog_from_folder(tmp_path):
     assert table.set_index("object").loc["mugs-red", "label"] == "mugs"
     model = hd.load_catalog_model(table.iloc[0])
     assert np.allclose(sorted(model.extents), [0.06, 0.08, 0.1])
+
+
+def test_catalog_sizes_leave_out_objects_in_their_files_units(catalog, tmp_path):
+    sizes = catalog_sizes(catalog)
+    assert set(sizes) == set(catalog["object"])
+    assert np.allclose(sizes["beer-mug"], catalog.set_index("object").loc["beer-mug", ["width", "height", "depth"]])
+    unsized = pd.DataFrame({"object": ["a", "b"], "width": ["", 0.1], "height": ["", 0.2], "depth": [None, 0.3]})
+    assert catalog_sizes(unsized) == {"b": [0.1, 0.2, 0.3]}
+    with pytest.raises(hd.ModelError, match="together"):
+        catalog_sizes(pd.DataFrame({"object": ["c"], "width": [0.1], "height": [""], "depth": [""]}))
 
 
 def test_empty_models_folder(tmp_path):

@@ -10,6 +10,7 @@ from heatdata.errors import ConfigError
 from heatdata.experiments.config import (CONFUSION_PATTERN, check_numbers, check_stages, descriptor_specs,
                                          multiview_descriptor, run_captures, run_catalog, run_scenes,
                                          stitched_objects)
+from heatdata.io.catalog import catalog_sizes
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 

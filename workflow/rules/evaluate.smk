@@ -120,7 +120,7 @@ rule library:
         descriptor=lambda wildcards: SPEC_FILES[wildcards.descriptor].name,
         descriptors=config["descriptors"],
         render=config["views"],
-        sizes={obj: [row["width"], row["height"], row["depth"]] for obj, row in CATALOG.iterrows()},
+        sizes=catalog_sizes(CATALOG),
         time_rule=config["time_scale_rule"],
         version=VERSION,
     wildcard_constraints:

@@ -22,6 +22,6 @@ library, metadata = build_library(
     render=snakemake.params.render,
     time_rule=snakemake.params.time_rule,
     source=snakemake.input.descriptors,
-    sizes={obj: [float(x) for x in size] for obj, size in snakemake.params.sizes.items()},
+    sizes=snakemake.params.sizes,
 )
 write_library(library, metadata, snakemake.output[0])
