@@ -65,6 +65,7 @@ ISOLATED = 0.5  # a frame whose readings cover less of the image than this is of
 # its support plane (the void around an object cut out of its frame, as a library's view is)
 FOOTING = 0.5  # readings this share of the plane's distance above it may be an object's foot, where one touches
 FLAT_SHARE = 0.95  # a cluster with this share of its points on one plane wider than plane_size is background
+TRIM = 0.01  # the share of a segment's points, at each end of each principal axis, its size leaves out
 
 
 @dataclass(frozen=True)
@@ -149,8 +150,8 @@ class Segment:
     centroid : (3,) float64
         The mean of its points in the camera frame, metres (x right, y down, z forward).
     extent : float
-        Its largest size, metres: along the support plane when there is one (the footprint's diagonal), else the
-        diagonal of its points' bounding box.
+        Its largest size, metres: the diameter of its footprint on the support plane when there is one, else of its
+        points (:data:`TRIM` of the outermost left out).
     notes : list of str
         What a user should know about it (cut by the image border, several pieces).
     """
@@ -284,9 +285,12 @@ def segment_points(
             # the band an object's foot stands in, above the plane's noise: a segment grows into it where it touches
             footing = valid & (height > FOOTING * settings.plane_distance * scale) & ~workspace
         stride = max(1, int(np.sqrt(workspace.sum() / PLANE_POINTS)))
-        # within the outline by a margin: not the wall rising at its edge
+        # within the outline by a margin: not the wall rising at its edge (nor its base, in the foot's band, along
+        # which an object standing by the wall would grow)
         workspace = outline.contains_grid(points, workspace, settings.plane_distance, stride)
-        footing &= (height <= settings.min_height * scale) & outline.contains_grid(points, footing, 0.0, stride)
+        footing &= (height <= settings.min_height * scale) & outline.contains_grid(
+            points, footing, settings.plane_distance, stride
+        )
     isolated = valid.sum() < ISOLATED * valid.size
     segments = _clusters(points, colors, workspace, footing, plane, settings, notes, name, k, isolated)
     if not segments and plane is not None and isolated:
@@ -328,7 +332,7 @@ def segment_view(view: View, note: str) -> Segmentation:
         pixels=view.n_vertices,
         bbox=(int(low[0]), int(low[1]), int(high[0]), int(high[1])),
         centroid=view.vertices.mean(axis=0),
-        extent=float(np.linalg.norm(np.ptp(view.vertices, axis=0))),
+        extent=_diameter(view.vertices),
     )
     return Segmentation(None, [segment], [note], coloured=bool(np.ptp(view.colors) > 0))
 
@@ -409,7 +413,7 @@ def _support_plane(
         height = sampled @ plane[:3] + plane[3]
         region = _largest_region(grid, plane, settings.plane_distance)
         on = region[sample[::stride, ::stride]]
-        span = _span(sampled[on], plane)
+        span = _diameter(sampled[on], plane)
         if span < settings.plane_size:
             notes.append(f"a plane {span:.2f} m across is smaller than a support plane ({settings.plane_size:g} m)")
             continue
@@ -495,12 +499,26 @@ def _normals(grid: np.ndarray) -> np.ndarray:
     return normals
 
 
-def _span(points: np.ndarray, plane: np.ndarray) -> float:
-    """The largest extent of ``points`` along ``plane`` (the diagonal of their bounding box in the plane's basis)."""
-    if len(points) == 0:
+def _diameter(points: np.ndarray, plane: np.ndarray | None = None) -> float:
+    """The largest distance between two of ``points`` (k, 3), their feet on ``plane`` when one is given: the diameter
+    of their convex hull, the outermost :data:`TRIM` of them along each principal axis left out (a flying pixel at an
+    edge, a speck of the table); unlike a bounding box's diagonal, it does not depend on how the object is turned."""
+    from scipy.spatial import ConvexHull
+    from scipy.spatial.distance import pdist
+
+    if len(points) < 2:
         return 0.0
-    feet = points @ _basis(plane[:3]).T
-    return float(np.linalg.norm(np.ptp(feet, axis=0)))
+    feet = points @ _basis(plane[:3]).T if plane is not None else np.asarray(points, np.float64)
+    centred = feet - feet.mean(axis=0)
+    axes = np.linalg.svd(centred, full_matrices=False)[2]
+    along = centred @ axes.T
+    low, high = np.percentile(along, [100 * TRIM, 100 * (1 - TRIM)], axis=0)
+    kept = feet[np.all((along >= low) & (along <= high), axis=1)]
+    try:
+        kept = kept[ConvexHull(kept).vertices]
+    except QhullError:  # on a line or a plane of fewer dimensions: its own extent
+        return float(np.linalg.norm(high - low))
+    return float(pdist(kept).max())
 
 
 def _clusters(
@@ -588,11 +606,7 @@ def _segment(
     import open3d as o3d
 
     cloud = points[mask]
-    if plane is None:
-        extent = float(np.linalg.norm(np.ptp(cloud, axis=0)))
-    else:
-        extent = _span(cloud, plane)
-    if extent > settings.plane_size and not isolated:
+    if _diameter(cloud, plane) > settings.plane_size and not isolated:
         o3d.utility.random.seed(settings.seed)
         tolerance = settings.plane_distance * float(np.median(depth_scale(cloud)))
         _, flat = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(cloud)).segment_plane(tolerance, 3, 200)
@@ -629,6 +643,6 @@ def _segment(
         pixels=int(mask.sum()),
         bbox=(u0, v0, u1, v1),
         centroid=cloud.mean(axis=0),
-        extent=extent,
+        extent=_diameter(view.vertices, plane),
         notes=notes,
     )

@@ -21,10 +21,12 @@ CAN = solid("can", trimesh.creation.cylinder(radius=0.04, height=0.15, sections=
 BALL = solid("ball", trimesh.creation.icosphere(subdivisions=3, radius=0.06), (0.3, 0.7, 0.3))
 
 
-def table_scene(objects, *, elevation=30.0, distance=1.0, target=(0.0, 0.0), sensor="kinect", wall=True, seed=0):
-    """Objects ``[(model, x, z, yaw)]`` on a 1.2 x 0.8 m table in a room (the wall optional); the camera looks at
-    ``target``. Placement ``i`` of the objects is label ``FURNITURE + i``."""
-    placements = room(1.2, 0.8, 0.1)
+def table_scene(
+    objects, *, elevation=30.0, distance=1.0, target=(0.0, 0.0), sensor="kinect", wall=True, wall_gap=0.1, seed=0
+):
+    """Objects ``[(model, x, z, yaw)]`` on a 1.2 x 0.8 m table in a room (the wall optional, ``wall_gap`` behind
+    it); the camera looks at ``target``. Placement ``i`` of the objects is label ``FURNITURE + i``."""
+    placements = room(1.2, 0.8, wall_gap)
     if not wall:
         placements[1] = Placement(placements[1].model, _at(0.0, -5.0, 0.0))  # under the floor
     placements += [Placement(m, object_pose(m, x, z, yaw)) for m, x, z, yaw in objects]
@@ -113,6 +115,22 @@ def test_objects_touching_each_other_form_one_segment():
     found = segment_frame(frame.depth, frame.intrinsics, frame.rgb)
     assert len(found.segments) == 1
     assert set(np.unique(frame.labels[found.segments[0].mask])) >= {FURNITURE, FURNITURE + 1}
+
+
+def test_an_object_by_the_wall_keeps_to_itself():
+    # the table against the wall: the wall's base is in the band of an object's foot, all along the table's back edge
+    frame = table_scene([(CAN, -0.2, -0.35, 0.0)], wall_gap=0.0, distance=1.2, target=(0.0, -0.1))
+    (segment,) = segment_frame(frame.depth, frame.intrinsics, frame.rgb).segments
+    truth = (frame.labels == FURNITURE) & np.isfinite(frame.depth)
+    assert iou(segment.mask, truth) > 0.9
+    assert segment.extent < np.hypot(0.08, 0.15)  # the can (lying along z), not a line along the wall
+
+
+@pytest.mark.parametrize("yaw", [0.0, 30.0, 45.0])
+def test_a_segment_measures_its_footprint_however_it_is_turned(yaw):
+    frame = table_scene([(BOX, 0.0, 0.0, yaw)], sensor="ideal")  # its top, seen from above, is its footprint
+    (segment,) = segment_frame(frame.depth, frame.intrinsics, frame.rgb).segments
+    assert segment.extent == pytest.approx(np.hypot(0.12, 0.08), rel=0.05)
 
 
 def test_an_object_cut_by_the_image_border_says_so():
