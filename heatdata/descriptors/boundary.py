@@ -41,7 +41,7 @@ def _hue(rgb: np.ndarray) -> np.ndarray:
 
 
 def _saturated_hue(rgb: np.ndarray) -> np.ndarray:
-    """Rates ``1 + 8 s h``: 1 on greys (s = 0), up to 9 on saturated colours (issue 17's colour twins)."""
+    """Rates ``1 + 8 s h``: 1 on greys (s = 0), up to 9 on saturated colours (the colour twins)."""
     hsv = _hsv(rgb)
     return 1.0 + 8.0 * hsv[:, 1] * hsv[:, 0]
 

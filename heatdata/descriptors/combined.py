@@ -1,4 +1,4 @@
-"""Kinds combined: several descriptors of one view under one distance, each on its own learned scale (issue 28).
+"""Kinds combined: several descriptors of one view under one distance, each on its own learned scale.
 
 Not in the thesis. Each part is a registered kind with its own distance (eq. 3.1 for the
 boundary kinds, chi-square for the histograms). Their distances are in different units,
@@ -13,8 +13,8 @@ so they are learned on library views before use (:attr:`Kind.fitted`, rule
    library views (each against all the others; no test view is seen); ``how: sum``
    takes ``w_k = 1``.
 
-The distance is ``sum_k (w_k / s_k) d_k``. Issue 28 measured why the weights must be
-learned: the plain sum of ESF and log-time PVST was below the ESF alone on 58 chairs.
+The distance is ``sum_k (w_k / s_k) d_k``. The weights must be learned: the plain sum of ESF and
+log-time PVST was below the ESF alone on 58 chairs.
 
 A descriptor's values are self-describing, so that any code holding a table's rows can
 compare them: a header ``[K, n_1..n_K, code_1..code_K, c_1..c_K]`` (part count, part
@@ -116,7 +116,7 @@ def leave_one_out(among: list[np.ndarray], coefficients: np.ndarray, objects: np
 
 class Combined(Kind):
     name = "combined"
-    summary = "several kinds of one view, each distance over its learned nearest-neighbour scale (issue 28)"
+    summary = "several kinds of one view, each distance over its learned nearest-neighbour scale"
     fitted = True
     distance_name = "sum of the parts' scaled distances"
     value_label = "the parts' values, after a header"

@@ -1,7 +1,7 @@
-"""Heat-geodesic distribution (HGD): how far heat must travel on the surface against the straight line (issue 28).
+"""Heat-geodesic distribution (HGD): how far heat must travel on the surface against the straight line.
 
 Not in the thesis; built for its complex objects (ch. 5), where the PVHK's one curve
-along the outline loses what tells chairs apart (issue 28's ablation, docs/chapters/complex.md). The
+along the outline loses what tells chairs apart (the chairs' ablation, docs/chapters/complex.md). The
 shape-distribution idea is Osada et al.'s D2, which the ESF (3.6.1) refines with its
 in/out/mixed lines; here heat decides what the ESF decides with voxels:
 
@@ -125,7 +125,7 @@ def color_histogram(colors: np.ndarray, area: np.ndarray) -> np.ndarray:
 
 class HGD(HistogramKind):
     name = "hgd"
-    summary = "Heat-geodesic distribution: Euclidean distance x Euclidean/heat-method geodesic ratio (issue 28)"
+    summary = "Heat-geodesic distribution: Euclidean distance x Euclidean/heat-method geodesic ratio"
     options = (
         Option("sources", 16, "source vertices, spread by farthest-point sampling", integer(1, 1024)),
         Option("bins", 32, "log-spaced bins of Euclidean distance", integer(2, 1024)),

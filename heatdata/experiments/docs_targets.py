@@ -1,4 +1,4 @@
-"""The ``docs_*`` targets (issue 32): which run each reads, and the steps that write its tables and figures.
+"""The ``docs_*`` targets: which run each reads, and the steps that write its tables and figures.
 
 ``workflow/rules/docs.smk`` makes one Snakemake rule of each, which runs its steps with
 :func:`heatdata.experiments.publish.publish`; the tests read this table to dry-run every target.

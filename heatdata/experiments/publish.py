@@ -3,7 +3,7 @@
 The targets themselves (which run each reads, which steps) are :mod:`heatdata.experiments.docs_targets`.
 
 Every table in ``docs/results`` and figure in ``docs/images`` is written by a Snakemake target of
-``workflow/rules/docs.smk`` (issue 32). A target runs its steps (an analysis script on a run's tables, a table
+``workflow/rules/docs.smk``. A target runs its steps (an analysis script on a run's tables, a table
 cut from a run's precision, a figure copied from a run), then :func:`record` writes one row per file into
 ``docs/results/MANIFEST.csv``: the file, the target, the config files, the commit, the wall time and the machine.
 """

@@ -52,8 +52,7 @@ def classify(
     ``"plausible"`` (default) those whose time scale (Alg. 5.1: the smallest 1/lambda_2
     of their library views) is at most the query's own 1/lambda_2 (``t_global``), as its
     own object's nearly always is - every object when none is; ``"every"`` every object.
-    On the 58 chairs at 8 library views ``"plausible"`` gains 4.9 points (issue 17,
-    ``scripts/ft_time_scales.py``).
+    On the 58 chairs at 8 library views ``"plausible"`` gains 4.9 points (``scripts/ft_time_scales.py``).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Built libraries (issue 33; thesis ch. 3-5): a run's library views in one self-describing file, and recognition.
+"""Built libraries (thesis ch. 3-5): a run's library views in one self-describing file, and recognition.
 
 A library file is a Parquet table of :data:`heatdata.io.tables.DESCRIPTOR_SCHEMA` rows: the library views of one
 descriptor at one library size (``split = "train"``), and views independent of them (``split = "similarity"``)

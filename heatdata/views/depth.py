@@ -98,7 +98,7 @@ def grid_view(
         See :func:`grid_faces`.
     components : {"largest", "all"}
         Keep the largest connected piece (a repair, recorded in ``repairs``), or every piece (to measure what
-        the largest leaves out, issue 28).
+        the largest leaves out).
     **view_fields
         ``intrinsics``, ``view_id``, ``object_id``, ``label``, angles, ``pose``, ``repairs``.
 

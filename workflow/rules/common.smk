@@ -41,7 +41,7 @@ FIXED_TIME = any(s.impl.time_scaled for s in SPECS)  # needs the objects' time s
 # kinds learned on the library views (SI-HKS's codebook): one fit job each, before any describe job
 FITTED = {file_name(s.name): s for s in SPECS if s.impl.fitted}
 MULTIVIEW_DESCRIPTOR = multiview_descriptor(config)
-# a library file per descriptor x library size: what `heatdata recognize` reads (issue 33)
+# a library file per descriptor x library size: what `heatdata recognize` reads
 LIBRARIES = [f"{RESULTS}/libraries/{name}-{size}.parquet" for name in SPEC_FILES for size in config["library_sizes"]]
 
 

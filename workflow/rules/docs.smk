@@ -1,4 +1,4 @@
-# The docs_* targets (issue 32): every table in docs/results and figure in docs/images is written by one of them,
+# The docs_* targets: every table in docs/results and figure in docs/images is written by one of them,
 # from the run of its config files, and recorded in docs/results/MANIFEST.csv (file, target, config, commit, wall
 # time, machine). Run one as
 #     snakemake --cores 2 --configfile config/experiments/chairs.yaml docs_chairs
