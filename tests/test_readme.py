@@ -66,9 +66,10 @@ def test_the_readme_example_runs_as_written_in_fifteen_lines(tmp_path):
     truth = main_job_library(tmp_path)
     out = run(tmp_path, code, cwd=tmp_path)
     assert "beer-mug seen from about" in out
-    found = re.findall(r"^(\S+) at \[", out, re.M)
-    large = {o["object"] for o in truth["objects"] if o["pixels"] >= 1000}  # every object found is there, named
-    assert large and large <= set(found) <= {o["object"] for o in truth["objects"]}, (out, truth["objects"])
+    found = dict(re.findall(r"^(\S+) \(([\d.]+) sure\) at \[", out, re.M))
+    large = {o["object"] for o in truth["objects"] if o["pixels"] >= 1000}  # every large object found is there, named
+    assert large and large <= set(found) <= {o["object"] for o in truth["objects"]} | {"unknown"}, out
+    assert all(0 <= float(sure) <= 1 for sure in found.values())
 
 
 @pytest.mark.slow

@@ -10,16 +10,20 @@ import numpy as np
 from heatdata.views.depth import MAX_DEPTH_JUMP
 
 
-def number(low: float | None = None, *, positive: bool = False, whole: bool = False):
-    """An argparse type: a finite number (above ``low``; > 0 with ``positive``; an integer with ``whole``)."""
+def number(low: float | None = None, *, high: float | None = None, positive: bool = False, whole: bool = False):
+    """An argparse type: a finite number (at least ``low``, at most ``high``; > 0 with ``positive``; an integer with
+    ``whole``)."""
 
     def parse(text: str):
         try:
             value = int(text) if whole else float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{text!r} is not a {'whole ' if whole else ''}number") from None
-        if not np.isfinite(value) or (positive and value <= 0) or (low is not None and value < low):
+        too_high = high is not None and value > high
+        if not np.isfinite(value) or (positive and value <= 0) or (low is not None and value < low) or too_high:
             need = "a positive number" if positive else "a finite number" if low is None else f"a number >= {low:g}"
+            if high is not None:
+                need = f"a number in [{low:g}, {high:g}]" if low is not None else f"a number <= {high:g}"
             raise argparse.ArgumentTypeError(f"{text!r}: need {need}")
         return value
 

@@ -72,7 +72,9 @@ def _scene(frame: dict, args: argparse.Namespace, library):
     suffix = path.suffix.lower()
     if suffix == ".npz":
         view = _read_frame(frame, args)
-        return library.recognize_segments(segment_view(view, "a saved view, as it is"), k=args.k), _view_image(view)
+        segmentation = segment_view(view, "a saved view, as it is")
+        answer = library.recognize_segments(segmentation, k=args.k, threshold=args.threshold)
+        return answer, _view_image(view)
     if suffix in CLOUD_SUFFIXES:
         if frame["mask"] or args.depth_range:
             _read_frame(frame, args)  # refuses them, as for every cloud
@@ -80,11 +82,20 @@ def _scene(frame: dict, args: argparse.Namespace, library):
 
         points, colors, intrinsics = read_cloud_grid(path, scale=args.scale)
         segmentation = segment_points(points, intrinsics, colors, settings, name=path.stem)
-        return library.recognize_segments(segmentation, k=args.k), frame_image(points[..., 2], colors)
+        answer = library.recognize_segments(segmentation, k=args.k, threshold=args.threshold)
+        return answer, frame_image(points[..., 2], colors)
     depth, rgb, intrinsics = read_depth_frame(path, frame["intrinsics"], frame["rgb"])
     mask = read_image(frame["mask"], "mask", "L") > 0 if frame["mask"] else None
     answer = library.recognize_scene(
-        depth, intrinsics, rgb, k=args.k, settings=settings, mask=mask, depth_range=args.depth_range, name=path.stem
+        depth,
+        intrinsics,
+        rgb,
+        k=args.k,
+        settings=settings,
+        mask=mask,
+        depth_range=args.depth_range,
+        name=path.stem,
+        threshold=args.threshold,
     )
     return answer, frame_image(depth, rgb)
 
@@ -99,7 +110,7 @@ def _view_image(view) -> np.ndarray:
     return image
 
 
-def _print_scene(frame: dict, answer, library) -> None:
+def _print_scene(frame: dict, answer, library, threshold: float | None) -> None:
     """The terminal's answer for one frame: a row per object, then what the frame and each object showed."""
     found = len(answer.detections)
     where = " on the support plane" if answer.plane is not None else ""
@@ -115,6 +126,7 @@ def _print_scene(frame: dict, answer, library) -> None:
                 rank,
                 d.object or "unknown",
                 d.label or "",
+                "" if np.isnan(d.confidence) else f"{d.confidence:.2f}",
                 "" if best is None else f"{best.distance:.4g}",
                 "" if best is None else f"{best.azimuth:.0f}",
                 d.pixels,
@@ -122,9 +134,14 @@ def _print_scene(frame: dict, answer, library) -> None:
                 "{},{}-{},{}".format(*d.bbox),
             ]
         )
-    columns = ["#", "object", "class", "distance", "azimuth", "pixels", "centroid x y z (m)", "bbox u0,v0-u1,v1"]
+    columns = [
+        "#", "object", "class", "confidence", "distance", "azimuth", "pixels", "centroid x y z (m)", "bbox u0,v0-u1,v1"
+    ]  # fmt: skip
     print(pd.DataFrame(rows, columns=columns).to_string(index=False))
+    limit = library.threshold(threshold)
     for rank, d in enumerate(answer.detections, 1):
+        if d.recognition is not None and d.object is None:
+            print(f"  {rank}: unknown: nearest {d.recognition.best.object}, confidence {d.confidence:.2f} < {limit:g}")
         for note in d.notes:
             print(f"  {rank}: {note}")
     for note in answer.repairs:
@@ -160,8 +177,10 @@ def cmd_recognize(args: argparse.Namespace) -> None:
         if args.json:
             print(json.dumps({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
             return
-        _print_scene(frames[0], answer, library)
+        _print_scene(frames[0], answer, library, args.threshold)
         return
+    if args.threshold is not None:
+        raise HeatdataError("--threshold is for the objects of one frame; a sequence's filter has no unknown yet")
     views = [_read_frame(frame, args) for frame in frames]
     steps = library.recognize_sequence(
         views, args.moves or [0.0], exact=args.exact, particles=args.particles, seed=args.seed
@@ -201,6 +220,12 @@ def add_recognize(sub) -> None:
     frame_arguments(rec)
     rec.add_argument("-k", type=number(1, whole=True), default=5, help="nearest objects to keep per object (default 5)")
     rec.add_argument("--json", action="store_true", help="print JSON for programs")
+    rec.add_argument(
+        "--threshold",
+        type=number(0.0, high=1.0),
+        help="confidence below which an object is unknown, in [0, 1] (default: the library's, which rejects 95%% of "
+        "its own objects left out of it): higher rejects more objects the library lacks, and more that it holds",
+    )
     rec.add_argument("--overlay", type=Path, help="draw the frame with each object tinted, boxed and named (a .png)")
     rec.add_argument(
         "--moves",

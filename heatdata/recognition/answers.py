@@ -26,16 +26,39 @@ class Match:
 
 @dataclass(frozen=True)
 class Recognition:
-    """What :meth:`Library.recognize` answers: the nearest objects, nearest first, and the query's repairs."""
+    """What :meth:`Library.recognize` answers: the nearest objects, nearest first, the query's repairs, and how
+    confident the answer is that the nearest object is the one seen.
+
+    Attributes
+    ----------
+    descriptor : str
+        The library's descriptor.
+    matches : list of Match
+        The nearest objects, nearest first.
+    repairs : list of str
+        What describing the query repaired or warned of.
+    confidence : float
+        In [0, 1]: how likely the object seen is in the library (:mod:`heatdata.recognition.confidence`); NaN for
+        a library of one object.
+    known : bool
+        Whether the confidence reached the threshold: if not, the object is unknown.
+    """
 
     descriptor: str
     matches: list[Match]
     repairs: list[str] = field(default_factory=list)
+    confidence: float = float("nan")
+    known: bool = True
 
     @property
     def best(self) -> Match:
-        """The nearest object."""
+        """The nearest object (the answer when it is known)."""
         return self.matches[0]
+
+    @property
+    def object(self) -> str | None:
+        """The object seen; None when it is unknown."""
+        return self.best.object if self.known else None
 
     def to_dict(self) -> dict:
         """The answer as plain types (``heatdata recognize --json``).
@@ -43,12 +66,14 @@ class Recognition:
         Returns
         -------
         dict
-            ``descriptor, object, label, azimuth`` of the best match, ``matches`` and ``repairs``.
+            ``descriptor, object, label, confidence, azimuth`` of the best match (``object`` and ``label`` None
+            when it is unknown), ``matches`` (the nearest objects all the same) and ``repairs``.
         """
         return {
             "descriptor": self.descriptor,
-            "object": self.best.object,
-            "label": self.best.label,
+            "object": self.object,
+            "label": self.best.label if self.known else None,
+            "confidence": _plain_confidence(self.confidence),
             "azimuth": self.best.azimuth,
             "matches": [m.__dict__ for m in self.matches],
             "repairs": list(self.repairs),
@@ -107,13 +132,18 @@ class Detection:
 
     @property
     def object(self) -> str | None:
-        """The nearest object, or None."""
-        return None if self.recognition is None else self.recognition.best.object
+        """The object it is, or None: unknown, or not described."""
+        return None if self.recognition is None else self.recognition.object
 
     @property
     def label(self) -> str | None:
-        """The nearest object's class, or None."""
-        return None if self.recognition is None else self.recognition.best.label
+        """Its object's class, or None."""
+        return None if self.object is None or self.recognition is None else self.recognition.best.label
+
+    @property
+    def confidence(self) -> float:
+        """How likely it is an object of the library, in [0, 1] (NaN when it was not described)."""
+        return float("nan") if self.recognition is None else self.recognition.confidence
 
     @property
     def distance(self) -> float:
@@ -126,13 +156,14 @@ class Detection:
         Returns
         -------
         dict
-            ``object, label, distance, centroid, pixels, bbox, notes``, the nearest library view's ``azimuth`` and
-            the ``matches``.
+            ``object, label, confidence, distance, centroid, pixels, bbox, notes``, the nearest library view's
+            ``azimuth`` and the ``matches`` (``object`` and ``label`` None when it is unknown or not described).
         """
         best = None if self.recognition is None else self.recognition.best
         return {
             "object": self.object,
             "label": self.label,
+            "confidence": _plain_confidence(self.confidence),
             "distance": None if best is None else best.distance,
             "centroid": [float(c) for c in self.centroid],
             "pixels": int(self.pixels),
@@ -179,3 +210,8 @@ class SceneRecognition:
             "plane": None if self.plane is None else [float(x) for x in self.plane],
             "repairs": list(self.repairs),
         }
+
+
+def _plain_confidence(value: float) -> float | None:
+    """A confidence for JSON: None for NaN."""
+    return None if np.isnan(value) else float(value)

@@ -29,6 +29,7 @@ from heatdata.descriptors.rows import descriptor_rows
 from heatdata.errors import HeatdataError, LibraryError
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
 from heatdata.recognition.answers import Detection, Match, Recognition, SceneRecognition, SequenceStep
+from heatdata.recognition.confidence import Confidence, calibrate, calibration_rows, checked_threshold, nearest_two
 from heatdata.recognition.evaluate import TIME_RULES, library_subset, nan_views
 from heatdata.typing import StrPath
 from heatdata.version import __version__
@@ -182,9 +183,32 @@ def build_library(
         "probe": probe_values(spec).tolist(),
         "source": source,
         "sizes": _checked_sizes(sizes or {}),
+        "confidence": _calibration(library, spec),
     }
     frame = pd.concat([library.assign(split="train"), independent.assign(split="similarity")], ignore_index=True)
     return frame, metadata
+
+
+def _calibration(views: pd.DataFrame, spec: DescriptorSpec) -> dict | None:
+    """The library's calibrated confidence (:func:`heatdata.recognition.confidence.calibrate`) as metadata; None
+    for a library of one object."""
+    if views["object"].nunique() < 2:
+        log.warning("%s: a library of one object cannot tell an unknown object: every answer is its object", spec.name)
+        return None
+    values = np.stack(views["values"].to_numpy())
+    weights = views["weights"]
+    weighted = spec.impl.time_scaled and not weights.isna().any()
+    stacked = np.stack(weights.to_numpy()) if weighted else None
+    rows = calibration_rows(len(views))
+    distance = kind_of(spec.kind).distance_matrix(
+        values[rows],
+        values,
+        query_weights=None if stacked is None else stacked[rows],
+        library_weights=stacked,
+    )
+    confidence = calibrate(distance, views["object"].to_numpy(), rows)
+    log.info("%s: confidence calibrated on %d views (AUROC %.3f)", spec.name, len(rows), confidence.auroc)
+    return confidence.to_dict()
 
 
 def _checked_sizes(sizes: dict) -> dict:
@@ -256,6 +280,10 @@ class Library:
         self._weights = None if weights.isna().any() else np.stack(weights.to_numpy())
         self._by_object = self.views.groupby("object").indices
         self._similarity: pd.DataFrame | None = None
+        if "confidence" not in metadata:  # a file written before calibration: learned now, not stored
+            metadata["confidence"] = _calibration(self.views, self.spec)
+        calibrated = metadata["confidence"]
+        self.confidence: Confidence | None = None if calibrated is None else Confidence.from_dict(calibrated)
 
     def __repr__(self) -> str:
         return (
@@ -318,11 +346,14 @@ class Library:
             )[0]
         return distance
 
-    def recognize(self, view: View, k: int = 5) -> Recognition:
-        """The ``k`` objects nearest ``view`` (Alg. 3.1; Alg. 5.2 for a time-scaled kind), nearest first.
+    def recognize(self, view: View, k: int = 5, *, threshold: float | None = None) -> Recognition:
+        """The ``k`` objects nearest ``view`` (Alg. 3.1; Alg. 5.2 for a time-scaled kind), nearest first, and how
+        confident the answer is that the nearest is the object seen.
 
         Each object's distance is that of its library view nearest the query; that view's azimuth estimates the
-        angle ``view`` is seen from. The first match is what ``classify`` predicts for the same view.
+        angle ``view`` is seen from. The first match is what ``classify`` predicts for the same view. The confidence
+        (:mod:`heatdata.recognition.confidence`) is learned by the library from its own views; below ``threshold``
+        the answer is unknown (:attr:`Recognition.object` is None).
 
         Parameters
         ----------
@@ -330,21 +361,46 @@ class Library:
             A rendered view, a depth frame's or an organized cloud's.
         k : int
             How many objects to return.
+        threshold : float in [0, 1], optional
+            The confidence below which the object is unknown (default: the library's,
+            :func:`heatdata.recognition.confidence.calibrate`).
 
         Returns
         -------
         Recognition
         """
-        answer = self._nearest(view, k)
+        answer = self._nearest(view, k, threshold)
         notes = self._colour_note(bool(np.ptp(view.colors) > 0), view.name)
-        return Recognition(answer.descriptor, answer.matches, answer.repairs + notes)
+        return Recognition(answer.descriptor, answer.matches, answer.repairs + notes, answer.confidence, answer.known)
 
-    def _nearest(self, view: View, k: int) -> Recognition:
+    def threshold(self, threshold: float | None = None) -> float:
+        """The confidence threshold in use.
+
+        Parameters
+        ----------
+        threshold : float, optional
+            The user's, checked to lie in [0, 1].
+
+        Returns
+        -------
+        float
+            ``threshold``, or the library's (0 when it has none: a library of one object).
+        """
+        if threshold is not None:
+            return checked_threshold(threshold)
+        return self.confidence.threshold if self.confidence is not None else 0.0
+
+    def _nearest(self, view: View, k: int, threshold: float | None = None) -> Recognition:
         """:meth:`recognize` without the warning for a view without colour."""
         if k < 1 or int(k) != k:
             raise HeatdataError(f"k must be a whole number >= 1, got {k}")
+        limit = self.threshold(threshold)
         query = self.describe(view)
         distance = self.distances(query)
+        confidence = float("nan")
+        if self.confidence is not None:
+            _, nearest, other = nearest_two(distance[None], self.views["object"].to_numpy())
+            confidence = float(self.confidence(nearest, other)[0])
         matches = []
         for obj, positions in self._by_object.items():
             best = positions[int(np.argmin(distance[positions]))]
@@ -362,7 +418,8 @@ class Library:
                 )
         matches.sort(key=lambda m: (m.distance, self.objects.index(m.object)))
         repairs = sorted({r for rs in query["repairs"] for r in rs})
-        return Recognition(self.descriptor, matches[: int(k)], repairs)
+        known = bool(np.isnan(confidence) or confidence >= limit)
+        return Recognition(self.descriptor, matches[: int(k)], repairs, confidence, known)
 
     def _colour_note(self, coloured: bool, what: str) -> list[str]:
         """A warning when this library compares colours and a view (``what``, for the message) has none (a depth
@@ -387,6 +444,7 @@ class Library:
         mask: np.ndarray | None = None,
         depth_range: tuple[float, float] | None = None,
         name: str = "frame",
+        threshold: float | None = None,
     ) -> SceneRecognition:
         """Every object of a depth frame: the support plane, the objects on it, and what each is nearest.
 
@@ -413,6 +471,8 @@ class Library:
             Without a mask: the depths to look at.
         name : str
             The frame's name, for messages.
+        threshold : float in [0, 1], optional
+            The confidence below which an object is unknown (default: the library's).
 
         Returns
         -------
@@ -425,9 +485,11 @@ class Library:
             An empty frame (no reading), intrinsics or a colour image that do not fit the depth image.
         """
         segmentation = segment_frame(depth, intrinsics, rgb, settings, mask=mask, depth_range=depth_range, name=name)
-        return self.recognize_segments(segmentation, k=k)
+        return self.recognize_segments(segmentation, k=k, threshold=threshold)
 
-    def recognize_segments(self, segmentation: Segmentation, *, k: int = 5) -> SceneRecognition:
+    def recognize_segments(
+        self, segmentation: Segmentation, *, k: int = 5, threshold: float | None = None
+    ) -> SceneRecognition:
         """:meth:`recognize_scene` of a frame already segmented (:func:`heatdata.views.segment.segment_points`).
 
         Parameters
@@ -436,22 +498,25 @@ class Library:
             The frame's plane and segments.
         k : int
             Objects to list per detection.
+        threshold : float in [0, 1], optional
+            The confidence below which an object is unknown (default: the library's).
 
         Returns
         -------
         SceneRecognition
         """
+        limit = self.threshold(threshold)
         repairs = list(segmentation.notes)
         detections = []
         for segment in segmentation.segments:
             notes = list(segment.notes)
             try:
-                answer: Recognition | None = self._nearest(segment.view, k)
+                answer: Recognition | None = self._nearest(segment.view, k, limit)
             except HeatdataError as exc:  # a segment the descriptor cannot describe is still a detection
                 answer = None
                 notes.append(f"not described: {exc}")
             if answer is not None:
-                notes += self._size_note(segment, answer.best.object, segmentation.plane is not None)
+                notes += self._size_note(segment, answer, segmentation.plane is not None)
             detections.append(
                 Detection(
                     answer,
@@ -466,9 +531,10 @@ class Library:
             repairs += self._colour_note(segmentation.coloured, "the frame")
         return SceneRecognition(self.descriptor, detections, segmentation.plane, repairs)
 
-    def _size_note(self, segment: Segment, obj: str, on_plane: bool) -> list[str]:
+    def _size_note(self, segment: Segment, answer: Recognition, on_plane: bool) -> list[str]:
         """A note when ``segment`` is larger than the object it is taken for: objects touching, or one the library
         lacks."""
+        obj = answer.best.object
         if obj not in self.sizes:
             return []
         width, height, depth = self.sizes[obj]
@@ -476,7 +542,8 @@ class Library:
         if segment.extent <= TOUCHING * size:
             return []
         return [
-            f"{segment.extent * 100:.0f} cm across, larger than the {obj} it is taken for ({size * 100:.0f} cm): "
+            f"{segment.extent * 100:.0f} cm across, larger than the {obj} it is "
+            f"{'taken for' if answer.known else 'nearest'} ({size * 100:.0f} cm): "
             "several objects touching each other form one segment, or the object is not in the library"
         ]
 

@@ -1,4 +1,4 @@
-"""Library files (issue 33): built from descriptor rows, read back whole, refused when they would describe
+"""Library files: built from descriptor rows, read back whole, refused when they would describe
 differently, and the answers of recognize and recognize_sequence."""
 
 import numpy as np
@@ -105,6 +105,18 @@ def test_a_library_that_would_describe_differently_is_refused(library_file, tmp_
     write_table(rows, tmp_path / "broken.parquet", DESCRIPTOR_SCHEMA, {LIBRARY_KEY: broken})
     with pytest.raises(HeatdataError):
         hd.load_library(tmp_path / "broken.parquet")
+
+
+def test_a_library_file_carries_its_confidence_and_an_older_one_learns_it_on_loading(library_file, rows, tmp_path):
+    library = hd.load_library(library_file)
+    stored = library.metadata["confidence"]
+    assert library.confidence is not None and 0 < library.confidence.threshold < 1 and stored["known"] == 24
+    written, run = read_table(library_file)
+    older = {key: value for key, value in run[LIBRARY_KEY].items() if key != "confidence"}
+    write_table(written, tmp_path / "older.parquet", DESCRIPTOR_SCHEMA, {LIBRARY_KEY: older})
+    assert hd.load_library(tmp_path / "older.parquet").confidence == library.confidence
+    alone = build_library(rows[rows["object"] == "beer-mug"], SPEC, 8)[1]
+    assert alone["confidence"] is None  # one object: nothing to be unknown against; every answer is known
 
 
 def test_library_views_with_nan_values_are_left_out(rows):

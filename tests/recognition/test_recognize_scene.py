@@ -74,12 +74,25 @@ def test_every_object_on_the_table_is_found_named_and_placed(library, models):
         assert detection.pixels == detection.mask.sum()
         rows, cols = np.nonzero(detection.mask)
         assert detection.bbox == (cols.min(), rows.min(), cols.max(), rows.max())
-    for name in OBJECTS:  # off the image centre, each named right
-        assert named[name].object == name, (name, named[name].recognition.matches[:2])
-    assert named["crate"].object in OBJECTS  # named, though no library holds it ("unknown" comes with confidence)
+    for name in OBJECTS:  # off the image centre, each nearest its own object, and surer of it than of the crate
+        assert named[name].recognition.best.object == name, (name, named[name].recognition.matches[:2])
+        assert named[name].confidence > 100 * named["crate"].confidence
+    assert named["crate"].object is None and named["crate"].label is None  # no library holds it: unknown
+    assert named["bread"].object == "bread" and named["bread"].confidence > 0.9
     shape = answer.to_dict()
     assert set(shape) == {"descriptor", "objects", "plane", "repairs"} and len(shape["plane"]) == 4
-    assert {"object", "label", "distance", "centroid", "pixels", "bbox", "notes"} <= set(shape["objects"][0])
+    keys = {"object", "label", "confidence", "distance", "centroid", "pixels", "bbox", "notes"}
+    assert keys <= set(shape["objects"][0])
+    crate = next(o for o in shape["objects"] if o["confidence"] == named["crate"].confidence)
+    assert crate["object"] is None and crate["matches"][0]["object"] in OBJECTS  # the nearest, all the same
+    # the user's threshold: 0 keeps every answer, 1 none
+    everything = library.recognize_scene(frame.depth, frame.intrinsics, frame.rgb, threshold=0.0)
+    assert all(d.object is not None for d in everything.detections)
+    nothing = library.recognize_scene(frame.depth, frame.intrinsics, frame.rgb, threshold=1.0)
+    assert all(d.object is None for d in nothing.detections)
+    for bad in (-0.1, 1.5, float("nan"), "high"):
+        with pytest.raises(hd.HeatdataError, match="threshold is a number in"):
+            library.recognize_scene(frame.depth, frame.intrinsics, frame.rgb, threshold=bad)
     json.dumps(shape)
 
 
@@ -140,10 +153,18 @@ def test_the_command_answers_for_each_object_draws_them_and_says_when_there_is_n
     assert "centroid x y z (m)" in out and "frame: support plane" in out
     overlay = np.asarray(Image.open(tmp_path / "overlay.png"))
     assert overlay.shape == (480, 640, 3) and not np.array_equal(overlay, np.round(frame.rgb * 255))
-    assert main([*command, "--json"]) == 0
+    assert main([*command, "--json", "--threshold", "0"]) == 0  # every answer kept: the nearest objects
     answer = json.loads(capsys.readouterr().out)
     assert sorted(o["object"] for o in answer["objects"]) == ["bread", "milk-carton"]
     assert answer["plane"] is not None and answer["frame"].endswith("frame.png")
+    assert all(0 <= o["confidence"] <= 1 for o in answer["objects"])
+    assert main([*command, "--threshold", "1"]) == 0  # none kept: each unknown, its nearest object said
+    out = capsys.readouterr().out
+    assert "unknown" in out and "1: unknown: nearest" in out and "2: unknown: nearest" in out
+    for bad in ("-0.5", "1.5", "nan", "high"):
+        with pytest.raises(SystemExit) as stop:
+            main([*command, "--threshold", bad])
+        assert stop.value.code == 2 and "--threshold" in capsys.readouterr().err
 
     bare = tmp_path / "bare"
     bare.mkdir()
