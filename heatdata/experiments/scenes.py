@@ -16,7 +16,8 @@ The workflow's scenes steps (config ``scenes``):
   the object whose pixels it overlaps most (mask IoU >= 0.5), and each object no detection matched;
 - :func:`scene_summary`: detection recall (objects with at least :data:`MIN_OBJECT_PIXELS` readings), the share of
   segments that match no object, naming accuracy for unoccluded objects and, apart, for partly occluded or cut
-  ones, and the latency per frame.
+  ones, how many right answers are confident enough to be said and how many mistakes are said to be unknown, and
+  the latency per frame.
 
 The frames are renderings through a sensor profile, not sensor data.
 """
@@ -399,6 +400,8 @@ def _score_row(truth: dict, number: int, detection, index: int | None, iou: floa
         "object": "" if best is None else best.object,
         "label": "" if best is None else best.label,
         "distance": np.nan if best is None else best.distance,
+        "confidence": detection.confidence if found else np.nan,
+        "known": bool(found and detection.object is not None),
         "azimuth": np.nan if best is None else best.azimuth,
         "pixels": detection.pixels if found else 0,
         "centroid": list(detection.centroid) if found else [],
@@ -430,7 +433,9 @@ def scene_summary(scores: pd.DataFrame) -> pd.DataFrame:
         One row per descriptor: ``scenes, objects`` (with at least :data:`MIN_OBJECT_PIXELS` readings),
         ``recall``, ``segments``, ``false_segments`` (share matching no object), ``named`` and ``naming`` (right
         names among detected unoccluded objects inside the frame), ``named_occluded`` and ``naming_occluded``
-        (partly occluded or cut ones), ``median_seconds``, ``p90_seconds`` (per frame).
+        (partly occluded or cut ones), ``named_sure`` (of the unoccluded ones, those named right and confident
+        enough not to be unknown), ``mistakes_unknown`` (of the wrong answers and the segments that match no object,
+        those said to be unknown), ``median_seconds``, ``p90_seconds`` (per frame).
     """
     rows = []
     for descriptor, table in scores.groupby("descriptor", sort=False):
@@ -441,6 +446,7 @@ def scene_summary(scores: pd.DataFrame) -> pd.DataFrame:
         matched = segments[segments["truth"] != ""]
         clear = matched[(matched["occluded"] <= OCCLUDED) & ~matched["cut"]]
         hidden = matched[(matched["occluded"] > OCCLUDED) | matched["cut"]]
+        mistakes = segments[(segments["truth"] == "") | ~segments["correct"]]
         times = table.drop_duplicates("scene")["seconds"]
         rows.append(
             {
@@ -454,6 +460,8 @@ def scene_summary(scores: pd.DataFrame) -> pd.DataFrame:
                 "naming": float(clear["correct"].mean()) if len(clear) else np.nan,
                 "named_occluded": len(hidden),
                 "naming_occluded": float(hidden["correct"].mean()) if len(hidden) else np.nan,
+                "named_sure": float((clear["correct"] & clear["known"]).mean()) if len(clear) else np.nan,
+                "mistakes_unknown": float((~mistakes["known"]).mean()) if len(mistakes) else np.nan,
                 "median_seconds": float(times.median()),
                 "p90_seconds": float(times.quantile(0.9)),
             }

@@ -139,6 +139,8 @@ DETECTION_SCHEMA = pa.schema(
         ("object", pa.string()),
         ("label", pa.string()),
         ("distance", pa.float64()),
+        ("confidence", pa.float64()),
+        ("known", pa.bool_()),
         ("azimuth", pa.float64()),
         ("pixels", pa.int64()),
         ("centroid", pa.list_(pa.float64())),

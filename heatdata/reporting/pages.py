@@ -428,7 +428,7 @@ def scenes_page(summary: pd.DataFrame, offaxis: pd.DataFrame, overlays: dict[str
     import base64
 
     shown = summary.copy()
-    for column in ("recall", "false_segments", "naming", "naming_occluded"):
+    for column in ("recall", "false_segments", "naming", "naming_occluded", "named_sure", "mistakes_unknown"):
         shown[column] = shown[column].map(lambda v: "" if pd.isna(v) else f"{100 * v:.1f}%")
     for column in ("median_seconds", "p90_seconds"):
         shown[column] = shown[column].map(lambda v: f"{1000 * v:.0f} ms")
@@ -444,7 +444,9 @@ def scenes_page(summary: pd.DataFrame, offaxis: pd.DataFrame, overlays: dict[str
                 f"{settings['elevation'][1]:g} deg through the {settings['sensor']} sensor profile. recall: objects "
                 "with at least 1,000 readings found (mask IoU >= 0.5); false_segments: segments that match no object; "
                 "naming: right names among the objects found, unoccluded and inside the frame (occluded: partly "
-                "hidden or cut by the border); seconds: recognize_scene per frame, warm. " + RENDERED_NOTE
+                "hidden or cut by the border); named_sure: of the unoccluded ones, named right and not unknown (the "
+                "library's confidence at its threshold); mistakes_unknown: of the wrong answers and the segments that "
+                "match no object, those said to be unknown; seconds: recognize_scene per frame, warm. " + RENDERED_NOTE
             ],
         ),
         ("Detection and naming", "table", shown),

@@ -83,11 +83,12 @@ def test_the_truth_matches_the_frame_and_the_files_read_back(models, tmp_path):
     assert [f["name"] for f in frames] == ["scene-003"] and frames[0]["rgb"].endswith(".rgb.png")
 
 
-def detection(mask, name, distance=0.1):
+def detection(mask, name, distance=0.1, confidence=0.9, known=True):
     rows, cols = np.nonzero(mask)
     match = Match(name, "thing", distance, 30.0, 30.0, f"{name}/train/001")
     bbox = (int(cols.min()), int(rows.min()), int(cols.max()), int(rows.max()))
-    return Detection(Recognition("hgd", [match]), (0.0, 0.0, 1.0), int(mask.sum()), bbox, [], mask)
+    answer = Recognition("hgd", [match], [], confidence, known)
+    return Detection(answer, (0.0, 0.0, 1.0), int(mask.sum()), bbox, [], mask)
 
 
 def test_detections_are_matched_by_mask_overlap_and_the_summary_counts_them():
@@ -109,7 +110,8 @@ def test_detections_are_matched_by_mask_overlap_and_the_summary_counts_them():
     second[20:30, 35:40] = False  # IoU 150 / 200 = 0.75
     speck = np.zeros(labels.shape, bool)
     speck[0:3, 50:58] = True
-    scores = score_scene([detection(first, "a"), detection(second, "a"), detection(speck, "a")], labels, depth, truth)
+    found = [detection(first, "a"), detection(second, "a", confidence=0.01, known=False), detection(speck, "a")]
+    scores = score_scene(found, labels, depth, truth)
     assert scores["truth"].tolist() == ["a", "b", "", "c"] and scores["detection"].tolist() == [0, 1, 2, -1]
     assert scores["iou"].tolist()[:2] == [1.0, 0.75] and scores["correct"].tolist() == [True, False, False, False]
     for row in scores[scores["detection"] >= 0].itertuples():
@@ -119,6 +121,9 @@ def test_detections_are_matched_by_mask_overlap_and_the_summary_counts_them():
     assert summary["segments"] == 3 and summary["false_segments"] == pytest.approx(1 / 3)
     assert (summary["named"], summary["naming"]) == (1, 1.0)  # b is occluded: counted apart
     assert (summary["named_occluded"], summary["naming_occluded"]) == (1, 0.0)
+    assert summary["named_sure"] == 1.0  # a, named right and sure
+    assert summary["mistakes_unknown"] == 0.5  # b said unknown; the speck, matching nothing, named all the same
+    assert scores["known"].tolist() == [True, False, True, False] and scores["confidence"].tolist()[1] == 0.01
     assert summary["median_seconds"] == 0.2
     empty = score_scene([], labels, depth, {"scene": "t", "objects": []})
     assert empty.empty and "truth" in empty.columns

@@ -46,25 +46,26 @@ def frame_image(depth: np.ndarray, rgb: np.ndarray | None = None) -> np.ndarray:
 
 
 def detection_marks(detections: list) -> list[Mark]:
-    """The marks of :class:`heatdata.recognition.answers.Detection` s: ``number object (distance)``."""
+    """The marks of :class:`heatdata.recognition.answers.Detection` s: ``number object (confidence)``."""
     marks = []
     for number, detection in enumerate(detections, 1):
         text = f"{number} {detection.object or 'unknown'}"
-        if math.isfinite(detection.distance):
-            text += f" ({detection.distance:.3g})"
+        if math.isfinite(detection.confidence):
+            text += f" ({detection.confidence:.2f})"
         marks.append(Mark(detection.mask, detection.bbox, text))
     return marks
 
 
 def row_marks(rows: pd.DataFrame, shape: tuple[int, int]) -> list[Mark]:
     """The marks of a scene's rows of a detection table (:func:`heatdata.experiments.scenes.score_scene`): the
-    answer, and the true object in brackets where it differs."""
+    answer (unknown below the library's threshold), and the true object in brackets where it differs."""
     from heatdata.experiments.scenes import unpack_mask
 
     marks = []
     for row in rows[rows["detection"] >= 0].sort_values("detection").itertuples():
-        text = f"{row.detection + 1} {row.object or 'unknown'}"
-        if row.object != row.truth:
+        name = row.object if row.known else ""
+        text = f"{row.detection + 1} {name or 'unknown'}"
+        if name != row.truth:
             text += f" [{row.truth or 'no object'}]"
         u0, v0, u1, v1 = (int(b) for b in row.bbox)
         marks.append(Mark(unpack_mask(row.mask, row.bbox, shape), (u0, v0, u1, v1), text))
