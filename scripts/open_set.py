@@ -2,6 +2,7 @@
 or unknown by the library's calibrated confidence (:mod:`heatdata.recognition.open_set`).
 
     .venv/bin/python scripts/open_set.py results --size 40 8 --out docs/results/open_set_household.csv
+    .venv/bin/python scripts/open_set.py results --size 40 8 --threshold 0.5 --out ...  # one threshold for all
 
 Rendered views, not real sensor data. One row per library file: AUROC, the share of known test views kept and of
 unknown ones rejected at the default threshold, and the closed-set precision beside what the threshold costs.
@@ -26,6 +27,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run", type=Path, help="a run's results folder (descriptors.parquet, libraries/)")
     parser.add_argument("--size", type=int, nargs="+", default=[40], help="library sizes (default 40)")
+    parser.add_argument("--threshold", type=float, help="one threshold for every library (default: each one's own)")
     parser.add_argument("--out", type=Path, required=True, help="the table to write (.csv)")
     args = parser.parse_args()
     descriptors, _ = read_table(args.run / "descriptors.parquet")
@@ -39,10 +41,20 @@ def main() -> None:
                 print(f"{path.name}: a time-scaled kind, left out")
                 continue
             start = time.perf_counter()
-            scores = open_set_scores(library.views, tests[tests["descriptor"] == library.descriptor], library.spec.kind)
+            own = tests[tests["descriptor"] == library.descriptor]
+            scores = open_set_scores(library.views, own, library.spec.kind, args.threshold)
             summary = open_set_summary(scores)
             seconds = time.perf_counter() - start
-            rows.append({"descriptor": library.descriptor, "size": size, **summary, "seconds": round(seconds, 1)})
+            threshold = "own" if args.threshold is None else args.threshold
+            rows.append(
+                {
+                    "descriptor": library.descriptor,
+                    "size": size,
+                    "threshold": threshold,
+                    **summary,
+                    "seconds": round(seconds, 1),
+                }
+            )
             print(", ".join(f"{k} {v:.3f}" if isinstance(v, float) else f"{k} {v}" for k, v in rows[-1].items()))
     args.out.parent.mkdir(parents=True, exist_ok=True)
     pd.DataFrame(rows).to_csv(args.out, index=False)

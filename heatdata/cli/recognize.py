@@ -141,7 +141,9 @@ def _print_scene(frame: dict, answer, library, threshold: float | None) -> None:
     limit = library.threshold(threshold)
     for rank, d in enumerate(answer.detections, 1):
         if d.recognition is not None and d.object is None:
-            print(f"  {rank}: unknown: nearest {d.recognition.best.object}, confidence {d.confidence:.2f} < {limit:g}")
+            print(
+                f"  {rank}: unknown: nearest {d.recognition.best.object}, confidence {d.confidence:.2f} < {limit:.3g}"
+            )
         for note in d.notes:
             print(f"  {rank}: {note}")
     for note in answer.repairs:

@@ -21,7 +21,9 @@ from heatdata.errors import HeatdataError
 from heatdata.recognition.confidence import calibrate, calibration_rows, nearest_two
 
 
-def open_set_scores(library: pd.DataFrame, tests: pd.DataFrame, kind: str) -> pd.DataFrame:
+def open_set_scores(
+    library: pd.DataFrame, tests: pd.DataFrame, kind: str, threshold: float | None = None
+) -> pd.DataFrame:
     """One row per fold (object left out) and test view: its answer and confidence.
 
     Parameters
@@ -32,6 +34,8 @@ def open_set_scores(library: pd.DataFrame, tests: pd.DataFrame, kind: str) -> pd
         Test views of the same descriptor (``object``, ``view_id``, ``values``).
     kind : str
         The descriptor kind, for its distance (not a time-scaled one).
+    threshold : float in [0, 1], optional
+        One threshold for every fold (default: each fold's library's own).
 
     Returns
     -------
@@ -59,7 +63,9 @@ def open_set_scores(library: pd.DataFrame, tests: pd.DataFrame, kind: str) -> pd
     for left_out in names:
         kept = np.flatnonzero(objects != left_out)
         chosen = kept[calibration_rows(len(kept))]
-        confidence = calibrate(among[np.ix_(chosen, kept)], objects[kept], np.searchsorted(kept, chosen))
+        confidence = calibrate(
+            among[np.ix_(chosen, kept)], objects[kept], np.searchsorted(kept, chosen), threshold=threshold
+        )
         best, nearest, other = nearest_two(answers[:, kept], objects[kept])
         sure = confidence(nearest, other)
         rows.append(

@@ -3,7 +3,8 @@ leaves outside its scope, as PCL's ``3d_rec_framework`` global pipeline does it)
 
 :func:`segment_frame` reads a depth frame (and its colour) the way a tabletop pipeline does:
 
-1. **planes**: up to :data:`MAX_PLANES` planes by RANSAC (open3d's ``segment_plane``, seeded), each holding at
+1. **planes**: up to :data:`MAX_PLANES` planes by RANSAC (open3d's ``segment_plane``, seeded, then refit by least
+   squares to its inliers, so that a frame is segmented the same every time), each holding at
    least ``plane_share`` of the readings; a **support plane** spans at least ``plane_size`` metres and has (almost)
    nothing hanging below its edges (an object's own face has: a box's top its sides, a chair's seat its legs). Of
    these, those facing up in the image (the normal within 60 deg of the image's up) come first (a table before the
@@ -65,6 +66,7 @@ ISOLATED = 0.5  # a frame whose readings cover less of the image than this is of
 # its support plane (the void around an object cut out of its frame, as a library's view is)
 FOOTING = 0.5  # readings this share of the plane's distance above it may be an object's foot, where one touches
 FLAT_SHARE = 0.95  # a cluster with this share of its points on one plane wider than plane_size is background
+REFINE_STEPS = 5  # least-squares refinements of a RANSAC plane, at most
 TRIM = 0.01  # the share of a segment's points, at each end of each principal axis, its size leaves out
 
 
@@ -402,12 +404,11 @@ def _support_plane(
         if free.sum() < 3:
             break
         remaining = np.flatnonzero(free)
-        model, chosen = cloud.select_by_index(remaining).segment_plane(settings.plane_distance, 3, 500)
+        model, _ = cloud.select_by_index(remaining).segment_plane(settings.plane_distance, 3, 500)
+        plane, chosen = _refined(sampled[remaining], model, settings.plane_distance)
         if len(chosen) < settings.plane_share * len(sampled):
             break
-        free[remaining[np.asarray(chosen)]] = False
-        plane = np.asarray(model, np.float64)
-        plane /= np.linalg.norm(plane[:3])
+        free[remaining[chosen]] = False
         if plane[3] < 0:
             plane = -plane  # the camera (the origin) on the positive side
         height = sampled @ plane[:3] + plane[3]
@@ -497,6 +498,30 @@ def _normals(grid: np.ndarray) -> np.ndarray:
     with np.errstate(invalid="ignore", divide="ignore"):
         normals[1:-1, 1:-1] = cross / np.linalg.norm(cross, axis=2, keepdims=True)
     return normals
+
+
+def _refined(points: np.ndarray, model, distance: float) -> tuple[np.ndarray, np.ndarray]:
+    """RANSAC's plane ``model`` refined by least squares on its inliers (within ``distance``) until they no longer
+    change (at most :data:`REFINE_STEPS` times): the unit-normal plane and its inliers' indices.
+
+    open3d's ``segment_plane`` runs in parallel threads and, seeded or not, does not return the same plane twice
+    (its issue #7270); planes a little apart have nearly the same inliers, whose least-squares plane is the same, so
+    the frame's segmentation no longer changes from one run to the next.
+    """
+    plane = np.asarray(model, np.float64) / np.linalg.norm(np.asarray(model, np.float64)[:3])
+    inliers = np.flatnonzero(np.abs(points @ plane[:3] + plane[3]) < distance)
+    for _ in range(REFINE_STEPS):
+        if len(inliers) < 3:
+            break
+        centre = points[inliers].mean(axis=0)
+        normal = np.linalg.svd(points[inliers] - centre, full_matrices=False)[2][2]
+        normal = normal if normal @ plane[:3] >= 0 else -normal
+        plane = np.append(normal, -normal @ centre)
+        again = np.flatnonzero(np.abs(points @ plane[:3] + plane[3]) < distance)
+        if np.array_equal(again, inliers):
+            break
+        inliers = again
+    return plane, inliers
 
 
 def _diameter(points: np.ndarray, plane: np.ndarray | None = None) -> float:
@@ -609,8 +634,8 @@ def _segment(
     if _diameter(cloud, plane) > settings.plane_size and not isolated:
         o3d.utility.random.seed(settings.seed)
         tolerance = settings.plane_distance * float(np.median(depth_scale(cloud)))
-        _, flat = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(cloud)).segment_plane(tolerance, 3, 200)
-        if len(flat) >= FLAT_SHARE * len(cloud):
+        model, _ = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(cloud)).segment_plane(tolerance, 3, 200)
+        if len(_refined(cloud, model, tolerance)[1]) >= FLAT_SHARE * len(cloud):
             return None
     notes = []
     height, width = mask.shape
