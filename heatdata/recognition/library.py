@@ -257,7 +257,7 @@ class Library:
 
     def __init__(self, rows: pd.DataFrame, metadata: dict, path: StrPath = "library"):
         self.path = str(path)
-        self.metadata = metadata
+        self.metadata = dict(metadata)
         self.spec = _spec_from_metadata(metadata["spec"])
         self.descriptor = self.spec.name
         self.time_rule = metadata["time_rule"]
@@ -280,9 +280,9 @@ class Library:
         self._weights = None if weights.isna().any() else np.stack(weights.to_numpy())
         self._by_object = self.views.groupby("object").indices
         self._similarity: pd.DataFrame | None = None
-        if "confidence" not in metadata:  # a file written before calibration: learned now, not stored
-            metadata["confidence"] = _calibration(self.views, self.spec)
-        calibrated = metadata["confidence"]
+        if "confidence" not in self.metadata:  # a file written before calibration: learned now, not stored
+            self.metadata["confidence"] = _calibration(self.views, self.spec)
+        calibrated = self.metadata["confidence"]
         self.confidence: Confidence | None = None if calibrated is None else Confidence.from_dict(calibrated)
 
     def __repr__(self) -> str:
