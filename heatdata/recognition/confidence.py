@@ -78,12 +78,33 @@ class Confidence:
         return 1.0 / (1.0 + np.exp(-score))
 
     def to_dict(self) -> dict:
-        """As plain types, for a library file's metadata."""
+        """As plain types, for a library file's metadata.
+
+        Returns
+        -------
+        dict
+            ``coef, intercept, threshold, known, unknown, auroc``.
+        """
         return {key: (list(value) if isinstance(value, tuple) else value) for key, value in asdict(self).items()}
 
     @classmethod
     def from_dict(cls, data: dict) -> Confidence:
-        """From :meth:`to_dict`."""
+        """From :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : dict
+            What :meth:`to_dict` gave.
+
+        Returns
+        -------
+        Confidence
+
+        Raises
+        ------
+        HeatdataError
+            A threshold outside [0, 1].
+        """
         return cls(
             coef=(float(data["coef"][0]), float(data["coef"][1])),
             intercept=float(data["intercept"]),
