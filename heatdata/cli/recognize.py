@@ -110,7 +110,7 @@ def _view_image(view) -> np.ndarray:
     return image
 
 
-def _print_scene(frame: dict, answer, library, threshold: float | None) -> None:
+def _print_scene(frame: dict, answer, library) -> None:
     """The terminal's answer for one frame: a row per object, then what the frame and each object showed."""
     found = len(answer.detections)
     where = " on the support plane" if answer.plane is not None else ""
@@ -138,12 +138,10 @@ def _print_scene(frame: dict, answer, library, threshold: float | None) -> None:
         "#", "object", "class", "confidence", "distance", "azimuth", "pixels", "centroid x y z (m)", "bbox u0,v0-u1,v1"
     ]  # fmt: skip
     print(pd.DataFrame(rows, columns=columns).to_string(index=False))
-    limit = library.threshold(threshold)
     for rank, d in enumerate(answer.detections, 1):
         if d.recognition is not None and d.object is None:
-            print(
-                f"  {rank}: unknown: nearest {d.recognition.best.object}, confidence {d.confidence:.2f} < {limit:.3g}"
-            )
+            best, limit = d.recognition.best.object, d.recognition.threshold
+            print(f"  {rank}: unknown: nearest {best}, confidence {d.confidence:.2f} < {limit:.3g}")
         for note in d.notes:
             print(f"  {rank}: {note}")
     for note in answer.repairs:
@@ -179,7 +177,7 @@ def cmd_recognize(args: argparse.Namespace) -> None:
         if args.json:
             print(json.dumps({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
             return
-        _print_scene(frames[0], answer, library, args.threshold)
+        _print_scene(frames[0], answer, library)
         return
     if args.threshold is not None:
         raise HeatdataError("--threshold is for the objects of one frame; a sequence's filter has no unknown yet")

@@ -40,15 +40,20 @@ class Recognition:
     confidence : float
         In [0, 1]: how likely the object seen is in the library (:mod:`heatdata.recognition.confidence`); NaN for
         a library of one object.
-    known : bool
-        Whether the confidence reached the threshold: if not, the object is unknown.
+    threshold : float
+        The confidence it was judged at: below it, the object is unknown.
     """
 
     descriptor: str
     matches: list[Match]
     repairs: list[str] = field(default_factory=list)
     confidence: float = float("nan")
-    known: bool = True
+    threshold: float = 0.0
+
+    @property
+    def known(self) -> bool:
+        """Whether the confidence reached the threshold (a library of one object: always)."""
+        return bool(np.isnan(self.confidence) or self.confidence >= self.threshold)
 
     @property
     def best(self) -> Match:

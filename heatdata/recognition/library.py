@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -279,6 +280,7 @@ class Library:
         weights = self.views["weights"]
         self._weights = None if weights.isna().any() else np.stack(weights.to_numpy())
         self._by_object = self.views.groupby("object").indices
+        self._view_objects = self.views["object"].to_numpy()
         self._similarity: pd.DataFrame | None = None
         if "confidence" not in self.metadata:  # a file written before calibration: learned now, not stored
             self.metadata["confidence"] = _calibration(self.views, self.spec)
@@ -371,7 +373,7 @@ class Library:
         """
         answer = self._nearest(view, k, threshold)
         notes = self._colour_note(bool(np.ptp(view.colors) > 0), view.name)
-        return Recognition(answer.descriptor, answer.matches, answer.repairs + notes, answer.confidence, answer.known)
+        return replace(answer, repairs=answer.repairs + notes)
 
     def threshold(self, threshold: float | None = None) -> float:
         """The confidence threshold in use.
@@ -399,7 +401,7 @@ class Library:
         distance = self.distances(query)
         confidence = float("nan")
         if self.confidence is not None:
-            _, nearest, other = nearest_two(distance[None], self.views["object"].to_numpy())
+            _, nearest, other = nearest_two(distance[None], self._view_objects)
             confidence = float(self.confidence(nearest, other)[0])
         matches = []
         for obj, positions in self._by_object.items():
@@ -418,8 +420,7 @@ class Library:
                 )
         matches.sort(key=lambda m: (m.distance, self.objects.index(m.object)))
         repairs = sorted({r for rs in query["repairs"] for r in rs})
-        known = bool(np.isnan(confidence) or confidence >= limit)
-        return Recognition(self.descriptor, matches[: int(k)], repairs, confidence, known)
+        return Recognition(self.descriptor, matches[: int(k)], repairs, confidence, limit)
 
     def _colour_note(self, coloured: bool, what: str) -> list[str]:
         """A warning when this library compares colours and a view (``what``, for the message) has none (a depth

@@ -83,11 +83,11 @@ def test_the_truth_matches_the_frame_and_the_files_read_back(models, tmp_path):
     assert [f["name"] for f in frames] == ["scene-003"] and frames[0]["rgb"].endswith(".rgb.png")
 
 
-def detection(mask, name, distance=0.1, confidence=0.9, known=True):
+def detection(mask, name, distance=0.1, confidence=0.9):
     rows, cols = np.nonzero(mask)
     match = Match(name, "thing", distance, 30.0, 30.0, f"{name}/train/001")
     bbox = (int(cols.min()), int(rows.min()), int(cols.max()), int(rows.max()))
-    answer = Recognition("hgd", [match], [], confidence, known)
+    answer = Recognition("hgd", [match], [], confidence, threshold=0.05)
     return Detection(answer, (0.0, 0.0, 1.0), int(mask.sum()), bbox, [], mask)
 
 
@@ -110,7 +110,7 @@ def test_detections_are_matched_by_mask_overlap_and_the_summary_counts_them():
     second[20:30, 35:40] = False  # IoU 150 / 200 = 0.75
     speck = np.zeros(labels.shape, bool)
     speck[0:3, 50:58] = True
-    found = [detection(first, "a"), detection(second, "a", confidence=0.01, known=False), detection(speck, "a")]
+    found = [detection(first, "a"), detection(second, "a", confidence=0.01), detection(speck, "a")]
     scores = score_scene(found, labels, depth, truth)
     assert scores["truth"].tolist() == ["a", "b", "", "c"] and scores["detection"].tolist() == [0, 1, 2, -1]
     assert scores["iou"].tolist()[:2] == [1.0, 0.75] and scores["correct"].tolist() == [True, False, False, False]
