@@ -58,7 +58,8 @@ def _read_frame(frame: dict, args: argparse.Namespace):
 
 
 def _scene(frame: dict, args: argparse.Namespace, library):
-    """One frame recognized as a scene (:meth:`Library.recognize_scene`), and the image an overlay is drawn on.
+    """One frame recognized as a scene (:meth:`Library.recognize_scene`), the image an overlay is drawn on, and the
+    camera's intrinsics.
 
     A depth image (its readings in ``--mask`` or ``--depth-range``, when given) or an organized cloud is segmented
     into the objects on its support plane, or into the one object it holds; a saved view is one object as it is.
@@ -73,8 +74,8 @@ def _scene(frame: dict, args: argparse.Namespace, library):
     if suffix == ".npz":
         view = _read_frame(frame, args)
         segmentation = segment_view(view, "a saved view, as it is")
-        answer = library.recognize_segments(segmentation, k=args.k, threshold=args.threshold)
-        return answer, _view_image(view)
+        answer = library.recognize_segments(segmentation, k=args.k, threshold=args.threshold, pose=not args.no_pose)
+        return answer, _view_image(view), view.intrinsics
     if suffix in CLOUD_SUFFIXES:
         if frame["mask"] or args.depth_range:
             _read_frame(frame, args)  # refuses them, as for every cloud
@@ -82,8 +83,8 @@ def _scene(frame: dict, args: argparse.Namespace, library):
 
         points, colors, intrinsics = read_cloud_grid(path, scale=args.scale)
         segmentation = segment_points(points, intrinsics, colors, settings, name=path.stem)
-        answer = library.recognize_segments(segmentation, k=args.k, threshold=args.threshold)
-        return answer, frame_image(points[..., 2], colors)
+        answer = library.recognize_segments(segmentation, k=args.k, threshold=args.threshold, pose=not args.no_pose)
+        return answer, frame_image(points[..., 2], colors), intrinsics
     depth, rgb, intrinsics = read_depth_frame(path, frame["intrinsics"], frame["rgb"])
     mask = read_image(frame["mask"], "mask", "L") > 0 if frame["mask"] else None
     answer = library.recognize_scene(
@@ -96,8 +97,9 @@ def _scene(frame: dict, args: argparse.Namespace, library):
         depth_range=args.depth_range,
         name=path.stem,
         threshold=args.threshold,
+        pose=not args.no_pose,
     )
-    return answer, frame_image(depth, rgb)
+    return answer, frame_image(depth, rgb), intrinsics
 
 
 def _view_image(view) -> np.ndarray:
@@ -120,7 +122,8 @@ def _print_scene(frame: dict, answer, library) -> None:
         return
     rows = []
     for rank, d in enumerate(answer.detections, 1):
-        best = None if d.recognition is None else d.recognition.best
+        best = None if d.recognition is None else d.recognition.answer
+        pose = d.pose
         rows.append(
             [
                 rank,
@@ -129,28 +132,48 @@ def _print_scene(frame: dict, answer, library) -> None:
                 "" if np.isnan(d.confidence) else f"{d.confidence:.2f}",
                 "" if best is None else f"{best.distance:.4g}",
                 "" if best is None else f"{best.azimuth:.0f}",
+                "" if pose is None else " ".join(f"{c:+.3f}" for c in pose.matrix[:3, 3]),
+                "" if pose is None else f"{pose.fitness:.2f}",
+                "" if pose is None or np.isnan(pose.rmse) else f"{pose.rmse * 1000:.1f}",
                 d.pixels,
                 " ".join(f"{c:+.3f}" for c in d.centroid),
                 "{},{}-{},{}".format(*d.bbox),
             ]
         )
     columns = [
-        "#", "object", "class", "confidence", "distance", "azimuth", "pixels", "centroid x y z (m)", "bbox u0,v0-u1,v1"
+        "#", "object", "class", "confidence", "distance", "azimuth", "position x y z (m)", "fitness", "rmse (mm)",
+        "pixels", "centroid x y z (m)", "bbox u0,v0-u1,v1",
     ]  # fmt: skip
     print(pd.DataFrame(rows, columns=columns).to_string(index=False))
     for rank, d in enumerate(answer.detections, 1):
         if d.recognition is not None and d.object is None:
-            best, limit = d.recognition.best.object, d.recognition.threshold
-            print(f"  {rank}: unknown: nearest {best}, confidence {d.confidence:.2f} < {limit:.3g}")
+            print(f"  {rank}: {_unknown(d.recognition)}")
+        if d.pose is not None and d.object is not None:
+            matrix = "; ".join(" ".join(f"{x:+.4f}" for x in row) for row in d.pose.matrix[:3])
+            print(f"  {rank}: pose of the {d.pose.object} (model to camera, rows of [R | t]): [{matrix}]")
         for note in d.notes:
             print(f"  {rank}: {note}")
     for note in answer.repairs:
         print(f"  frame: {note}")
 
 
+def _unknown(answer) -> str:
+    """Why an answer is unknown: its confidence, or no candidate's pose explaining the segment."""
+    if not answer.confident:
+        return f"unknown: nearest {answer.best.object}, confidence {answer.confidence:.2f} < {answer.threshold:.3g}"
+    pose = answer.pose
+    return (
+        f"unknown: no candidate's pose explains it (nearest {answer.best.object}, confidence {answer.confidence:.2f}; "
+        f"its best pose leaves {1 - pose.explained:.0%} of the points farther than {pose.tolerance * 100:.1f} cm "
+        f"from its surface and puts {pose.in_front:.0%} of its visible surface in front of the measured depth)"
+    )
+
+
 def cmd_recognize(args: argparse.Namespace) -> None:
     """What the sensor sees (thesis ch. 3-5): every object of a depth frame or organized cloud, found on its support
-    plane and named by its nearest objects in a built library, with where it stands in the camera frame. --mask or
+    plane and named by its nearest objects in a built library, with where it stands in the camera frame: its 6-DoF
+    pose by ICP from the nearest library view, verified against the frame's depth (an answer no candidate's pose
+    explains, or below the confidence threshold, is unknown). --mask or
     --depth-range keep part of a depth frame (each object in it is still one answer); a frame of one isolated object,
     or a saved view, is one object. Several frames
     of one object (a folder, or files with --moves, the degrees turned between them) are followed by the particle
@@ -169,21 +192,21 @@ def cmd_recognize(args: argparse.Namespace) -> None:
             raise HeatdataError(f"{args.overlay}: the overlay is written as a .png")
     library = load_library(args.library)
     if len(frames) == 1 and args.moves is None:
-        answer, image = _scene(frames[0], args, library)
+        answer, image, intrinsics = _scene(frames[0], args, library)
         if args.overlay is not None:
             from heatdata.reporting.figures.scenes import detection_marks, save_overlay
 
-            save_overlay(args.overlay, image, detection_marks(answer.detections))
+            save_overlay(args.overlay, image, detection_marks(answer.detections, library.surfaces, intrinsics))
         if args.json:
             print(json.dumps({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
             return
         _print_scene(frames[0], answer, library)
         return
-    if args.threshold is not None:
-        raise HeatdataError("--threshold is for the objects of one frame; a sequence's filter has no unknown yet")
+    if args.no_pose:
+        raise HeatdataError("--no-pose is for the objects of one frame; a sequence is not posed")
     views = [_read_frame(frame, args) for frame in frames]
     steps = library.recognize_sequence(
-        views, args.moves or [0.0], exact=args.exact, particles=args.particles, seed=args.seed
+        views, args.moves or [0.0], exact=args.exact, particles=args.particles, seed=args.seed, threshold=args.threshold
     )
     if args.json:
         print(json.dumps({"library": str(args.library), "exact": args.exact, "steps": [s.to_dict() for s in steps]}))
@@ -192,13 +215,16 @@ def cmd_recognize(args: argparse.Namespace) -> None:
     for step, frame in zip(steps, frames, strict=True):
         top = sorted(step.posterior.items(), key=lambda item: -item[1])[: args.k]
         belief = ", ".join(f"{obj} {p:.2f}" for obj, p in top)
+        if step.unknown > 0:
+            belief += f"; none of them {step.unknown:.2f}"
         state = "converged" if step.converged else "not converged"
         print(f"frame {step.frame + 1} ({frame['name']}, moved {step.move:g} deg): {belief} ({state})")
     last = steps[-1]
-    print(
-        f"{'converged on' if last.converged else 'not converged; most probable:'} {last.estimate} "
-        f"({last.posterior[last.estimate]:.0%}) after {len(steps)} frames"
-    )
+    if last.estimate is None:
+        said = f"an object the library lacks ({last.unknown:.0%})"
+    else:
+        said = f"{last.estimate} ({last.posterior[last.estimate]:.0%})"
+    print(f"{'converged on' if last.converged else 'not converged; most probable:'} {said} after {len(steps)} frames")
 
 
 def add_recognize(sub) -> None:
@@ -224,9 +250,19 @@ def add_recognize(sub) -> None:
         "--threshold",
         type=number(0.0, high=1.0),
         help="confidence below which an object is unknown, in [0, 1] (default: the library's, which rejects 95%% of "
-        "its own objects left out of it): higher rejects more objects the library lacks, and more that it holds",
+        "its own objects left out of it): higher rejects more objects the library lacks, and more that it holds; "
+        "for a sequence, the prior of its unknown hypothesis",
     )
-    rec.add_argument("--overlay", type=Path, help="draw the frame with each object tinted, boxed and named (a .png)")
+    rec.add_argument(
+        "--no-pose",
+        action="store_true",
+        help="skip each object's 6-DoF pose (ICP) and its verification: faster, and every confident answer is said",
+    )
+    rec.add_argument(
+        "--overlay",
+        type=Path,
+        help="draw the frame with each object tinted, boxed and named, and its posed model outlined (a .png)",
+    )
     rec.add_argument(
         "--moves",
         type=number(),

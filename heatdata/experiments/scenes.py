@@ -334,8 +334,11 @@ def scene_files(depth_path: StrPath) -> dict[str, Path]:
     }
 
 
-def score_scene(detections: list, labels: np.ndarray, depth: np.ndarray, truth: dict) -> pd.DataFrame:
-    """Each detection matched to the object its mask overlaps most (IoU >= :data:`IOU`), and each object missed.
+def score_scene(
+    detections: list, labels: np.ndarray, depth: np.ndarray, truth: dict, surfaces: dict | None = None
+) -> pd.DataFrame:
+    """Each detection matched to the object its mask overlaps most (IoU >= :data:`IOU`), and each object missed;
+    a detection posed as its true object scored against the true pose (:func:`heatdata.recognition.pose.pose_errors`).
 
     Parameters
     ----------
@@ -347,13 +350,17 @@ def score_scene(detections: list, labels: np.ndarray, depth: np.ndarray, truth: 
         The frame's depth (NaN or 0: no reading); an object's mask is its pixels with a reading.
     truth : dict
         The scene's truth.
+    surfaces : dict, optional
+        ``{object: (Surface, symmetry turns)}`` (:func:`heatdata.recognition.pose.symmetry_turns`): the objects
+        whose poses are scored.
 
     Returns
     -------
     pandas.DataFrame
         One row per detection and per missed object, the columns of :data:`heatdata.io.tables.DETECTION_SCHEMA`
-        but ``descriptor`` and ``seconds``: ``detection`` is -1 for a missed object, ``object`` "" for none, ``truth``
-        "" for a detection that matches no object; ``mask`` the detection's pixels in its box (:func:`pack_mask`).
+        but ``descriptor``, ``seconds`` and ``seconds_without_pose``: ``detection`` is -1 for a missed object,
+        ``object`` "" for none, ``truth`` "" for a detection that matches no object; ``mask`` the detection's
+        pixels in its box (:func:`pack_mask`); the pose errors NaN where the pose is not of the true object.
     """
     readings = np.isfinite(depth) & (depth > 0)
     masks = [(labels == i + 1) & readings for i in range(len(truth["objects"]))]
@@ -364,10 +371,46 @@ def score_scene(detections: list, labels: np.ndarray, depth: np.ndarray, truth: 
         hit = best >= 0 and ious[best] >= IOU
         if hit:
             matched.add(best)
-        rows.append(_score_row(truth, number, detection, best if hit else None, ious[best] if ious else 0.0))
+        row = _score_row(truth, number, detection, best if hit else None, ious[best] if ious else 0.0)
+        rows.append({**row, **_pose_row(detection, truth["objects"][best] if hit else None, surfaces or {})})
     for index in sorted(set(range(len(masks))) - matched):
-        rows.append(_score_row(truth, -1, None, index, 0.0))
-    return pd.DataFrame(rows, columns=[c for c in DETECTION_SCHEMA.names if c not in ("descriptor", "seconds")])
+        rows.append({**_score_row(truth, -1, None, index, 0.0), **_pose_row(None, None, {})})
+    timed = ("descriptor", "seconds", "seconds_without_pose")
+    return pd.DataFrame(rows, columns=[c for c in DETECTION_SCHEMA.names if c not in timed])
+
+
+def _pose_row(detection, item: dict | None, surfaces: dict) -> dict:
+    """A detection's pose, how it was judged, and its errors when it poses the true object ``item``."""
+    from heatdata.recognition.pose import pose_errors
+
+    pose = None if detection is None else detection.pose
+    found = detection is not None and detection.recognition is not None
+    row = {
+        "threshold": detection.recognition.threshold if found else np.nan,
+        "verified": bool(found and detection.recognition.verified),
+        "posed": "" if pose is None else pose.object,
+        "fitness": np.nan if pose is None else pose.fitness,
+        "rmse": np.nan if pose is None else pose.rmse,
+        "explained": np.nan if pose is None else pose.explained,
+        "in_front": np.nan if pose is None else pose.in_front,
+        "pose": [] if pose is None else pose.matrix.ravel().tolist(),
+        "add_s": np.nan,
+        "add_s_ok": False,
+        "translation_error": np.nan,
+        "rotation_error": np.nan,
+        "symmetric": False,
+    }
+    if pose is not None and item is not None and pose.object == item["object"] and pose.object in surfaces:
+        surface, turns = surfaces[pose.object]
+        errors = pose_errors(pose.matrix, np.asarray(item["pose"]), surface, turns)
+        row.update(
+            add_s=errors["add_s"],
+            add_s_ok=errors["add_s_ok"],
+            translation_error=errors["translation"],
+            rotation_error=errors["rotation"],
+            symmetric=len(turns) > 1,
+        )
+    return row
 
 
 def _iou(a: np.ndarray, b: np.ndarray) -> float:
@@ -393,7 +436,7 @@ def unpack_mask(data: bytes, bbox, shape: tuple[int, int]) -> np.ndarray:
 def _score_row(truth: dict, number: int, detection, index: int | None, iou: float) -> dict:
     item = truth["objects"][index] if index is not None else {}
     found = detection is not None
-    best = detection.recognition.best if found and detection.recognition is not None else None
+    best = detection.recognition.answer if found and detection.recognition is not None else None
     return {
         "scene": truth["scene"],
         "detection": number,
@@ -435,7 +478,10 @@ def scene_summary(scores: pd.DataFrame) -> pd.DataFrame:
         names among detected unoccluded objects inside the frame), ``named_occluded`` and ``naming_occluded``
         (partly occluded or cut ones), ``named_sure`` (of the unoccluded ones, those named right and confident
         enough not to be unknown), ``mistakes_unknown`` (of the wrong answers and the segments that match no object,
-        those said to be unknown), ``median_seconds``, ``p90_seconds`` (per frame).
+        those said to be unknown), ``median_seconds``, ``p90_seconds`` (per frame); of the detections posed as
+        their true object, ``posed``, ``pose_add_s`` (the share with ADD-S within 10% of the diameter),
+        ``pose_translation`` (median, metres), ``pose_rotation`` (median, degrees, objects that are not symmetric)
+        and ``pose_seconds`` (median time the poses and their verification add per detection).
     """
     rows = []
     for descriptor, table in scores.groupby("descriptor", sort=False):
@@ -447,7 +493,12 @@ def scene_summary(scores: pd.DataFrame) -> pd.DataFrame:
         clear = matched[(matched["occluded"] <= OCCLUDED) & ~matched["cut"]]
         hidden = matched[(matched["occluded"] > OCCLUDED) | matched["cut"]]
         mistakes = segments[(segments["truth"] == "") | ~segments["correct"]]
-        times = table.drop_duplicates("scene")["seconds"]
+        frames = table.drop_duplicates("scene")
+        times = frames["seconds"]
+        detections = segments.groupby("scene").size().reindex(frames["scene"]).fillna(0).to_numpy()
+        added = (frames["seconds"] - frames["seconds_without_pose"]).to_numpy() / np.maximum(detections, 1)
+        posed = segments[segments["add_s"].notna()]
+        turned = posed[~posed["symmetric"]]
         rows.append(
             {
                 "descriptor": descriptor,
@@ -464,6 +515,11 @@ def scene_summary(scores: pd.DataFrame) -> pd.DataFrame:
                 "mistakes_unknown": float((~mistakes["known"]).mean()) if len(mistakes) else np.nan,
                 "median_seconds": float(times.median()),
                 "p90_seconds": float(times.quantile(0.9)),
+                "posed": len(posed),
+                "pose_add_s": float(posed["add_s_ok"].mean()) if len(posed) else np.nan,
+                "pose_translation": float(posed["translation_error"].median()) if len(posed) else np.nan,
+                "pose_rotation": float(turned["rotation_error"].median()) if len(turned) else np.nan,
+                "pose_seconds": float(np.median(added[detections > 0])) if (detections > 0).any() else np.nan,
             }
         )
     return pd.DataFrame(rows)
@@ -515,7 +571,10 @@ def read_scene(depth_path: StrPath) -> tuple[np.ndarray, np.ndarray | None, dict
 def recognize_scene_files(library, depth_paths: list[StrPath]) -> pd.DataFrame:
     """Workflow step: every scene recognized with ``library`` and scored against its truth (:func:`score_scene`).
 
-    The first scene is recognized twice and timed the second time, so every ``seconds`` is a warm library's.
+    Every detection is posed and verified (recognized at threshold 0, so that the known/unknown curve can be drawn
+    at any threshold); ``known`` is then judged at the library's threshold, as ``heatdata recognize`` judges it.
+    The first scene is recognized once before the timing, so every ``seconds`` is a warm library's;
+    ``seconds_without_pose`` times the same frame without poses or verification.
 
     Parameters
     ----------
@@ -531,19 +590,28 @@ def recognize_scene_files(library, depth_paths: list[StrPath]) -> pd.DataFrame:
     """
     import time
 
+    from heatdata.recognition.pose import symmetry_turns
+
+    surfaces = {obj: (surface, symmetry_turns(surface)) for obj, surface in library.surfaces.items()}
+    limit = library.threshold()
     parts = []
     for number, path in enumerate(depth_paths):
         depth, rgb, intrinsics, labels, truth = read_scene(path)
         if number == 0:
             library.recognize_scene(depth, intrinsics, rgb, name=truth["scene"])  # warm the library and the imports
         tic = time.perf_counter()
-        answer = library.recognize_scene(depth, intrinsics, rgb, name=truth["scene"])
+        library.recognize_scene(depth, intrinsics, rgb, name=truth["scene"], pose=False)
+        unposed = time.perf_counter() - tic
+        tic = time.perf_counter()
+        answer = library.recognize_scene(depth, intrinsics, rgb, name=truth["scene"], threshold=0.0)
         seconds = time.perf_counter() - tic
-        scores = score_scene(answer.detections, labels, depth, truth)
-        parts.append(scores.assign(descriptor=library.descriptor, seconds=seconds))
+        scores = score_scene(answer.detections, labels, depth, truth, surfaces)
+        confident = ~(scores["confidence"] < limit)  # NaN (a library of one object) is confident
+        scores = scores.assign(known=scores["known"] & confident, threshold=limit)
+        parts.append(scores.assign(descriptor=library.descriptor, seconds=seconds, seconds_without_pose=unposed))
         log.info(
-            "%s: %d objects found in %.0f ms: %s", truth["scene"], len(answer.detections), 1000 * seconds,
-            ", ".join(d.object or "?" for d in answer.detections),
+            "%s: %d objects found in %.0f ms (%.0f ms without the poses): %s", truth["scene"], len(answer.detections),
+            1000 * seconds, 1000 * unposed, ", ".join(d.object or "?" for d in answer.detections),
         )  # fmt: skip
     return pd.concat(parts, ignore_index=True)
 

@@ -154,7 +154,21 @@ DETECTION_SCHEMA = pa.schema(
         ("truth_pixels", pa.int64()),
         ("occluded", pa.float64()),
         ("cut", pa.bool_()),
+        ("threshold", pa.float64()),
+        ("verified", pa.bool_()),
+        ("posed", pa.string()),
+        ("fitness", pa.float64()),
+        ("rmse", pa.float64()),
+        ("explained", pa.float64()),
+        ("in_front", pa.float64()),
+        ("pose", pa.list_(pa.float64())),
+        ("add_s", pa.float64()),
+        ("add_s_ok", pa.bool_()),
+        ("translation_error", pa.float64()),
+        ("rotation_error", pa.float64()),
+        ("symmetric", pa.bool_()),
         ("seconds", pa.float64()),
+        ("seconds_without_pose", pa.float64()),
     ]
 )
 

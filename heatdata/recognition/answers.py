@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from heatdata.recognition.pose import Pose
+
 
 @dataclass(frozen=True)
 class Match:
@@ -42,6 +44,9 @@ class Recognition:
         a library of one object.
     threshold : float
         The confidence it was judged at: below it, the object is unknown.
+    pose : Pose or None
+        The accepted candidate's pose, or, when none is accepted, the nearest candidate's; None when no pose was
+        estimated (the confidence below the threshold, a library without surface samples, or not asked for).
     """
 
     descriptor: str
@@ -49,21 +54,41 @@ class Recognition:
     repairs: list[str] = field(default_factory=list)
     confidence: float = float("nan")
     threshold: float = 0.0
+    pose: Pose | None = None
 
     @property
-    def known(self) -> bool:
+    def confident(self) -> bool:
         """Whether the confidence reached the threshold (a library of one object: always)."""
         return bool(np.isnan(self.confidence) or self.confidence >= self.threshold)
 
     @property
+    def verified(self) -> bool:
+        """Whether a candidate's pose explains the view (True when no pose was estimated)."""
+        return self.pose is None or self.pose.accepted
+
+    @property
+    def known(self) -> bool:
+        """Whether the object is named: confident and verified."""
+        return self.confident and self.verified
+
+    @property
     def best(self) -> Match:
-        """The nearest object (the answer when it is known)."""
+        """The nearest object."""
         return self.matches[0]
+
+    @property
+    def answer(self) -> Match:
+        """The object the answer names when it is known: the candidate whose pose was accepted, else the nearest."""
+        if self.pose is not None:
+            for match in self.matches:
+                if match.object == self.pose.object:
+                    return match
+        return self.best
 
     @property
     def object(self) -> str | None:
         """The object seen; None when it is unknown."""
-        return self.best.object if self.known else None
+        return self.answer.object if self.known else None
 
     def to_dict(self) -> dict:
         """The answer as plain types (``heatdata recognize --json``).
@@ -71,15 +96,17 @@ class Recognition:
         Returns
         -------
         dict
-            ``descriptor, object, label, confidence, azimuth`` of the best match (``object`` and ``label`` None
-            when it is unknown), ``matches`` (the nearest objects all the same) and ``repairs``.
+            ``descriptor, object, label, confidence, azimuth`` of the answer (``object`` and ``label`` None when
+            it is unknown), its ``pose`` (:meth:`Pose.to_dict`, or None), ``matches`` (the nearest objects all the
+            same) and ``repairs``.
         """
         return {
             "descriptor": self.descriptor,
             "object": self.object,
-            "label": self.best.label if self.known else None,
+            "label": self.answer.label if self.known else None,
             "confidence": _plain_confidence(self.confidence),
-            "azimuth": self.best.azimuth,
+            "azimuth": self.answer.azimuth,
+            "pose": None if self.pose is None else self.pose.to_dict(),
             "matches": [m.__dict__ for m in self.matches],
             "repairs": list(self.repairs),
         }
@@ -87,13 +114,31 @@ class Recognition:
 
 @dataclass(frozen=True)
 class SequenceStep:
-    """The filter's belief after one frame of a sequence (Alg. 4.1): the posterior over objects."""
+    """The filter's belief after one frame of a sequence (Alg. 4.1): the posterior over objects, and the probability
+    that the object is none of the library's.
+
+    Attributes
+    ----------
+    frame : int
+        The frame's index.
+    move : float
+        Degrees moved since the last frame.
+    posterior : dict of str to float
+        Each object's probability (with ``unknown``, they sum to 1).
+    estimate : str or None
+        The most probable object; None when the unknown object is more probable.
+    converged : bool
+        Whether the filter settled: on ``estimate``, or, when it is None, on the object being unknown.
+    unknown : float
+        The probability that the object is none of the library's (0 for a library without a confidence).
+    """
 
     frame: int
     move: float
     posterior: dict[str, float]
-    estimate: str
+    estimate: str | None
     converged: bool
+    unknown: float = 0.0
 
     def to_dict(self) -> dict:
         """The step as plain types (``heatdata recognize --json``).
@@ -101,7 +146,7 @@ class SequenceStep:
         Returns
         -------
         dict
-            ``frame, move, posterior, estimate, converged``.
+            ``frame, move, posterior, estimate, converged, unknown``.
         """
         return dict(self.__dict__)
 
@@ -143,7 +188,12 @@ class Detection:
     @property
     def label(self) -> str | None:
         """Its object's class, or None."""
-        return None if self.object is None or self.recognition is None else self.recognition.best.label
+        return None if self.object is None or self.recognition is None else self.recognition.answer.label
+
+    @property
+    def pose(self) -> Pose | None:
+        """Its pose (:attr:`Recognition.pose`), or None."""
+        return None if self.recognition is None else self.recognition.pose
 
     @property
     def confidence(self) -> float:
@@ -161,10 +211,11 @@ class Detection:
         Returns
         -------
         dict
-            ``object, label, confidence, distance, centroid, pixels, bbox, notes``, the nearest library view's
-            ``azimuth`` and the ``matches`` (``object`` and ``label`` None when it is unknown or not described).
+            ``object, label, confidence, distance, centroid, pixels, bbox, notes``, the answer's nearest library
+            view's ``azimuth``, its ``pose`` (:meth:`Pose.to_dict`, or None) and the ``matches`` (``object`` and
+            ``label`` None when it is unknown or not described).
         """
-        best = None if self.recognition is None else self.recognition.best
+        best = None if self.recognition is None else self.recognition.answer
         return {
             "object": self.object,
             "label": self.label,
@@ -175,6 +226,7 @@ class Detection:
             "bbox": [int(b) for b in self.bbox],
             "notes": list(self.notes),
             "azimuth": None if best is None else best.azimuth,
+            "pose": None if self.pose is None else self.pose.to_dict(),
             "matches": [] if self.recognition is None else [m.__dict__ for m in self.recognition.matches],
         }
 

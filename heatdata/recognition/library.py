@@ -32,6 +32,7 @@ from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
 from heatdata.recognition.answers import Detection, Match, Recognition, SceneRecognition, SequenceStep
 from heatdata.recognition.confidence import Confidence, calibrate, calibration_rows, checked_threshold, nearest_two
 from heatdata.recognition.evaluate import TIME_RULES, library_subset, nan_views
+from heatdata.recognition.pose import STARTS, Pose, Surface, depth_image, estimate_pose
 from heatdata.typing import StrPath
 from heatdata.version import __version__
 from heatdata.views.depth import view_from_depth
@@ -53,6 +54,10 @@ SIMILARITY_PER_VIEW = 1
 #: a scene's segment wider than this times the object it is taken for gets a note (objects touching each other); the
 #: segments of single objects in the scenes experiment measure at most 0.98 times their object
 TOUCHING = 1.15
+#: a sequence has settled on an object the library lacks when the unknown hypothesis holds this much of the posterior
+UNKNOWN_SETTLED = 0.99
+#: the nearest objects of an answer posed in turn until one explains the view (verification)
+CANDIDATES = 3
 
 
 def probe_view() -> View:
@@ -126,6 +131,7 @@ def build_library(
     time_rule: str = "plausible",
     source: str = "",
     sizes: dict | None = None,
+    surfaces: dict[str, Surface] | None = None,
 ) -> tuple[pd.DataFrame, dict]:
     """A library's rows and metadata from a run's descriptor table (the workflow's rule ``library``).
 
@@ -148,6 +154,9 @@ def build_library(
     sizes : dict, optional
         Each object's real size, ``{object: [width, height, depth]}`` in metres (the catalogue's), by which a scene's
         segment larger than the object it is taken for gets a note (objects touching each other).
+    surfaces : dict, optional
+        Each object's surface samples (:func:`heatdata.recognition.pose.sample_surface`), by which a view's pose is
+        found and its answer verified; an object without them is answered without a pose.
 
     Returns
     -------
@@ -185,6 +194,9 @@ def build_library(
         "source": source,
         "sizes": _checked_sizes(sizes or {}),
         "confidence": _calibration(library, spec),
+        "surfaces": {
+            obj: surface.to_dict() for obj, surface in (surfaces or {}).items() if obj in set(library["object"])
+        },
     }
     frame = pd.concat([library.assign(split="train"), independent.assign(split="similarity")], ignore_index=True)
     return frame, metadata
@@ -286,12 +298,39 @@ class Library:
             self.metadata["confidence"] = _calibration(self.views, self.spec)
         calibrated = self.metadata["confidence"]
         self.confidence: Confidence | None = None if calibrated is None else Confidence.from_dict(calibrated)
+        stored = self.metadata.get("surfaces") or {}
+        self.surfaces = {obj: Surface.from_dict(data, f"{self.path}: {obj}") for obj, data in stored.items()}
 
     def __repr__(self) -> str:
         return (
             f"Library({self.descriptor}, {len(self.objects)} objects x {self.library_size} views, "
             f"heatdata {self.metadata['heatdata_version']}, {self.path})"
         )
+
+    def without(self, objects: Sequence[str]) -> Library:
+        """This library without some of its objects, its confidence learned again from the views left: how it
+        answers an object it lacks (the open-set evaluation).
+
+        Parameters
+        ----------
+        objects : sequence of str
+            Objects to leave out.
+
+        Returns
+        -------
+        Library
+        """
+        unknown = sorted(set(objects) - set(self.objects))
+        if unknown:
+            raise HeatdataError(f"{self.path} holds no {', '.join(unknown)}")
+        left = set(objects)
+        rows = pd.concat([self.views, self.independent], ignore_index=True)
+        metadata = {key: value for key, value in self.metadata.items() if key != "confidence"}
+        metadata["objects"] = [obj for obj in self.objects if obj not in left]
+        metadata["surfaces"] = {
+            obj: data for obj, data in (self.metadata.get("surfaces") or {}).items() if obj not in left
+        }
+        return Library(rows[~rows["object"].isin(left)], metadata, f"{self.path} without {', '.join(sorted(left))}")
 
     def describe(self, view: View) -> pd.DataFrame:
         """The query rows of ``view``, described as the run described its test views.
@@ -348,14 +387,16 @@ class Library:
             )[0]
         return distance
 
-    def recognize(self, view: View, k: int = 5, *, threshold: float | None = None) -> Recognition:
-        """The ``k`` objects nearest ``view`` (Alg. 3.1; Alg. 5.2 for a time-scaled kind), nearest first, and how
-        confident the answer is that the nearest is the object seen.
+    def recognize(self, view: View, k: int = 5, *, threshold: float | None = None, pose: bool = True) -> Recognition:
+        """The ``k`` objects nearest ``view`` (Alg. 3.1; Alg. 5.2 for a time-scaled kind), nearest first, how
+        confident the answer is that the nearest is the object seen, and where it is.
 
         Each object's distance is that of its library view nearest the query; that view's azimuth estimates the
         angle ``view`` is seen from. The first match is what ``classify`` predicts for the same view. The confidence
         (:mod:`heatdata.recognition.confidence`) is learned by the library from its own views; below ``threshold``
-        the answer is unknown (:attr:`Recognition.object` is None).
+        the answer is unknown (:attr:`Recognition.object` is None). Above it, the nearest objects are posed in turn
+        (:func:`heatdata.recognition.pose.estimate_pose`: ICP from their nearest library views) until a pose
+        explains the view; when none does, the answer is unknown too.
 
         Parameters
         ----------
@@ -366,14 +407,31 @@ class Library:
         threshold : float in [0, 1], optional
             The confidence below which the object is unknown (default: the library's,
             :func:`heatdata.recognition.confidence.calibrate`).
+        pose : bool
+            Estimate the pose and verify the answer (a library without surface samples says so and answers
+            without).
 
         Returns
         -------
         Recognition
         """
-        answer = self._nearest(view, k, threshold)
         notes = self._colour_note(bool(np.ptp(view.colors) > 0), view.name)
+        if pose and not self.surfaces:
+            notes.append(self.no_surfaces())
+        answer = self._nearest(view, k, threshold, pose=pose)
         return replace(answer, repairs=answer.repairs + notes)
+
+    def no_surfaces(self) -> str:
+        """The line that says this library cannot pose or verify, and how to rebuild it.
+
+        Returns
+        -------
+        str
+        """
+        return (
+            f"{self.path} holds no surface samples (built before poses): answers have no pose and are not "
+            f"verified; rebuild it with the workflow (snakemake --forcerun library {self.path})"
+        )
 
     def threshold(self, threshold: float | None = None) -> float:
         """The confidence threshold in use.
@@ -392,8 +450,18 @@ class Library:
             return checked_threshold(threshold)
         return self.confidence.threshold if self.confidence is not None else 0.0
 
-    def _nearest(self, view: View, k: int, threshold: float | None = None) -> Recognition:
-        """:meth:`recognize` without the warning for a view without colour."""
+    def _nearest(
+        self,
+        view: View,
+        k: int,
+        threshold: float | None = None,
+        *,
+        pose: bool = False,
+        depth: np.ndarray | None = None,
+        up: np.ndarray | None = None,
+    ) -> Recognition:
+        """:meth:`recognize` without its notes; ``depth`` is the frame's (default the view's own) and ``up`` the
+        support plane's normal, for the pose."""
         if k < 1 or int(k) != k:
             raise HeatdataError(f"k must be a whole number >= 1, got {k}")
         limit = self.threshold(threshold)
@@ -420,7 +488,31 @@ class Library:
                 )
         matches.sort(key=lambda m: (m.distance, self.objects.index(m.object)))
         repairs = sorted({r for rs in query["repairs"] for r in rs})
-        return Recognition(self.descriptor, matches[: int(k)], repairs, confidence, limit)
+        answer = Recognition(self.descriptor, matches[: int(k)], repairs, confidence, limit)
+        if not (pose and self.surfaces and answer.confident):
+            return answer
+        return replace(answer, pose=self._pose(view, answer, distance, depth, up))
+
+    def _pose(
+        self, view: View, answer: Recognition, distance: np.ndarray, depth: np.ndarray | None, up: np.ndarray | None
+    ) -> Pose | None:
+        """The first of the answer's :data:`CANDIDATES` nearest objects whose pose explains ``view``, else the
+        nearest one's pose (rejected)."""
+        depth = depth_image(view.vertices, view.intrinsics) if depth is None else depth
+        canonical = view.canonical_rotation
+        rejected = None
+        for match in answer.matches[:CANDIDATES]:
+            surface = self.surfaces.get(match.object)
+            if surface is None:
+                continue
+            positions = self._by_object[match.object]
+            nearest = self.views.iloc[positions[np.argsort(distance[positions], kind="stable")[:STARTS]]]
+            starts = list(zip(nearest["azimuth"], nearest["elevation"], nearest["distance"], strict=True))
+            found = estimate_pose(match.object, view.vertices, canonical, surface, starts, depth, view.intrinsics, up)
+            if found.accepted:
+                return found
+            rejected = rejected or found
+        return rejected
 
     def _colour_note(self, coloured: bool, what: str) -> list[str]:
         """A warning when this library compares colours and a view (``what``, for the message) has none (a depth
@@ -446,6 +538,7 @@ class Library:
         depth_range: tuple[float, float] | None = None,
         name: str = "frame",
         threshold: float | None = None,
+        pose: bool = True,
     ) -> SceneRecognition:
         """Every object of a depth frame: the support plane, the objects on it, and what each is nearest.
 
@@ -474,6 +567,8 @@ class Library:
             The frame's name, for messages.
         threshold : float in [0, 1], optional
             The confidence below which an object is unknown (default: the library's).
+        pose : bool
+            Estimate each object's pose and verify its answer against the frame's depth (:meth:`recognize`).
 
         Returns
         -------
@@ -486,10 +581,10 @@ class Library:
             An empty frame (no reading), intrinsics or a colour image that do not fit the depth image.
         """
         segmentation = segment_frame(depth, intrinsics, rgb, settings, mask=mask, depth_range=depth_range, name=name)
-        return self.recognize_segments(segmentation, k=k, threshold=threshold)
+        return self.recognize_segments(segmentation, k=k, threshold=threshold, pose=pose)
 
     def recognize_segments(
-        self, segmentation: Segmentation, *, k: int = 5, threshold: float | None = None
+        self, segmentation: Segmentation, *, k: int = 5, threshold: float | None = None, pose: bool = True
     ) -> SceneRecognition:
         """:meth:`recognize_scene` of a frame already segmented (:func:`heatdata.views.segment.segment_points`).
 
@@ -501,6 +596,8 @@ class Library:
             Objects to list per detection.
         threshold : float in [0, 1], optional
             The confidence below which an object is unknown (default: the library's).
+        pose : bool
+            Estimate each object's pose and verify its answer against the frame's depth (:meth:`recognize`).
 
         Returns
         -------
@@ -508,16 +605,22 @@ class Library:
         """
         limit = self.threshold(threshold)
         repairs = list(segmentation.notes)
+        if pose and not self.surfaces and segmentation.segments:
+            repairs.append(self.no_surfaces())
+        up = None if segmentation.plane is None else segmentation.plane[:3]
         detections = []
         for segment in segmentation.segments:
             notes = list(segment.notes)
             try:
-                answer: Recognition | None = self._nearest(segment.view, k, limit)
+                answer: Recognition | None = self._nearest(
+                    segment.view, k, limit, pose=pose, depth=segmentation.depth, up=up
+                )
             except HeatdataError as exc:  # a segment the descriptor cannot describe is still a detection
                 answer = None
                 notes.append(f"not described: {exc}")
             if answer is not None:
                 notes += self._size_note(segment, answer, segmentation.plane is not None)
+                notes += [] if answer.pose is None else answer.pose.notes
             detections.append(
                 Detection(
                     answer,
@@ -535,7 +638,7 @@ class Library:
     def _size_note(self, segment: Segment, answer: Recognition, on_plane: bool) -> list[str]:
         """A note when ``segment`` is larger than the object it is taken for: objects touching, or one the library
         lacks."""
-        obj = answer.best.object
+        obj = answer.answer.object
         if obj not in self.sizes:
             return []
         width, height, depth = self.sizes[obj]
@@ -575,8 +678,16 @@ class Library:
         exact: bool = False,
         particles: int = 100,
         seed: int = 0,
+        threshold: float | None = None,
     ) -> list[SequenceStep]:
-        """Follow views taken around an object (Alg. 4.1): the posterior over objects after each.
+        """Follow views taken around an object (Alg. 4.1): the posterior over objects after each, and how likely
+        the object is one the library lacks.
+
+        Beside the thesis's hypotheses (object, view angle), the filter holds one for "an object the library lacks"
+        (:meth:`heatdata.recognition.multiview.filters.HypothesisFilter.expect_unknown`), weighed at each frame by
+        the view's calibrated confidence, its prior the confidence threshold: a sequence of one frame is unknown
+        exactly when :meth:`recognize` says so, and a sequence of an object the library lacks does not settle on
+        one of its objects.
 
         Parameters
         ----------
@@ -590,6 +701,8 @@ class Library:
             The particle filter's particles.
         seed : int
             Its seed.
+        threshold : float in [0, 1], optional
+            The unknown hypothesis's prior (default: the library's confidence threshold; 0: no unknown hypothesis).
 
         Returns
         -------
@@ -616,13 +729,21 @@ class Library:
             raise HeatdataError(f"moves must be finite angles in degrees, got {gaps}")
         table = self._table(self.views)
         belief = ExhaustiveFilter(table) if exact else ParticleFilter(table, self.similarity(), particles, seed=seed)
+        prior = self.threshold(threshold)
+        if self.confidence is not None and prior > 0:
+            belief.expect_unknown(min(prior, 1.0 - 1e-9))
         steps = []
         for frame, view in enumerate(views):
             self._colour_note(bool(np.ptp(view.colors) > 0), view.name)
             move = float(gaps[frame - 1]) if frame else 0.0
-            values = self.describe(view)["values"].iloc[0]
-            belief.step([np.asarray(values, dtype=np.float64)], move)
-            steps.append(SequenceStep(frame, move, belief.posterior(), belief.estimate, bool(belief.converged)))
+            query = self.describe(view)
+            belief.step([np.asarray(query["values"].iloc[0], dtype=np.float64)], move)
+            if belief.log_unknown is not None and self.confidence is not None:
+                _, nearest, other = nearest_two(self.distances(query)[None], self._view_objects)
+                belief.weigh_unknown(float(self.confidence(nearest, other)[0]))
+            estimate = belief.estimate
+            settled = belief.unknown >= UNKNOWN_SETTLED if estimate is None else bool(belief.converged)
+            steps.append(SequenceStep(frame, move, belief.posterior(), estimate, settled, belief.unknown))
         return steps
 
 

@@ -403,9 +403,9 @@ def ablation_page(table: pd.DataFrame, source: str) -> str:
 
 
 def scenes_page(summary: pd.DataFrame, offaxis: pd.DataFrame, overlays: dict[str, bytes], settings: dict,
-                primary: str) -> str:  # fmt: skip
-    """The scenes as an HTML page for the report: detection and naming per library, the off-axis precision, and
-    each scene's overlay with ``primary``'s answers (PNG bytes by scene, inlined).
+                primary: str, curve: bytes | None = None) -> str:  # fmt: skip
+    """The scenes as an HTML page for the report: detection, naming and poses per library, the known/unknown curve,
+    the off-axis precision, and each scene's overlay with ``primary``'s answers (PNG bytes by scene, inlined).
 
     Parameters
     ----------
@@ -419,6 +419,8 @@ def scenes_page(summary: pd.DataFrame, offaxis: pd.DataFrame, overlays: dict[str
         The config's ``scenes``.
     primary : str
         The descriptor whose answers the overlays show.
+    curve : bytes, optional
+        ``primary``'s known/unknown curve as a PNG (:func:`heatdata.reporting.figures.scenes.known_curve`).
 
     Returns
     -------
@@ -428,10 +430,13 @@ def scenes_page(summary: pd.DataFrame, offaxis: pd.DataFrame, overlays: dict[str
     import base64
 
     shown = summary.copy()
-    for column in ("recall", "false_segments", "naming", "naming_occluded", "named_sure", "mistakes_unknown"):
+    percent = ("recall", "false_segments", "naming", "naming_occluded", "named_sure", "mistakes_unknown", "pose_add_s")
+    for column in percent:
         shown[column] = shown[column].map(lambda v: "" if pd.isna(v) else f"{100 * v:.1f}%")
-    for column in ("median_seconds", "p90_seconds"):
-        shown[column] = shown[column].map(lambda v: f"{1000 * v:.0f} ms")
+    for column in ("median_seconds", "p90_seconds", "pose_seconds"):
+        shown[column] = shown[column].map(lambda v: "" if pd.isna(v) else f"{1000 * v:.0f} ms")
+    shown["pose_translation"] = shown["pose_translation"].map(lambda v: "" if pd.isna(v) else f"{100 * v:.2f} cm")
+    shown["pose_rotation"] = shown["pose_rotation"].map(lambda v: "" if pd.isna(v) else f"{v:.1f} deg")
     low, high = settings["objects"]
     sections = [
         (
@@ -446,11 +451,28 @@ def scenes_page(summary: pd.DataFrame, offaxis: pd.DataFrame, overlays: dict[str
                 "naming: right names among the objects found, unoccluded and inside the frame (occluded: partly "
                 "hidden or cut by the border); named_sure: of the unoccluded ones, named right and not unknown (the "
                 "library's confidence at its threshold); mistakes_unknown: of the wrong answers and the segments that "
-                "match no object, those said to be unknown; seconds: recognize_scene per frame, warm. " + RENDERED_NOTE
+                "match no object, those said to be unknown; seconds: recognize_scene per frame, warm. Poses, of the "
+                "objects posed as the object they are: pose_add_s, the share whose ADD-S (mean distance from each "
+                "posed surface point to the true surface) is within 10% of the object's diameter; pose_translation, "
+                "the median error of the object's centre; pose_rotation, the median rotation error of the objects "
+                "no turn about their up axis leaves in place; pose_seconds, the median time poses and verification "
+                "add per object. " + RENDERED_NOTE
             ],
         ),
-        ("Detection and naming", "table", shown),
+        ("Detection, naming and poses", "table", shown),
     ]
+    if curve is not None:
+        sections += [
+            (
+                f"Known or unknown: what the threshold trades ({primary})",
+                "html",
+                "<p>As the confidence threshold rises, fewer mistakes are said (the object is called unknown) and "
+                "fewer right answers too; an answer whose pose no candidate explains is unknown at any threshold. "
+                "The documentation's confidence page says how the confidence is learned.</p>"
+                "<img alt='known/unknown curve' "
+                f"src='data:image/png;base64,{base64.b64encode(curve).decode()}'>",
+            )
+        ]
     if not offaxis.empty:
         moved = offaxis.copy()
         for column in ("centred", "reseeded", "off_axis", "same_reseeded", "same_off_axis"):

@@ -182,12 +182,16 @@ class Segmentation:
         What the frame showed: the plane, or why there is none; clusters dropped.
     coloured : bool
         Whether the frame came with a colour image.
+    depth : (h, w) float64 or None
+        The frame's depth, metres, NaN where it has no reading (all of it, also outside a mask or depth range);
+        None for a view given whole. A pose is checked against it (:mod:`heatdata.recognition.pose`).
     """
 
     plane: np.ndarray | None
     segments: list[Segment]
     notes: list[str] = field(default_factory=list)
     coloured: bool = False
+    depth: np.ndarray | None = field(default=None, repr=False)
 
 
 def segment_frame(
@@ -232,9 +236,10 @@ def segment_frame(
     depth, k = checked_depth(depth, intrinsics, name)
     if mask is None and depth_range is None:
         return segment_points(back_project(depth, k), k, rgb, settings, name=name)
-    depth, note = cut_depth(depth, mask, depth_range, name)
-    found = segment_points(back_project(depth, k), k, rgb, settings, name=name)
-    return Segmentation(found.plane, found.segments, [note, *found.notes], found.coloured)
+    cut, note = cut_depth(depth, mask, depth_range, name)
+    found = segment_points(back_project(cut, k), k, rgb, settings, name=name)
+    whole = np.where(np.isfinite(depth) & (depth > 0), depth, np.nan)
+    return Segmentation(found.plane, found.segments, [note, *found.notes], found.coloured, whole)
 
 
 def segment_points(
@@ -308,7 +313,9 @@ def segment_points(
         )
     for note in notes:
         log.debug("%s: %s", name, note)
-    return Segmentation(plane, segments, notes, coloured=colors is not None)
+    return Segmentation(
+        plane, segments, notes, coloured=colors is not None, depth=np.where(valid, points[..., 2], np.nan)
+    )
 
 
 def segment_view(view: View, note: str) -> Segmentation:

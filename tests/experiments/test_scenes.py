@@ -116,7 +116,7 @@ def test_detections_are_matched_by_mask_overlap_and_the_summary_counts_them():
     assert scores["iou"].tolist()[:2] == [1.0, 0.75] and scores["correct"].tolist() == [True, False, False, False]
     for row in scores[scores["detection"] >= 0].itertuples():
         assert np.array_equal(unpack_mask(row.mask, row.bbox, labels.shape), [first, second, speck][row.detection])
-    summary = scene_summary(scores.assign(descriptor="hgd", seconds=0.2)).iloc[0]
+    summary = scene_summary(scores.assign(descriptor="hgd", seconds=0.2, seconds_without_pose=0.1)).iloc[0]
     assert summary["objects"] == 3 and summary["recall"] == pytest.approx(2 / 3)
     assert summary["segments"] == 3 and summary["false_segments"] == pytest.approx(1 / 3)
     assert (summary["named"], summary["naming"]) == (1, 1.0)  # b is occluded: counted apart

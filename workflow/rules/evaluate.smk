@@ -109,9 +109,30 @@ rule ablation:
         "../scripts/ablation.py"
 
 
+rule surface:
+    input:
+        model=lambda wildcards: model_input(wildcards.object),
+    output:
+        f"{RESULTS}/surfaces/{{object}}.json",
+    params:
+        row=catalog_row,
+        version=VERSION,
+    log:
+        f"{RESULTS}/logs/surface/{{object}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/surface/{{object}}.tsv"
+    threads: 1
+    resources:
+        mem_mb=lambda wildcards, attempt: 2000 * attempt,
+        runtime=lambda wildcards, attempt: 5 * attempt,
+    script:
+        "../scripts/surface.py"
+
+
 rule library:
     input:
         descriptors=f"{RESULTS}/descriptors.parquet",
+        surfaces=expand(f"{RESULTS}/surfaces/{{object}}.json", object=OBJECTS),
         time_scales=expand(f"{RESULTS}/time_scales/{{object}}.csv", object=OBJECTS) if FIXED_TIME else [],
         fitted=lambda wildcards: [f"{RESULTS}/fitted/{wildcards.descriptor}.npz"] if wildcards.descriptor in FITTED else [],
     output:
@@ -121,6 +142,7 @@ rule library:
         descriptors=config["descriptors"],
         render=config["views"],
         sizes=catalog_sizes(CATALOG),
+        objects=OBJECTS,
         time_rule=config["time_scale_rule"],
         version=VERSION,
     wildcard_constraints:

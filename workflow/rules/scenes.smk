@@ -110,12 +110,14 @@ rule evaluate_scenes:
         offaxis=expand(f"{RESULTS}/scenes/offaxis/descriptors/{{object}}.parquet", object=OBJECTS)
         if config["scenes"]["offaxis"] else [],
         predictions=f"{RESULTS}/evaluation/predictions.parquet" if config["scenes"]["offaxis"] else [],
+        surfaces=expand(f"{RESULTS}/surfaces/{{object}}.json", object=OBJECTS),
     output:
         summary=report(f"{RESULTS}/scenes/summary.csv", caption="../report/scenes_table.rst", category="Scenes"),
         offaxis=f"{RESULTS}/scenes/offaxis.csv",
         overlays=[f"{RESULTS}/scenes/overlays/{scene}.png" for scene in SCENES["scenes"]],
         page=report(f"{RESULTS}/figures/scenes.html", caption="../report/scenes.rst", category="Scenes"),
     params:
+        objects=OBJECTS,
         primary=SCENES["primary"],
         size=SCENES["size"],
         settings=config["scenes"],

@@ -7,6 +7,7 @@ from heatdata.experiments.describe import load_fitted
 from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
 from heatdata.recognition.library import build_library, write_library
+from heatdata.recognition.pose import read_surface
 
 setup_logging(path=snakemake.log[0])
 name = snakemake.params.descriptor
@@ -23,5 +24,6 @@ library, metadata = build_library(
     time_rule=snakemake.params.time_rule,
     source=snakemake.input.descriptors,
     sizes=snakemake.params.sizes,
+    surfaces={obj: read_surface(p) for obj, p in zip(snakemake.params.objects, snakemake.input.surfaces, strict=True)},
 )
 write_library(library, metadata, snakemake.output[0])

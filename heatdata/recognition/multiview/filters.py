@@ -79,6 +79,38 @@ class HypothesisFilter(ABC):
     #: stops so far, and restarts (4.4.4; the exhaustive filter never restarts)
     steps: int
     restarts: int
+    #: log of the probability that the object is none of the library's (None: no such hypothesis, the thesis's)
+    log_unknown: float | None = None
+
+    def expect_unknown(self, prior: float) -> None:
+        """Add the hypothesis "an object the library lacks", with prior probability ``prior`` in (0, 1).
+
+        Its evidence at each stop is the library's calibrated confidence (:meth:`weigh_unknown`). With the prior at
+        the library's confidence threshold, a single view is unknown exactly when its confidence is below the
+        threshold, as :meth:`heatdata.recognition.library.Library.recognize` says.
+        """
+        if not 0.0 < prior < 1.0:
+            raise HeatdataError(f"the unknown hypothesis's prior must be in (0, 1), got {prior}")
+        self.log_unknown = float(np.log(prior))
+        self._log_known = float(np.log1p(-prior))
+
+    def weigh_unknown(self, confidence: float) -> None:
+        """One stop's evidence for the unknown hypothesis: ``confidence`` in [0, 1], how likely the stop's view is of
+        an object of the library (:class:`heatdata.recognition.confidence.Confidence`), weighs the library's objects
+        together by ``confidence`` and the unknown object by ``1 - confidence`` (views independent, as eq. 4.3)."""
+        if self.log_unknown is None:
+            raise HeatdataError("this filter has no unknown hypothesis (expect_unknown first)")
+        if not 0.0 <= confidence <= 1.0:
+            raise HeatdataError(f"a confidence is in [0, 1], got {confidence}")
+        sure = float(np.clip(confidence, 1e-12, 1.0 - 1e-12))
+        known, unknown = self._log_known + np.log(sure), self.log_unknown + np.log1p(-sure)
+        total = np.logaddexp(known, unknown)
+        self._log_known, self.log_unknown = known - total, unknown - total
+
+    @property
+    def unknown(self) -> float:
+        """The probability that the object is none of the library's (0 without the hypothesis)."""
+        return 0.0 if self.log_unknown is None else float(np.exp(self.log_unknown))
 
     @abstractmethod
     def update(self, log_p: np.ndarray, displacement_deg: float = 0.0) -> None:
@@ -113,15 +145,18 @@ class HypothesisFilter(ABC):
         return np.exp(self.log_w)
 
     def posterior(self) -> dict[str, float]:
-        """p(object | Z_1:t, Delta_1:t-1): the summed weight of each object's hypotheses (eq. 4.1-4.2)."""
+        """p(object | Z_1:t, Delta_1:t-1): the summed weight of each object's hypotheses (eq. 4.1-4.2), times the
+        probability that the object is one of the library's (:attr:`unknown` holds the rest)."""
         mass = np.bincount(self.object, weights=self.weights, minlength=len(self.objects))
-        return {o: float(m) for o, m in zip(self.objects, mass / mass.sum(), strict=True)}
+        known = 1.0 - self.unknown
+        return {o: float(m) * known for o, m in zip(self.objects, mass / mass.sum(), strict=True)}
 
     @property
-    def estimate(self) -> str:
-        """The most probable object."""
+    def estimate(self) -> str | None:
+        """The most probable object; None when an object the library lacks is more probable than each of its."""
         posterior = self.posterior()
-        return max(posterior, key=lambda o: posterior[o])
+        best = max(posterior, key=lambda o: posterior[o])
+        return None if self.unknown > posterior[best] else best
 
 
 class ParticleFilter(HypothesisFilter):
@@ -469,5 +504,5 @@ class ExhaustiveFilter(HypothesisFilter):
 
     @property
     def converged(self) -> bool:
-        """One object holds ``confidence`` of the posterior."""
-        return max(self.posterior().values()) >= self.confidence
+        """One object, or the unknown one, holds ``confidence`` of the posterior."""
+        return max(*self.posterior().values(), self.unknown) >= self.confidence

@@ -1,4 +1,5 @@
-"""Overlays of a recognized scene: the frame with each object's pixels tinted, boxed and named.
+"""Overlays of a recognized scene: the frame with each object's pixels tinted, boxed and named, and the outline of
+its posed model where the pose is accepted.
 
 Drawn with Pillow (no matplotlib), so ``heatdata recognize --overlay`` costs a few milliseconds. The same drawing
 serves a :class:`heatdata.recognition.answers.SceneRecognition` (the command) and a scene's rows of a detection
@@ -22,13 +23,56 @@ TINTS = [(230, 159, 0), (86, 180, 233), (0, 158, 115), (240, 228, 66), (0, 114, 
 ALPHA = 0.45  # the tint's weight over the frame
 
 
+#: the posed model's outline is drawn this many pixels wide
+OUTLINE = 2
+
+
 @dataclass(frozen=True)
 class Mark:
-    """One object drawn on a frame: its pixels (None: its box alone), its box ``u0, v0, u1, v1`` and its label."""
+    """One object drawn on a frame: its pixels (None: its box alone), its box ``u0, v0, u1, v1``, its label and the
+    outline of its posed model (None: not posed)."""
 
     mask: np.ndarray | None
     bbox: tuple[int, int, int, int]
     text: str
+    outline: np.ndarray | None = None
+
+
+def pose_outline(matrix: np.ndarray, surface, intrinsics: dict) -> np.ndarray:
+    """(h, w) bool: the outline of a posed model as the camera sees it.
+
+    The model's surface samples (:class:`heatdata.recognition.pose.Surface`) the camera sees are projected, each
+    grown to a disc as wide as the samples' spacing there, and the region's border kept.
+
+    Parameters
+    ----------
+    matrix : (4, 4) float
+        Model-to-camera pose.
+    surface : Surface
+        The model's samples.
+    intrinsics : dict
+        The frame's camera.
+
+    Returns
+    -------
+    (h, w) bool
+    """
+    from scipy.ndimage import binary_dilation, binary_erosion, binary_fill_holes
+
+    from heatdata.recognition.pose import pixels_of, visible
+
+    posed = surface.points @ np.asarray(matrix)[:3, :3].T + np.asarray(matrix)[:3, 3]
+    shape = (int(intrinsics["height"]), int(intrinsics["width"]))
+    region = np.zeros(shape, bool)
+    if not np.all(posed[:, 2] > 0):
+        return region
+    seen = posed[visible(posed, np.zeros(3))]
+    pixel, inside = pixels_of(seen, intrinsics)
+    region[pixel[inside, 1], pixel[inside, 0]] = True
+    radius = max(1, math.ceil(intrinsics["fx"] * surface.spacing / float(np.median(seen[:, 2]))))
+    v, u = np.mgrid[-radius : radius + 1, -radius : radius + 1]
+    region = binary_fill_holes(binary_dilation(region, structure=u**2 + v**2 <= radius**2))
+    return region & ~binary_erosion(region, iterations=OUTLINE)
 
 
 def frame_image(depth: np.ndarray, rgb: np.ndarray | None = None) -> np.ndarray:
@@ -45,20 +89,27 @@ def frame_image(depth: np.ndarray, rgb: np.ndarray | None = None) -> np.ndarray:
     return np.repeat(np.round(grey * 255).astype(np.uint8)[..., None], 3, axis=2)
 
 
-def detection_marks(detections: list) -> list[Mark]:
-    """The marks of :class:`heatdata.recognition.answers.Detection` s: ``number object (confidence)``."""
+def detection_marks(detections: list, surfaces: dict | None = None, intrinsics: dict | None = None) -> list[Mark]:
+    """The marks of :class:`heatdata.recognition.answers.Detection` s: ``number object (confidence)``, and the
+    outline of each accepted pose (given the library's ``surfaces`` and the frame's ``intrinsics``)."""
     marks = []
     for number, detection in enumerate(detections, 1):
         text = f"{number} {detection.object or 'unknown'}"
         if math.isfinite(detection.confidence):
             text += f" ({detection.confidence:.2f})"
-        marks.append(Mark(detection.mask, detection.bbox, text))
+        pose, outline = detection.pose, None
+        if pose is not None and pose.accepted and intrinsics is not None and pose.object in (surfaces or {}):
+            outline = pose_outline(pose.matrix, (surfaces or {})[pose.object], intrinsics)
+        marks.append(Mark(detection.mask, detection.bbox, text, outline))
     return marks
 
 
-def row_marks(rows: pd.DataFrame, shape: tuple[int, int]) -> list[Mark]:
+def row_marks(
+    rows: pd.DataFrame, shape: tuple[int, int], surfaces: dict | None = None, intrinsics: dict | None = None
+) -> list[Mark]:
     """The marks of a scene's rows of a detection table (:func:`heatdata.experiments.scenes.score_scene`): the
-    answer (unknown below the library's threshold), and the true object in brackets where it differs."""
+    answer (unknown below the library's threshold or when no pose explains it), the true object in brackets where
+    it differs, and the outline of each accepted pose (given the library's ``surfaces`` and the ``intrinsics``)."""
     from heatdata.experiments.scenes import unpack_mask
 
     marks = []
@@ -68,7 +119,11 @@ def row_marks(rows: pd.DataFrame, shape: tuple[int, int]) -> list[Mark]:
         if name != row.truth:
             text += f" [{row.truth or 'no object'}]"
         u0, v0, u1, v1 = (int(b) for b in row.bbox)
-        marks.append(Mark(unpack_mask(row.mask, row.bbox, shape), (u0, v0, u1, v1), text))
+        outline = None
+        if row.verified and intrinsics is not None and row.posed in (surfaces or {}):
+            matrix = np.asarray(row.pose, dtype=np.float64).reshape(4, 4)
+            outline = pose_outline(matrix, (surfaces or {})[row.posed], intrinsics)
+        marks.append(Mark(unpack_mask(row.mask, row.bbox, shape), (u0, v0, u1, v1), text, outline))
     return marks
 
 
@@ -91,6 +146,9 @@ def overlay_image(image: np.ndarray, marks: list[Mark]) -> Image.Image:
         if mark.mask is not None:
             colour = np.array(TINTS[number % len(TINTS)], np.float64)
             canvas[mark.mask] = (1 - ALPHA) * canvas[mark.mask] + ALPHA * colour
+    for number, mark in enumerate(marks):
+        if mark.outline is not None:
+            canvas[mark.outline] = TINTS[number % len(TINTS)]
     picture = Image.fromarray(np.round(canvas).astype(np.uint8))
     draw = ImageDraw.Draw(picture)
     font = ImageFont.load_default(size=max(11, picture.height // 32))
@@ -110,3 +168,52 @@ def save_overlay(path: StrPath, image: np.ndarray, marks: list[Mark]) -> None:
     """Write :func:`overlay_image` as a PNG (written whole, then renamed)."""
     with atomic(path) as temporary:
         overlay_image(image, marks).save(temporary, format="PNG")
+
+
+def known_curve(scores: pd.DataFrame) -> bytes:
+    """The known/unknown curve of a library's scene answers as a PNG: as the confidence threshold rises, the share
+    of right answers still said and the share of mistakes said to be unknown.
+
+    Parameters
+    ----------
+    scores : pandas.DataFrame
+        One library's rows of a detection table (:func:`heatdata.experiments.scenes.recognize_scene_files`: every
+        detection verified, ``threshold`` the library's).
+
+    Returns
+    -------
+    bytes
+    """
+    import io
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    segments = scores[scores["detection"] >= 0]
+    right = segments[(segments["truth"] != "") & segments["correct"]]
+    wrong = segments[(segments["truth"] == "") | ~segments["correct"]]
+    thresholds = np.linspace(0.0, 1.0, 201)
+
+    def said(rows: pd.DataFrame, threshold: float) -> np.ndarray:
+        return rows["verified"].to_numpy() & ~(rows["confidence"].to_numpy() < threshold)
+
+    figure, axes = plt.subplots(figsize=(6.0, 3.6), dpi=110)
+    if len(right):
+        axes.plot(thresholds, [said(right, t).mean() for t in thresholds], label=f"right answers said ({len(right)})")
+    if len(wrong):
+        rejected = [1.0 - said(wrong, t).mean() for t in thresholds]
+        axes.plot(thresholds, rejected, label=f"mistakes said to be unknown ({len(wrong)})")
+    limit = float(segments["threshold"].iloc[0]) if len(segments) else float("nan")
+    if math.isfinite(limit):
+        axes.axvline(limit, color="grey", linestyle="--", label=f"the library's threshold ({limit:.3g})")
+    axes.set_xlabel("confidence threshold")
+    axes.set_ylabel("share")
+    axes.set_ylim(-0.02, 1.02)
+    axes.legend(loc="lower left", fontsize=8)
+    figure.tight_layout()
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png")
+    plt.close(figure)
+    return buffer.getvalue()

@@ -1,0 +1,651 @@
+"""Where an object is: a 6-DoF pose by ICP from the nearest library view, and the check that it explains the segment.
+
+The thesis recognizes an object and the angle it is seen from (ch. 3: the nearest library view's azimuth). A robot
+that grasps needs the model-to-camera transform. PCL's global pipeline (the ``3d_rec_framework``) gets it as heatdata
+does here, in three steps:
+
+1. **An initial pose** from the nearest library view: its camera (:func:`heatdata.views.render.camera_pose` at the
+   view's azimuth, elevation and distance about the model's centre) gives the model's rotation in the segment's
+   canonical frame (:attr:`heatdata.views.view.View.canonical_rotation`, eq. 2.8: the camera turned to face the
+   segment, as the library views face their object). A support plane, when the frame has one, sets the model's
+   +y axis along the plane's normal; the translation puts the centroid of the model's surface seen from the
+   library camera on the segment's centroid.
+2. **ICP**: open3d's point-to-plane ``registration_icp`` of the segment's points onto the model's surface samples
+   (:class:`Surface`: points with normals, in the library file), at a coarse then a fine correspondence distance.
+3. **Verification** (hypothesis verification after Aldoma et al. 2012): the pose is accepted when the posed surface
+   explains the segment (a share of its points within a tolerance of the surface) and the part of the posed model
+   the camera would see does not stand in front of the measured depth.
+
+Poses are scored as the BOP benchmark scores them (:func:`pose_errors`): ADD-S, the mean distance from each posed
+surface point to the nearest point of the true posed surface, within 10% of the object's diameter; the error of
+the object's centre; the rotation error up to the turns about the model's up axis that leave its surface in place
+(:func:`symmetry_turns`).
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import logging
+from dataclasses import dataclass, field
+
+import numpy as np
+import open3d as o3d
+from scipy.ndimage import minimum_filter
+from scipy.spatial import cKDTree
+from scipy.spatial.distance import pdist
+
+from heatdata.core.geometry import rotation_between
+from heatdata.errors import LibraryError
+from heatdata.io.files import atomic, require_file
+from heatdata.typing import StrPath
+
+log = logging.getLogger(__name__)
+
+#: surface samples per object in a library file (6 float32 each: 24 bytes, 32 as base64)
+SURFACE_SAMPLES = 2000
+#: points of a segment that ICP registers (a seeded subset of a larger segment)
+ICP_POINTS = 800
+#: library views of an object whose poses start ICP (its nearest ones to the query)
+STARTS = 3
+#: ICP's correspondence distances, coarse then fine: this share of the object's diameter, then the tolerance
+COARSE = 0.15
+#: ICP's iterations at each distance
+ICP_ITERATIONS = 30
+#: the smallest tolerance of a point on the surface (metres), to which the sensor's noise and half the samples' spacing
+#: add
+TOLERANCE = 0.005
+#: the depth noise's standard deviation per squared metre of depth (the Kinect's, thesis 2.6.1)
+NOISE_PER_M2 = 1.42e-3
+#: share of the segment's points the posed surface must explain (within the tolerance) to accept a pose; this and the
+#: two limits below were chosen on 40 of the scenes experiment's frames and 10 test views per object of the main job,
+#: each object left out in turn (the pose page)
+MIN_EXPLAINED = 0.9
+#: largest share of the posed model's visible points that may stand in front of the measured depth
+MAX_IN_FRONT = 0.15
+#: largest share of the posed model's visible points where the frame measures nothing
+MAX_UNSEEN = 0.15
+#: the side of the pixel window whose nearest reading a posed point is compared with (verification)
+NEIGHBOURHOOD = 5
+#: turns about the up axis of the nearest library view's start that start ICP as well (degrees): a handle or a
+#: lid's ridge seen from the other side looks alike
+TURNS = (90.0, 180.0, 270.0)
+#: a start whose pose explains this share of the segment's points, with at most this share of the visible model in
+#: front of the depth, ends the search for a better one
+CLEAR_EXPLAINED, CLEAR_IN_FRONT = 0.95, 0.03
+#: below this share of points within the tolerance ICP has not converged, and the pose stays the view's estimate
+MIN_FITNESS = 0.3
+#: the turns about the up axis tried when finding an object's symmetries (degrees)
+TURN_STEP = 5.0
+#: a turn is a symmetry when 95% of the turned samples lie within this many sample spacings of the surface...
+SYMMETRY_SPACINGS = 1.0
+#: ... and every one within this many (a cup's handle turned away is a few spacings off)
+SYMMETRY_MAX_SPACINGS = 2.5
+
+
+def _encode(array: np.ndarray) -> str:
+    return base64.b64encode(np.ascontiguousarray(array, dtype="<f4").tobytes()).decode("ascii")
+
+
+def _decode(text: str, name: str) -> np.ndarray:
+    values = np.frombuffer(base64.b64decode(text.encode("ascii"), validate=True), dtype="<f4")
+    if len(values) % 3:
+        raise LibraryError(f"{name}: surface samples are not (n, 3)")
+    return values.reshape(-1, 3).astype(np.float64)
+
+
+@dataclass(frozen=True)
+class Surface:
+    """An object's surface as a library file keeps it: samples with normals, in the model's frame.
+
+    Attributes
+    ----------
+    points : (n, 3) float64
+        Surface samples, metres, model frame (+y up), evenly spread (Poisson disk).
+    normals : (n, 3) float64
+        Their unit normals (the sign is the face's winding's, which a model does not always keep).
+    center : (3,) float64
+        The model's bounding-box centre: what the library's cameras looked at.
+    diameter : float
+        The largest distance between two samples, metres.
+    spacing : float
+        The samples' mean spacing, ``sqrt(area / n)``, metres.
+    """
+
+    points: np.ndarray
+    normals: np.ndarray
+    center: np.ndarray
+    diameter: float
+    spacing: float
+    _seen: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def seen_centroid(self, camera: np.ndarray) -> np.ndarray:
+        """(3,) float64: the centroid of the samples a camera at ``camera`` (model frame) sees (:func:`visible`;
+        kept for the next query from the same library view)."""
+        key = tuple(np.round(camera, 9))
+        if key not in self._seen:
+            self._seen[key] = self.points[visible(self.points, np.asarray(camera))].mean(axis=0)
+        return self._seen[key]
+
+    def to_dict(self) -> dict:
+        """As a library file's metadata keeps it (float32 arrays in base64)."""
+        return {
+            "points": _encode(self.points),
+            "normals": _encode(self.normals),
+            "center": [float(c) for c in self.center],
+            "diameter": float(self.diameter),
+            "spacing": float(self.spacing),
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict, name: str = "surface") -> Surface:
+        """Read :meth:`to_dict`'s form back (a :class:`LibraryError` when it is damaged)."""
+        try:
+            points, normals = _decode(data["points"], name), _decode(data["normals"], name)
+            center = np.asarray(data["center"], dtype=np.float64)
+            diameter, spacing = float(data["diameter"]), float(data["spacing"])
+        except (KeyError, TypeError, ValueError) as exc:
+            raise LibraryError(f"{name}: damaged surface samples ({type(exc).__name__}: {exc})") from None
+        finite = np.all(np.isfinite(points)) and np.all(np.isfinite(normals)) and np.all(np.isfinite(center))
+        if len(points) < 3 or normals.shape != points.shape or center.shape != (3,) or not finite:
+            raise LibraryError(f"{name}: damaged surface samples ({len(points)} points, {len(normals)} normals)")
+        if not (diameter > 0 and spacing > 0):
+            raise LibraryError(f"{name}: damaged surface samples (diameter {diameter}, spacing {spacing})")
+        return cls(points, normals, center, diameter, spacing)
+
+
+def sample_surface(vertices: np.ndarray, faces: np.ndarray, count: int = SURFACE_SAMPLES, seed: int = 0) -> Surface:
+    """Evenly spread samples of a mesh's surface with their normals (open3d's Poisson-disk sampling, seeded).
+
+    Parameters
+    ----------
+    vertices : (v, 3) float
+        The model's vertices, metres, its own frame (:func:`heatdata.load_model`).
+    faces : (f, 3) int
+        Its triangles.
+    count : int
+        Samples.
+    seed : int
+        open3d's random seed (the same seed gives the same samples).
+
+    Returns
+    -------
+    Surface
+    """
+    mesh = o3d.geometry.TriangleMesh(
+        o3d.utility.Vector3dVector(np.asarray(vertices, dtype=np.float64)),
+        o3d.utility.Vector3iVector(np.asarray(faces, dtype=np.int32)),
+    )
+    mesh.compute_triangle_normals()
+    o3d.utility.random.seed(seed)
+    cloud = mesh.sample_points_poisson_disk(count, init_factor=5, use_triangle_normal=True)
+    points, normals = np.asarray(cloud.points), np.asarray(cloud.normals)
+    lo, hi = np.asarray(vertices).min(axis=0), np.asarray(vertices).max(axis=0)
+    surface = Surface(
+        points,
+        normals,
+        (lo + hi) / 2.0,
+        float(pdist(points).max()),
+        float(np.sqrt(mesh.get_surface_area() / len(points))),
+    )
+    log.info(
+        "%d surface samples, %.1f mm apart, diameter %.1f cm",
+        len(points),
+        surface.spacing * 1e3,
+        surface.diameter * 1e2,
+    )
+    return surface
+
+
+def write_surface(surface: Surface, path: StrPath) -> None:
+    """Write an object's surface samples (JSON of :meth:`Surface.to_dict`; written whole, then renamed)."""
+    with atomic(path) as temporary:
+        temporary.write_text(json.dumps(surface.to_dict()))
+
+
+def read_surface(path: StrPath) -> Surface:
+    """Read :func:`write_surface`'s file (a :class:`LibraryError` when it is damaged)."""
+    try:
+        data = json.loads(require_file(path, "surface samples", LibraryError).read_text())
+    except json.JSONDecodeError as exc:
+        raise LibraryError(f"{path}: not surface samples ({exc})") from None
+    if not isinstance(data, dict):
+        raise LibraryError(f"{path}: not surface samples")
+    return Surface.from_dict(data, str(path))
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A hypothesis's pose and how well it explains the segment.
+
+    Attributes
+    ----------
+    object : str
+        The library object posed.
+    matrix : (4, 4) float64
+        Model-to-camera transform: the model's frame (metres, +y up) to the camera's (x right, y down, z forward).
+    fitness : float
+        ICP's fitness: the share of the segment's points with a surface point within the tolerance.
+    rmse : float
+        ICP's inlier RMSE, metres.
+    explained : float
+        The share of the segment's points within the tolerance of the posed surface (verification).
+    in_front : float
+        The share of the posed model's visible points that stand in front of the measured depth (verification).
+    unseen : float
+        The share of the posed model's visible points where the frame measures nothing (verification).
+    converged : bool
+        Whether ICP converged; when not, ``matrix`` is the library view's estimate.
+    accepted : bool
+        Whether verification accepts it.
+    tolerance : float
+        The distance a point counts as on the surface within, metres.
+    """
+
+    object: str
+    matrix: np.ndarray
+    fitness: float
+    rmse: float
+    explained: float
+    in_front: float
+    unseen: float
+    converged: bool
+    accepted: bool
+    tolerance: float
+    notes: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        """The pose as plain types (``heatdata recognize --json``'s ``pose``)."""
+        return {
+            "object": self.object,
+            "matrix": [[float(x) for x in row] for row in self.matrix],
+            "fitness": float(self.fitness),
+            "rmse": float(self.rmse),
+            "explained": float(self.explained),
+            "in_front": float(self.in_front),
+            "unseen": float(self.unseen),
+            "converged": bool(self.converged),
+            "accepted": bool(self.accepted),
+            "tolerance": float(self.tolerance),
+            "notes": list(self.notes),
+        }
+
+
+def tolerance(surface: Surface, depth: float) -> float:
+    """The distance within which a point at ``depth`` metres counts as on ``surface``: :data:`TOLERANCE`, three
+    standard deviations of the sensor's noise there and half the samples' spacing (about the farthest a point of the
+    surface lies from its nearest sample)."""
+    return TOLERANCE + 3.0 * NOISE_PER_M2 * depth**2 + 0.5 * surface.spacing
+
+
+def library_camera(surface: Surface, azimuth: float, elevation: float, distance: float) -> np.ndarray:
+    """(4, 4) model-to-camera transform of a library view (as :func:`heatdata.views.render.render_view` placed it)."""
+    from heatdata.views.render import camera_pose
+
+    return np.linalg.inv(camera_pose(surface.center, azimuth, elevation, distance))
+
+
+def visible(points: np.ndarray, camera: np.ndarray) -> np.ndarray:
+    """Indices of ``points`` a camera at ``camera`` (a position in their frame) sees: open3d's hidden point removal.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+    camera : (3,) float
+
+    Returns
+    -------
+    (k,) int
+    """
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
+    radius = 100.0 * float(np.linalg.norm(points - camera, axis=1).max())
+    _, indices = cloud.hidden_point_removal(np.asarray(camera, dtype=np.float64), radius)
+    return np.asarray(indices, dtype=np.int64)
+
+
+def initial_pose(
+    points: np.ndarray,
+    canonical: np.ndarray,
+    surface: Surface,
+    view: tuple[float, float, float],
+    up: np.ndarray | None = None,
+) -> np.ndarray:
+    """A segment's model-to-camera pose as the library view ``view`` sees its object (step 1 of the module).
+
+    Parameters
+    ----------
+    points : (n, 3) float
+        The segment's points, camera frame.
+    canonical : (3, 3) float
+        The segment's canonical rotation (camera frame to the frame facing it).
+    surface : Surface
+        The object's.
+    view : (azimuth, elevation, distance)
+        The library view's angle (degrees) and camera distance (metres).
+    up : (3,) float, optional
+        The support plane's normal towards the camera (the model's +y), camera frame.
+
+    Returns
+    -------
+    (4, 4) float64
+    """
+    lib = library_camera(surface, *view)
+    rotation = lib[:3, :3]
+    if up is not None:
+        facing = canonical @ np.asarray(up, dtype=np.float64)
+        rotation = rotation_between(rotation[:, 1], facing) @ rotation
+    rotation = canonical.T @ rotation
+    camera = -lib[:3, :3].T @ lib[:3, 3]  # the library camera's position, model frame
+    pose = np.eye(4)
+    pose[:3, :3] = rotation
+    pose[:3, 3] = points.mean(axis=0) - rotation @ surface.seen_centroid(camera)
+    return pose
+
+
+def _cloud(points: np.ndarray, normals: np.ndarray | None = None) -> o3d.geometry.PointCloud:
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(np.asarray(points, dtype=np.float64)))
+    if normals is not None:
+        cloud.normals = o3d.utility.Vector3dVector(np.asarray(normals, dtype=np.float64))
+    return cloud
+
+
+def refine(points: np.ndarray, surface: Surface, initial: np.ndarray, tol: float) -> tuple[np.ndarray, float, float]:
+    """ICP of the segment's points onto the surface from ``initial`` (open3d's ``registration_icp``): point-to-point
+    at :data:`COARSE` of the diameter, then point-to-plane at ``tol``.
+
+    Point-to-plane alone runs away along a flat segment (a desk calendar seen face-on: nothing holds it in the
+    plane), to kilometres in the scenes experiment; the point-to-point stage first brings it home, and the
+    point-to-plane stage is kept only when it stays within ``tol`` of it (the pose page measures both).
+
+    Parameters
+    ----------
+    points : (n, 3) float
+        The segment's points, camera frame (at most :data:`ICP_POINTS`).
+    surface : Surface
+    initial : (4, 4) float
+        Model-to-camera start.
+    tol : float
+        The fine correspondence distance, metres.
+
+    Returns
+    -------
+    matrix : (4, 4) float64
+        Model-to-camera.
+    fitness, rmse : float
+        ICP's at ``tol``.
+    """
+    registration = o3d.pipelines.registration
+    source, target = _cloud(points), _cloud(surface.points, surface.normals)
+    criteria = registration.ICPConvergenceCriteria(max_iteration=ICP_ITERATIONS)
+    coarse = registration.registration_icp(
+        source,
+        target,
+        max(COARSE * surface.diameter, 2 * tol),
+        np.linalg.inv(initial),
+        registration.TransformationEstimationPointToPoint(),
+        criteria,
+    )
+    start = np.asarray(coarse.transformation)
+    fine = registration.registration_icp(
+        source, target, tol, start, registration.TransformationEstimationPointToPlane(), criteria
+    )
+    moved = np.linalg.norm(
+        points @ (np.asarray(fine.transformation) - start)[:3, :3].T + (np.asarray(fine.transformation) - start)[:3, 3],
+        axis=1,
+    )
+    if np.all(np.isfinite(moved)) and moved.max() <= tol and fine.fitness > 0:
+        return np.linalg.inv(np.asarray(fine.transformation)), float(fine.fitness), float(fine.inlier_rmse)
+    kept = registration.evaluate_registration(source, target, tol, start)
+    return np.linalg.inv(start), float(kept.fitness), float(kept.inlier_rmse)
+
+
+def depth_image(points: np.ndarray, intrinsics: dict) -> np.ndarray:
+    """The z-buffer of camera-frame points on the camera's pixels (NaN where none lands): a view's depth image.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+    intrinsics : dict
+        ``fx, fy, cx, cy, width, height``.
+
+    Returns
+    -------
+    (height, width) float64
+    """
+    k = intrinsics
+    depth = np.full((int(k["height"]), int(k["width"])), np.inf)
+    pixel, inside = pixels_of(points, k)
+    np.minimum.at(depth, (pixel[inside, 1], pixel[inside, 0]), points[inside, 2])
+    depth[~np.isfinite(depth)] = np.nan
+    return depth
+
+
+def pixels_of(points: np.ndarray, k: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The pixel ``(u, v)`` each camera-frame point projects to (rounded), and which land inside the image.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+    k : dict
+        ``fx, fy, cx, cy, width, height``.
+
+    Returns
+    -------
+    pixel : (n, 2) int64
+        Zero where outside.
+    inside : (n,) bool
+    """
+    z = np.where(points[:, 2] > 0, points[:, 2], np.nan)
+    with np.errstate(invalid="ignore"):
+        u = np.round(k["fx"] * points[:, 0] / z + k["cx"])
+        v = np.round(k["fy"] * points[:, 1] / z + k["cy"])
+    inside = np.isfinite(u) & np.isfinite(v) & (u >= 0) & (u < k["width"]) & (v >= 0) & (v < k["height"])
+    pixel = np.zeros((len(points), 2), dtype=np.int64)
+    pixel[inside] = np.stack([u[inside], v[inside]], axis=1).astype(np.int64)
+    return pixel, inside
+
+
+def verify(
+    matrix: np.ndarray, points: np.ndarray, surface: Surface, depth: np.ndarray, intrinsics: dict, tol: float
+) -> tuple[float, float, float]:
+    """How well a pose explains a segment (step 3 of the module).
+
+    Parameters
+    ----------
+    matrix : (4, 4) float
+        Model-to-camera.
+    points : (n, 3) float
+        The segment's points, camera frame.
+    surface : Surface
+    depth : (h, w) float
+        The frame's measured depth (NaN where none).
+    intrinsics : dict
+    tol : float
+        Metres.
+
+    Returns
+    -------
+    explained : float
+        The share of ``points`` within ``tol`` of the posed surface.
+    in_front : float
+        The share of the posed surface's visible points, where the frame has a depth, that lie more than ``tol``
+        in front of it.
+    unseen : float
+        The share of the posed surface's visible points inside the image where the frame has no depth (the model
+        larger than what was measured: a larger twin of the object seen).
+    """
+    posed = surface.points @ matrix[:3, :3].T + matrix[:3, 3]
+    gaps, _ = cKDTree(posed).query(points, distance_upper_bound=tol)
+    explained = float(np.mean(np.isfinite(gaps)))
+    seen = posed[visible(posed, np.zeros(3))]
+    pixel, inside = pixels_of(seen, intrinsics)
+    if not inside.any():
+        return explained, 0.0, 1.0
+    measured = _nearest_reading(depth, pixel[inside])
+    read = np.isfinite(measured)
+    in_front = float(np.mean(seen[inside][read, 2] < measured[read] - tol)) if read.any() else 0.0
+    return explained, in_front, float(1.0 - read.mean())
+
+
+def _nearest_reading(depth: np.ndarray, pixel: np.ndarray) -> np.ndarray:
+    """The nearest reading within :data:`NEIGHBOURHOOD` pixels of each ``(u, v)`` (NaN where none): a point of the
+    model's outline that rounds onto the background beside the object is not in front of it."""
+    half = NEIGHBOURHOOD // 2
+    u0, v0 = np.maximum(pixel.min(axis=0) - half, 0)
+    u1, v1 = pixel.max(axis=0) + half + 1
+    crop = depth[v0:v1, u0:u1]
+    nearest = minimum_filter(
+        np.where(np.isfinite(crop), crop, np.inf), size=NEIGHBOURHOOD, mode="constant", cval=np.inf
+    )
+    values = nearest[pixel[:, 1] - v0, pixel[:, 0] - u0]
+    return np.where(np.isfinite(values), values, np.nan)
+
+
+def estimate_pose(
+    obj: str,
+    points: np.ndarray,
+    canonical: np.ndarray,
+    surface: Surface,
+    views: list[tuple[float, float, float]],
+    depth: np.ndarray,
+    intrinsics: dict,
+    up: np.ndarray | None = None,
+) -> Pose:
+    """The best pose of ``obj`` for a segment from its nearest library views, and whether it is accepted.
+
+    Parameters
+    ----------
+    obj : str
+        The object.
+    points : (n, 3) float
+        The segment's points, camera frame.
+    canonical : (3, 3) float
+        The segment's canonical rotation.
+    surface : Surface
+        The object's.
+    views : list of (azimuth, elevation, distance)
+        Its library views nearest the segment, nearest first: each starts ICP (at most :data:`STARTS`).
+    depth : (h, w) float
+        The frame's measured depth, for verification.
+    intrinsics : dict
+    up : (3,) float, optional
+        The support plane's normal towards the camera.
+
+    Returns
+    -------
+    Pose
+        The start whose ICP explains the most points; when none converges, the nearest view's start (noted).
+    """
+    tol = tolerance(surface, float(np.median(points[:, 2])))
+    subset = points
+    if len(points) > ICP_POINTS:
+        subset = points[np.random.default_rng(0).choice(len(points), ICP_POINTS, replace=False)]
+    starts = [initial_pose(subset, canonical, surface, view, up) for view in views[:STARTS]]
+    nearest = starts[0]
+    for angle in TURNS:
+        turned = nearest.copy()
+        turned[:3, :3] = nearest[:3, :3] @ _turn_y(angle)
+        turned[:3, 3] += nearest[:3, :3] @ (surface.center - _turn_y(angle) @ surface.center)
+        starts.append(turned)
+    tried: list[tuple] = []
+    for start in starts:
+        matrix, fitness, rmse = refine(subset, surface, start, tol)
+        if fitness >= MIN_FITNESS and np.all(np.isfinite(matrix)):
+            explained, in_front, unseen = verify(matrix, points, surface, depth, intrinsics, tol)
+            tried.append((explained - in_front - unseen, fitness, rmse, explained, in_front, unseen, matrix))
+            if explained >= CLEAR_EXPLAINED and in_front + unseen <= CLEAR_IN_FRONT:
+                break  # no other start can do much better
+    notes = []
+    if tried:
+        _, fitness, rmse, explained, in_front, unseen, matrix = max(tried, key=lambda t: t[0])
+    else:
+        matrix, fitness, rmse = nearest, 0.0, float("nan")
+        explained, in_front, unseen = verify(matrix, points, surface, depth, intrinsics, tol)
+        notes.append(
+            f"ICP did not converge (under {MIN_FITNESS:.0%} of the points within {tol * 100:.1f} cm of the {obj} "
+            "from every start): the pose is the nearest library view's estimate"
+        )
+    accepted = explained >= MIN_EXPLAINED and in_front <= MAX_IN_FRONT and unseen <= MAX_UNSEEN
+    return Pose(obj, matrix, fitness, rmse, explained, in_front, unseen, bool(tried), accepted, tol, notes)
+
+
+def symmetry_turns(surface: Surface) -> np.ndarray:
+    """The turns about the model's up axis through its centre that leave its surface in place.
+
+    A turn (tried every :data:`TURN_STEP` degrees) keeps the surface in place when 95% of the turned samples lie
+    within :data:`SYMMETRY_SPACINGS` sample spacings of the nearest sample and all within
+    :data:`SYMMETRY_MAX_SPACINGS`. A small turn always does, at the samples' spacing: unless every turn does (a
+    round object), each run of neighbouring turns counts once, as its turn nearest to fitting. On the embedded
+    objects, the round ones turn into themselves at every step, the carton and the desk calendar at a half turn,
+    and a cup's handle (4 spacings off when turned) keeps its cup from any symmetry.
+
+    Returns
+    -------
+    (k,) float
+        Degrees in [0, 360), 0 always among them.
+    """
+    tree = cKDTree(surface.points)
+    centred = surface.points - surface.center
+    angles = np.arange(0.0, 360.0, TURN_STEP)
+    fits, gaps_mean = [], []
+    for angle in angles:
+        gaps = tree.query(centred @ _turn_y(angle).T + surface.center)[0] / surface.spacing
+        fits.append(bool(np.quantile(gaps, 0.95) <= SYMMETRY_SPACINGS and gaps.max() <= SYMMETRY_MAX_SPACINGS))
+        gaps_mean.append(float(gaps.mean()))
+    fits[0] = True
+    if all(fits):
+        return angles
+    turns = []
+    first = fits.index(False)  # runs of neighbouring turns, walked round from a turn that does not fit
+    run: list[int] = []
+    for step in range(1, len(angles) + 1):
+        index = (first + step) % len(angles)
+        if fits[index]:
+            run.append(index)
+        elif run:
+            turns.append(angles[0] if 0 in run else angles[min(run, key=lambda i: gaps_mean[i])])
+            run = []
+    return np.sort(np.asarray(turns, dtype=np.float64))
+
+
+def _turn_y(degrees: float) -> np.ndarray:
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def pose_errors(estimate: np.ndarray, truth: np.ndarray, surface: Surface, turns: np.ndarray) -> dict:
+    """How far an estimated pose is from the true one, as BOP scores it.
+
+    Parameters
+    ----------
+    estimate, truth : (4, 4) float
+        Model-to-camera transforms.
+    surface : Surface
+        The object's.
+    turns : (k,) float
+        Its symmetries (:func:`symmetry_turns`).
+
+    Returns
+    -------
+    dict
+        ``add_s`` (metres: mean distance from each estimated surface point to the nearest true one),
+        ``add_s_ok`` (within 10% of the diameter), ``translation`` (metres, of the object's centre) and
+        ``rotation`` (degrees, the smallest over the symmetries).
+    """
+    placed = surface.points @ estimate[:3, :3].T + estimate[:3, 3]
+    true = surface.points @ truth[:3, :3].T + truth[:3, 3]
+    add_s = float(cKDTree(true).query(placed)[0].mean())
+    centre = surface.center
+    translation = float(
+        np.linalg.norm(estimate[:3, :3] @ centre + estimate[:3, 3] - truth[:3, :3] @ centre - truth[:3, 3])
+    )
+    angles = []
+    for turn in turns:
+        relative = estimate[:3, :3].T @ truth[:3, :3] @ _turn_y(float(turn))
+        angles.append(np.degrees(np.arccos(np.clip((np.trace(relative) - 1.0) / 2.0, -1.0, 1.0))))
+    return {
+        "add_s": add_s,
+        "add_s_ok": bool(add_s <= 0.1 * surface.diameter),
+        "translation": translation,
+        "rotation": float(min(angles)),
+    }
