@@ -3,8 +3,10 @@
 Cold: a fresh process (as `heatdata recognize` is) that imports heatdata, loads the library (rows, then the probe
 check), reads the depth and colour PNGs, segments the frame (the support plane, the clusters) and recognizes each
 segment; each stage timed, and the whole process's wall time from outside, and `heatdata recognize --json`'s.
-Warm: one loaded `Library` answering every three-object scene of the run, each from its files. The scenes are the
-workflow's (rendered through the Kinect's sensor profile), so each answer is checked against the truth.
+Warm: one loaded `Library` answering every three-object scene of the run, each from its files; and the same frames
+answered without poses (`pose=False`) and with every object posed (threshold 0), for what the pose and its
+verification add per object. The scenes are the workflow's (rendered through the Kinect's sensor profile), so each
+answer is checked against the truth.
 
     .venv/bin/snakemake --cores 2 --configfile config/experiments/scenes.yaml
     .venv/bin/python benchmarks/bench_scenes.py results/scenes_run
@@ -95,12 +97,18 @@ def main() -> None:
     library = hd.load_library(library_path)
     frames = [(read_scene(frame), truth) for frame, truth in scenes]
     library.recognize_scene(frames[0][0][0], frames[0][0][2], frames[0][0][1])  # warm the imports
-    warm, right = [], 0
+    warm, right, added = [], 0, []
     for (depth, rgb, intrinsics, _, _), truth in frames:
         tic = time.perf_counter()
         answer = library.recognize_scene(depth, intrinsics, rgb)
         warm.append(time.perf_counter() - tic)
         right += sorted(d.object or "" for d in answer.detections) == truth
+        tic = time.perf_counter()
+        plain = library.recognize_scene(depth, intrinsics, rgb, pose=False)
+        unposed = time.perf_counter() - tic
+        tic = time.perf_counter()
+        library.recognize_scene(depth, intrinsics, rgb, threshold=0.0)  # every object posed and verified
+        added.append((time.perf_counter() - tic - unposed) / max(len(plain.detections), 1))
     stages = {name: sorted(run[name] for run in cold)[len(cold) // 2] for name in cold[0] if name != "right"}
     stages["`heatdata recognize --json`, wall time"] = sorted(wall for wall, _ in command)[len(command) // 2]
     print(f"{library!r}; {len(scenes)} scenes of three objects; {args.cold} cold processes (median)")
@@ -109,6 +117,10 @@ def main() -> None:
     print(
         f"  warm: per frame, median {np.median(warm) * 1e3:.0f} ms, 90th percentile "
         f"{np.quantile(warm, 0.9) * 1e3:.0f} ms, slowest {max(warm) * 1e3:.0f} ms"
+    )
+    print(
+        f"  the pose and its verification, per object (every object posed): median {np.median(added) * 1e3:.0f} ms, "
+        f"90th percentile {np.quantile(added, 0.9) * 1e3:.0f} ms"
     )
     print(
         f"  every object named right and said (none unknown): cold {sum(r['right'] for r in cold)} of {len(cold)}, "
@@ -126,6 +138,12 @@ def main() -> None:
             ("warm: per frame, 90th percentile", float(np.quantile(warm, 0.9)) * 1e3, "ms"),
             ("warm: per frame, slowest", max(warm) * 1e3, "ms"),
             ("warm: every object named right and said (none unknown)", right / len(warm), "share"),
+            ("warm: the pose and its verification per object, median", float(np.median(added)) * 1e3, "ms"),
+            (
+                "warm: the pose and its verification per object, 90th percentile",
+                float(np.quantile(added, 0.9)) * 1e3,
+                "ms",
+            ),
             ("peak RSS of the warm process", peak, "MB"),
         ]
     )

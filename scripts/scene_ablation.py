@@ -46,7 +46,7 @@ from heatdata.views.view import kinect_intrinsics
 
 def named(library, depth, rgb, intrinsics, mask) -> str:
     """The library's answer for the pixels ``mask`` of a frame (its largest piece, as a captured mask's view)."""
-    return library.recognize(view_from_depth(depth, intrinsics, rgb, mask), k=1).best.object
+    return library.recognize(view_from_depth(depth, intrinsics, rgb, mask), k=1, pose=False).best.object
 
 
 def main() -> None:

@@ -62,6 +62,8 @@ OPEN_SET = [
     "pvst_polar_interior_64_T0.75",
     "hgd_color=hue-saturation",
 ]
+#: the library file the poses are measured with: the default descriptor's, 40 views an object
+DEFAULT_LIBRARY = "hgd_color=hue-saturation-40.parquet"
 RUMP = "results/rump_proxy"  # the proxy's intermediate tables (scripts/rump_proxy.py reads no run)
 
 
@@ -550,6 +552,34 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
                     "results/chairs_library",
                     *("--size", "40", "--threshold", "0.5", "--out", csv("open_set_chairs_half")),
                 ),
+            ],
+        ),
+        "docs_poses": (  # the default library's poses on the main job's test views, and verification's open set
+            "results",
+            ["config/config.yaml"],
+            [f"results/libraries/{DEFAULT_LIBRARY}", *views_of("results")],
+            [csv("poses_household"), csv("open_set_verified_household")],
+            [
+                script(
+                    "poses",
+                    "results",
+                    *("--library", f"results/libraries/{DEFAULT_LIBRARY}", "--views-per-object", "20"),
+                    *("--out", csv("poses_household"), "--open-set-out", csv("open_set_verified_household")),
+                )
+            ],
+        ),
+        "docs_poses_chairs": (  # the same on the 58 chairs' library (4 test views a chair)
+            "results/chairs_library",
+            [f"{E}/chairs.yaml", f"{E}/chairs_library.yaml"],
+            [f"results/chairs_library/libraries/{DEFAULT_LIBRARY}"],
+            [csv("poses_chairs"), csv("open_set_verified_chairs")],
+            [
+                script(
+                    "poses",
+                    "results/chairs_library",
+                    *("--library", f"results/chairs_library/libraries/{DEFAULT_LIBRARY}", "--views-per-object", "4"),
+                    *("--out", csv("poses_chairs"), "--open-set-out", csv("open_set_verified_chairs")),
+                )
             ],
         ),
         "docs_kinect": (
