@@ -53,13 +53,14 @@ def test_samples_lie_on_the_surface_evenly_and_the_same_every_time():
     assert np.allclose(surface.center, 0.0) and np.array_equal(mesh_surface(box).points, surface.points)
 
 
-def test_a_surface_round_trips_through_its_file_within_float32_and_100_kB(tmp_path):
-    surface = mesh_surface(trimesh.creation.cylinder(radius=0.04, height=0.1))
+def test_a_surface_round_trips_through_its_file_within_a_tenth_of_a_millimetre_and_30_kB(tmp_path):
+    surface = mesh_surface(trimesh.creation.cylinder(radius=0.04, height=0.1, transform=turn_x(0.3)))
     write_surface(surface, tmp_path / "s.json")
     back = read_surface(tmp_path / "s.json")
-    assert np.allclose(back.points, surface.points, atol=1e-7) and np.allclose(back.normals, surface.normals, atol=1e-7)
+    assert np.abs(back.points - surface.points).max() < 1e-4  # float16 offsets from the centre
+    assert np.abs(back.normals - surface.normals).max() < 0.01 and np.allclose(np.linalg.norm(back.normals, axis=1), 1)
     assert (back.diameter, back.spacing) == (surface.diameter, surface.spacing)
-    assert (tmp_path / "s.json").stat().st_size < 100_000
+    assert (tmp_path / "s.json").stat().st_size < 30_000
     damaged = {**surface.to_dict(), "points": "not base64!"}
     (tmp_path / "bad.json").write_text(json.dumps(damaged))
     with pytest.raises(hd.LibraryError, match="damaged surface samples"):
