@@ -126,15 +126,32 @@ class Surface:
     _seen: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def seen_centroid(self, camera: np.ndarray) -> np.ndarray:
-        """(3,) float64: the centroid of the samples a camera at ``camera`` (model frame) sees (:func:`visible`;
-        kept for the next query from the same library view)."""
+        """The centroid of the samples a camera sees (:func:`visible`; kept for the next query from the same library
+        view).
+
+        Parameters
+        ----------
+        camera : (3,) float
+            The camera's position, model frame.
+
+        Returns
+        -------
+        (3,) float64
+        """
         key = tuple(np.round(camera, 9))
         if key not in self._seen:
             self._seen[key] = self.points[visible(self.points, np.asarray(camera))].mean(axis=0)
         return self._seen[key]
 
     def to_dict(self) -> dict:
-        """As a library file's metadata keeps it (:data:`POINTS_TYPE` and :data:`NORMALS_TYPE` in base64)."""
+        """As a library file's metadata keeps it.
+
+        Returns
+        -------
+        dict
+            ``points`` and ``normals`` (:data:`POINTS_TYPE` offsets from the centre and :data:`NORMALS_TYPE`, in
+            base64), ``center``, ``diameter``, ``spacing``.
+        """
         return {
             "points": _encode(self.points - self.center, POINTS_TYPE),
             "normals": _encode(np.round(self.normals * NORMAL_SCALE), NORMALS_TYPE),
@@ -145,7 +162,24 @@ class Surface:
 
     @classmethod
     def from_dict(cls, data: dict, name: str = "surface") -> Surface:
-        """Read :meth:`to_dict`'s form back (a :class:`LibraryError` when it is damaged)."""
+        """Read :meth:`to_dict`'s form back.
+
+        Parameters
+        ----------
+        data : dict
+            :meth:`to_dict`'s.
+        name : str
+            Where it came from, for messages.
+
+        Returns
+        -------
+        Surface
+
+        Raises
+        ------
+        LibraryError
+            Damaged samples.
+        """
         try:
             center = np.asarray(data["center"], dtype=np.float64)
             points = _decode(data["points"], POINTS_TYPE, name) + center
@@ -206,13 +240,33 @@ def sample_surface(vertices: np.ndarray, faces: np.ndarray, count: int = SURFACE
 
 
 def write_surface(surface: Surface, path: StrPath) -> None:
-    """Write an object's surface samples (JSON of :meth:`Surface.to_dict`; written whole, then renamed)."""
+    """Write an object's surface samples (JSON of :meth:`Surface.to_dict`; written whole, then renamed).
+
+    Parameters
+    ----------
+    surface : Surface
+    path : str or Path
+    """
     with atomic(path) as temporary:
         temporary.write_text(json.dumps(surface.to_dict()))
 
 
 def read_surface(path: StrPath) -> Surface:
-    """Read :func:`write_surface`'s file (a :class:`LibraryError` when it is damaged)."""
+    """Read :func:`write_surface`'s file.
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    Surface
+
+    Raises
+    ------
+    LibraryError
+        Not surface samples, or damaged ones.
+    """
     try:
         data = json.loads(require_file(path, "surface samples", LibraryError).read_text())
     except json.JSONDecodeError as exc:
@@ -263,7 +317,14 @@ class Pose:
     notes: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict:
-        """The pose as plain types (``heatdata recognize --json``'s ``pose``)."""
+        """The pose as plain types.
+
+        Returns
+        -------
+        dict
+            ``heatdata recognize --json``'s ``pose``: ``object, matrix`` (4 x 4 rows), ``fitness, rmse, explained,
+            in_front, unseen, converged, accepted, tolerance, notes``.
+        """
         return {
             "object": self.object,
             "matrix": [[float(x) for x in row] for row in self.matrix],
@@ -282,12 +343,38 @@ class Pose:
 def tolerance(surface: Surface, depth: float) -> float:
     """The distance within which a point at ``depth`` metres counts as on ``surface``: :data:`TOLERANCE`, three
     standard deviations of the sensor's noise there and half the samples' spacing (about the farthest a point of the
-    surface lies from its nearest sample)."""
+    surface lies from its nearest sample).
+
+    Parameters
+    ----------
+    surface : Surface
+    depth : float
+        Metres.
+
+    Returns
+    -------
+    float
+        Metres.
+    """
     return TOLERANCE + 3.0 * NOISE_PER_M2 * depth**2 + 0.5 * surface.spacing
 
 
 def library_camera(surface: Surface, azimuth: float, elevation: float, distance: float) -> np.ndarray:
-    """(4, 4) model-to-camera transform of a library view (as :func:`heatdata.views.render.render_view` placed it)."""
+    """The model-to-camera transform of a library view, as :func:`heatdata.views.render.render_view` placed it.
+
+    Parameters
+    ----------
+    surface : Surface
+        The object's (its centre is what the camera looked at).
+    azimuth, elevation : float
+        Degrees.
+    distance : float
+        Metres.
+
+    Returns
+    -------
+    (4, 4) float64
+    """
     from heatdata.views.render import camera_pose
 
     return np.linalg.inv(camera_pose(surface.center, azimuth, elevation, distance))
@@ -397,10 +484,8 @@ def refine(points: np.ndarray, surface: Surface, initial: np.ndarray, tol: float
     fine = registration.registration_icp(
         source, target, tol, start, registration.TransformationEstimationPointToPlane(), criteria
     )
-    moved = np.linalg.norm(
-        points @ (np.asarray(fine.transformation) - start)[:3, :3].T + (np.asarray(fine.transformation) - start)[:3, 3],
-        axis=1,
-    )
+    change = np.asarray(fine.transformation) - start  # how far the point-to-plane stage moved each point
+    moved = np.linalg.norm(points @ change[:3, :3].T + change[:3, 3], axis=1)
     if np.all(np.isfinite(moved)) and moved.max() <= tol and fine.fitness > 0:
         return np.linalg.inv(np.asarray(fine.transformation)), float(fine.fitness), float(fine.inlier_rmse)
     kept = registration.evaluate_registration(source, target, tol, start)

@@ -5,6 +5,7 @@ import json
 
 import numpy as np
 import pytest
+import trimesh
 from conftest import ROOT
 
 import heatdata as hd
@@ -83,11 +84,11 @@ def test_the_truth_matches_the_frame_and_the_files_read_back(models, tmp_path):
     assert [f["name"] for f in frames] == ["scene-003"] and frames[0]["rgb"].endswith(".rgb.png")
 
 
-def detection(mask, name, distance=0.1, confidence=0.9):
+def detection(mask, name, distance=0.1, confidence=0.9, pose=None):
     rows, cols = np.nonzero(mask)
     match = Match(name, "thing", distance, 30.0, 30.0, f"{name}/train/001")
     bbox = (int(cols.min()), int(rows.min()), int(cols.max()), int(rows.max()))
-    answer = Recognition("hgd", [match], [], confidence, threshold=0.05)
+    answer = Recognition("hgd", [match], [], confidence, threshold=0.05, pose=pose)
     return Detection(answer, (0.0, 0.0, 1.0), int(mask.sum()), bbox, [], mask)
 
 
@@ -158,3 +159,37 @@ def test_the_scenes_config_is_checked_before_any_job():
     for change, message in bad:
         with pytest.raises(ConfigError, match=message):
             run_scenes({**config, "scenes": {**config["scenes"], **change}}, OBJECTS, specs)
+
+
+def test_a_posed_detection_is_scored_against_the_true_pose_and_a_rejected_one_is_unknown():
+    from heatdata.recognition.pose import Pose, sample_surface, symmetry_turns
+
+    box = trimesh.creation.box(extents=(0.2, 0.1, 0.3))
+    surface = sample_surface(np.asarray(box.vertices), np.asarray(box.faces))
+    labels = np.zeros((40, 60), np.uint8)
+    labels[5:15, 5:15] = 1
+    labels[20:30, 20:40] = 2
+    truth_pose = np.eye(4)
+    truth_pose[:3, 3] = [0.0, 0.0, 1.0]
+    truth = {
+        "scene": "s",
+        "objects": [
+            {"object": "a", "label": "x", "pixels": 1200, "occluded": 0.0, "cut": False, "pose": truth_pose.tolist()},
+            {"object": "b", "label": "y", "pixels": 1200, "occluded": 0.0, "cut": False, "pose": truth_pose.tolist()},
+        ],
+    }
+    near = truth_pose.copy()
+    near[0, 3] += 0.01  # 1 cm off
+    accepted = Pose("a", near, 1.0, 0.002, 1.0, 0.0, 0.0, True, True, 0.013)
+    rejected = Pose("b", truth_pose, 1.0, 0.002, 0.5, 0.4, 0.0, True, False, 0.013)
+    found = [detection(labels == 1, "a", pose=accepted), detection(labels == 2, "b", pose=rejected)]
+    scores = score_scene(found, labels, np.ones(labels.shape), truth, {"a": (surface, symmetry_turns(surface))})
+    a, b = scores.iloc[0], scores.iloc[1]
+    assert a["posed"] == "a" and a["verified"] and a["known"] and a["translation_error"] == pytest.approx(0.01)
+    assert a["add_s_ok"] and a["rotation_error"] == pytest.approx(0.0, abs=1e-6) and a["symmetric"]  # a half turn
+    assert np.allclose(np.reshape(a["pose"], (4, 4)), near) and a["explained"] == 1.0
+    assert not b["verified"] and not b["known"] and b["correct"]  # named right, but no pose explains it: unknown
+    assert np.isnan(b["add_s"])  # b's surface was not given: its pose is not scored
+    summary = scene_summary(scores.assign(descriptor="hgd", seconds=0.3, seconds_without_pose=0.1)).iloc[0]
+    assert summary["posed"] == 1 and summary["pose_add_s"] == 1.0 and summary["pose_translation"] == pytest.approx(0.01)
+    assert np.isnan(summary["pose_rotation"]) and summary["pose_seconds"] == pytest.approx(0.1)  # 0.2 s, 2 objects

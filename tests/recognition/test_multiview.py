@@ -398,3 +398,23 @@ def test_the_exhaustive_filter_is_the_exact_bayes_posterior(library):
     robot = TableRobot(model, views_every_3_degrees().query("object == 'mug'"))
     with pytest.raises(hd.HeatdataError, match="active policy needs a ParticleFilter"):
         recognize(f, robot, 0.0, policy="active")
+
+
+def test_the_unknown_hypothesis_is_bayes_on_the_confidences(library, similarity):
+    for belief in (ExhaustiveFilter(library), hd.ParticleFilter(library, similarity, particles=20, seed=0)):
+        assert belief.unknown == 0.0 and belief.log_unknown is None  # the thesis's filter: none
+        belief.expect_unknown(0.5)
+        belief.step(observe("mug", 120.0, 0), 0.0)
+        for confidence in (0.2, 0.2):  # two views each four times likelier of an object the library lacks
+            belief.weigh_unknown(confidence)
+        assert belief.unknown == pytest.approx(0.5 * 0.8**2 / (0.5 * 0.8**2 + 0.5 * 0.2**2))
+        assert sum(belief.posterior().values()) + belief.unknown == pytest.approx(1.0)
+        assert belief.estimate is None  # 0.94 unknown: more than any object
+        belief.weigh_unknown(1.0)  # a view surely of the library's: the unknown object is ruled out
+        assert belief.unknown < 1e-9 and belief.estimate == "mug"
+        with pytest.raises(hd.HeatdataError, match=r"in \(0, 1\)"):
+            belief.expect_unknown(1.0)
+        with pytest.raises(hd.HeatdataError, match=r"in \[0, 1\]"):
+            belief.weigh_unknown(1.5)
+    with pytest.raises(hd.HeatdataError, match="no unknown hypothesis"):
+        ExhaustiveFilter(library).weigh_unknown(0.5)

@@ -41,8 +41,8 @@ class Mark:
 def pose_outline(matrix: np.ndarray, surface, intrinsics: dict) -> np.ndarray:
     """(h, w) bool: the outline of a posed model as the camera sees it.
 
-    The model's surface samples (:class:`heatdata.recognition.pose.Surface`) the camera sees are projected, each
-    grown to a disc as wide as the samples' spacing there, and the region's border kept.
+    The model's surface samples (:class:`heatdata.recognition.pose.Surface`) the camera sees are projected, the gaps
+    between them closed (a disc as wide as the samples' spacing there) and filled, and the region's border kept.
 
     Parameters
     ----------
@@ -57,7 +57,7 @@ def pose_outline(matrix: np.ndarray, surface, intrinsics: dict) -> np.ndarray:
     -------
     (h, w) bool
     """
-    from scipy.ndimage import binary_dilation, binary_erosion, binary_fill_holes
+    from scipy.ndimage import binary_closing, binary_erosion, binary_fill_holes
 
     from heatdata.recognition.pose import pixels_of, visible
 
@@ -71,7 +71,8 @@ def pose_outline(matrix: np.ndarray, surface, intrinsics: dict) -> np.ndarray:
     region[pixel[inside, 1], pixel[inside, 0]] = True
     radius = max(1, math.ceil(intrinsics["fx"] * surface.spacing / float(np.median(seen[:, 2]))))
     v, u = np.mgrid[-radius : radius + 1, -radius : radius + 1]
-    region = binary_fill_holes(binary_dilation(region, structure=u**2 + v**2 <= radius**2))
+    disc = u**2 + v**2 <= radius**2
+    region = binary_fill_holes(binary_closing(np.pad(region, radius), structure=disc))[radius:-radius, radius:-radius]
     return region & ~binary_erosion(region, iterations=OUTLINE)
 
 
