@@ -68,8 +68,9 @@ MAX_UNSEEN = 0.15
 #: the side of the pixel window whose nearest reading a posed point is compared with (verification)
 NEIGHBOURHOOD = 5
 #: turns about the up axis of the nearest library view's start that start ICP as well (degrees): a handle or a
-#: lid's ridge seen from the other side looks alike
-TURNS = (90.0, 180.0, 270.0)
+#: lid's ridge seen from the other side looks alike, and an elongated loaf 40 deg off the nearest view's azimuth
+#: falls into a wrong minimum from starts 90 deg apart (the scenes experiment)
+TURNS = (45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0)
 #: a start whose pose explains this share of the segment's points, with at most this share of the visible model in
 #: front of the depth, ends the search for a better one
 CLEAR_EXPLAINED, CLEAR_IN_FRONT = 0.95, 0.03
