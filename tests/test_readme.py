@@ -47,11 +47,12 @@ def main_job_library(folder, views: int = 8) -> dict:
         if s.name == config["primary_descriptor"]
     ]
     catalog = hd.read_catalog(hd.embedded_catalog())
-    rows = []
+    rows, surfaces = [], {}
     for model in map(hd.load_catalog_model, catalog.to_dict("records")):
         plan = view_plan([model.name], views, 2, elevation=30.0, distance=1.0, seed=0)
         rows.append(descriptor_rows(render_views(model, plan), plan, [spec]))
-    library, metadata = build_library(pd.concat(rows, ignore_index=True), spec, views)
+        surfaces[model.name] = hd.sample_surface(model.vertices, model.faces)
+    library, metadata = build_library(pd.concat(rows, ignore_index=True), spec, views, surfaces=surfaces)
     write_library(library, metadata, folder / "results/libraries" / f"{hd.descriptors.file_name(spec.name)}-40.parquet")
     scenes = {**SCENE_DEFAULTS, **config["scenes"]}  # and the main job's scene 0, as its rule scene writes it
     names = choose_objects(catalog["object"].tolist(), scenes, 0)
@@ -66,10 +67,12 @@ def test_the_readme_example_runs_as_written_in_fifteen_lines(tmp_path):
     truth = main_job_library(tmp_path)
     out = run(tmp_path, code, cwd=tmp_path)
     assert "beer-mug seen from about" in out
-    found = dict(re.findall(r"^(\S+) \(([\d.]+) sure\) at \[", out, re.M))
+    answers = re.findall(r"^(\S+) \(([\d.]+) sure\): (\[\[|\()", out, re.M)
+    found = {name: start for name, _, start in answers}
+    assert all(0 <= float(sure) <= 1 for _, sure, _ in answers)
     large = {o["object"] for o in truth["objects"] if o["pixels"] >= 1000}  # every large object found is there, named
     assert large and large <= set(found) <= {o["object"] for o in truth["objects"]} | {"unknown"}, out
-    assert all(0 <= float(sure) <= 1 for sure in found.values())
+    assert all(start == ("(" if name == "unknown" else "[[") for name, start in found.items()), out  # named: posed
 
 
 @pytest.mark.slow
