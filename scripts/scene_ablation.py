@@ -4,14 +4,16 @@ A scenes run (``config/experiments/scenes.yaml``) recognizes each scene's segmen
 takes the first ``--scenes`` of its scenes and names each unoccluded object inside the frame (with at least 1,000
 readings) again, one factor at a time:
 
-1. ``segmented``: the run's answer for the segment that matches the object (mask IoU >= 0.5);
+1. ``segmented``: the nearest object of the segment that matches the object (mask IoU >= 0.5), without a pose;
 2. ``true mask``: the object's own pixels in the same frame (the truth), its largest connected piece;
 3. ``true mask, noise profile, 30 deg, 1 m``: the same scene rendered again without the Kinect's other effects and
    with the camera at the library's elevation and distance (the objects where they were);
 4. ``true mask, the camera turned to face the object``: the same scene from the same place, the camera turned (not
    moved) to aim at the object's centre: what the canonical frame undoes;
 5. ``true mask, the camera facing the object at 30 deg and 1 m``: each object alone on the table, seen from the
-   scene camera's azimuth at the library's elevation and distance, aimed at its centre as the library's views are.
+   scene camera's azimuth at the library's elevation and distance, aimed at its centre as the library's views are;
+6. ``segmented, posed and verified``: the run's answer for that segment, whose candidates are posed in turn until one
+   explains it (what the workflow and ``heatdata recognize`` answer).
 
     .venv/bin/python scripts/scene_ablation.py results/scenes_run --scenes 30 --out docs/results/scenes_ablation.csv
 
@@ -35,6 +37,7 @@ from heatdata.experiments.scenes import (
     read_scene,
     render_planned_scene,
     room,
+    score_scene,
 )
 from heatdata.io.catalog import load_catalog_model, read_catalog
 from heatdata.io.tables import read_table
@@ -74,6 +77,12 @@ def main() -> None:
         fixed = {**settings, "sensor": "noise", "elevation": [30.0, 30.0], "distance": [1.0, 1.0]}
         again = _render(plan, models, fixed)
         turned = _turned(plan, models, settings, np.asarray(truth["camera"]))
+        nearest = {
+            name: score_scene(
+                library.recognize_scene(depth, intrinsics, rgb, pose=False).detections, labels, depth, truth
+            )  # fmt: skip
+            for name, library in libraries.items()
+        }
         for number, item in enumerate(truth["objects"], 1):
             if item["pixels"] < MIN_OBJECT_PIXELS or item["occluded"] > OCCLUDED or item["cut"]:
                 continue
@@ -82,12 +91,14 @@ def main() -> None:
             for name, library in libraries.items():
                 mine = detections[(detections["descriptor"] == name) & (detections["scene"] == truth["scene"])]
                 found = mine[mine["truth"] == item["object"]]
+                plain = nearest[name][nearest[name]["truth"] == item["object"]]
                 rows = {
-                    "segmented": found["object"].iloc[0] if len(found) else "",
+                    "segmented": plain["object"].iloc[0] if len(plain) else "",
                     "true mask": named(library, depth, rgb, intrinsics, (labels == number) & np.isfinite(depth)),
                     "true mask, noise profile, 30 deg, 1 m": named(library, *again[:3], again[3] == number),
                     "true mask, the camera turned to face the object": named(library, *turned[number - 1]),
                     "true mask, the camera facing the object at 30 deg and 1 m": named(library, *alone),
+                    "segmented, posed and verified": found["object"].iloc[0] if len(found) else "",
                 }
                 answers += [
                     {"factor": factor, "descriptor": name, "object": item["object"], "answer": answer}
