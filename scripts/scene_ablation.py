@@ -80,7 +80,7 @@ def main() -> None:
         nearest = {
             name: score_scene(
                 library.recognize_scene(depth, intrinsics, rgb, pose=False).detections, labels, depth, truth
-            )  # fmt: skip
+            )
             for name, library in libraries.items()
         }
         for number, item in enumerate(truth["objects"], 1):
