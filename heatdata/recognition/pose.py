@@ -216,7 +216,7 @@ def sample_surface(vertices: np.ndarray, faces: np.ndarray, count: int = SURFACE
     Surface
     """
     mesh = o3d.geometry.TriangleMesh(
-        o3d.utility.Vector3dVector(np.asarray(vertices, dtype=np.float64)),
+        o3d.utility.Vector3dVector(np.array(vertices, dtype=np.float64)),  # a copy: open3d refuses read-only arrays
         o3d.utility.Vector3iVector(np.asarray(faces, dtype=np.int32)),
     )
     mesh.compute_triangle_normals()
@@ -393,7 +393,7 @@ def visible(points: np.ndarray, camera: np.ndarray) -> np.ndarray:
     -------
     (k,) int
     """
-    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
+    cloud = _cloud(points)
     radius = 100.0 * float(np.linalg.norm(points - camera, axis=1).max())
     _, indices = cloud.hidden_point_removal(np.asarray(camera, dtype=np.float64), radius)
     return np.asarray(indices, dtype=np.int64)
@@ -439,9 +439,11 @@ def initial_pose(
 
 
 def _cloud(points: np.ndarray, normals: np.ndarray | None = None) -> o3d.geometry.PointCloud:
-    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(np.asarray(points, dtype=np.float64)))
+    """An open3d cloud of copies of ``points`` (and ``normals``): open3d refuses a read-only array (one read from
+    Parquet)."""
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(np.array(points, dtype=np.float64)))
     if normals is not None:
-        cloud.normals = o3d.utility.Vector3dVector(np.asarray(normals, dtype=np.float64))
+        cloud.normals = o3d.utility.Vector3dVector(np.array(normals, dtype=np.float64))
     return cloud
 
 
