@@ -5,6 +5,10 @@ the confidence when each object is left out of the library in turn (:mod:`heatda
         --views-per-object 20 --out docs/results/poses_household.csv \\
         --open-set-out docs/results/open_set_verified_household.csv
 
+``--whole`` renders the test views again from the run's models with every connected piece kept (as a scene's
+segment keeps them), where a run of ``views.components: largest`` (the thesis's protocol) keeps the largest piece of
+each: verification then sees the whole object the sensor saw (the run's ``catalog.csv`` names the models).
+
 Rendered views, not real sensor data. One row per library in each table, with the wall time.
 """
 
@@ -36,13 +40,15 @@ def main() -> None:
     parser.add_argument("--views-per-object", type=int, default=20, help="test views per object (default 20)")
     parser.add_argument("--out", type=Path, required=True, help="the pose table to write (.csv)")
     parser.add_argument("--open-set-out", type=Path, required=True, help="the verified open-set table (.csv)")
+    parser.add_argument("--whole", action="store_true", help="render the test views again, every piece kept")
     args = parser.parse_args()
     setup_logging()
     library = load_library(args.library)
     views = []
     for obj in library.objects:
-        frame, _ = read_table(args.run / "views" / f"{obj}.parquet", filters=[("split", "==", "test")])
-        views += evenly(frame_to_views(frame), args.views_per_object)
+        frame, run = read_table(args.run / "views" / f"{obj}.parquet", filters=[("split", "==", "test")])
+        chosen = evenly(frame_to_views(frame), args.views_per_object)
+        views += _whole(args.run, obj, chosen, frame, run["views"]) if args.whole else chosen
     start = time.perf_counter()
     poses = pose_summary(pose_scores(library, views))
     row = {"descriptor": library.descriptor, "size": library.library_size, **poses}
@@ -56,6 +62,26 @@ def main() -> None:
     for path, table in ((args.out, row), (args.open_set_out, other)):
         path.parent.mkdir(parents=True, exist_ok=True)
         pd.DataFrame([table]).to_csv(path, index=False)
+
+
+def _whole(run: Path, obj: str, views: list, frame: pd.DataFrame, settings: dict) -> list:
+    """``views`` rendered again as the run rendered them (angle, distance, noise seed, sensor, image size), every
+    connected piece kept."""
+    from heatdata.io.catalog import load_catalog_model, read_catalog
+    from heatdata.views.render import render_view
+    from heatdata.views.view import kinect_intrinsics
+
+    row = read_catalog(run / "catalog.csv").set_index("object").loc[obj].to_dict()
+    model = load_catalog_model({**row, "object": obj})
+    seeds = frame.set_index("view_id")["seed"]
+    return [
+        render_view(
+            model, v.azimuth, v.elevation, v.distance, noise=settings["noise"], seed=int(seeds[v.view_id]),
+            sensor=settings.get("sensor"), intrinsics=kinect_intrinsics(settings.get("image_scale", 1.0)),
+            components="all", view_id=v.view_id,
+        )
+        for v in views
+    ]  # fmt: skip
 
 
 if __name__ == "__main__":
