@@ -571,15 +571,27 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
         "docs_poses_chairs": (  # the same on the 58 chairs' library (4 test views a chair)
             "results/chairs_library",
             [f"{E}/chairs.yaml", f"{E}/chairs_library.yaml"],
-            [f"results/chairs_library/libraries/{DEFAULT_LIBRARY}"],
-            [csv("poses_chairs"), csv("open_set_verified_chairs")],
+            [f"results/chairs_library/libraries/{DEFAULT_LIBRARY}", "results/chairs_library/catalog.csv"],
+            [
+                csv("poses_chairs"),
+                csv("open_set_verified_chairs"),
+                csv("poses_chairs_whole"),
+                csv("open_set_verified_chairs_whole"),
+            ],
             [
                 script(
                     "poses",
                     "results/chairs_library",
                     *("--library", f"results/chairs_library/libraries/{DEFAULT_LIBRARY}", "--views-per-object", "4"),
                     *("--out", csv("poses_chairs"), "--open-set-out", csv("open_set_verified_chairs")),
-                )
+                ),
+                script(  # the same views with every piece kept, as a scene's segment keeps them
+                    "poses",
+                    "results/chairs_library",
+                    *("--library", f"results/chairs_library/libraries/{DEFAULT_LIBRARY}", "--views-per-object", "4"),
+                    *("--whole", "--out", csv("poses_chairs_whole")),
+                    *("--open-set-out", csv("open_set_verified_chairs_whole")),
+                ),
             ],
         ),
         "docs_kinect": (
