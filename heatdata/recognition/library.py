@@ -491,17 +491,21 @@ class Library:
         answer = Recognition(self.descriptor, matches[: int(k)], repairs, confidence, limit)
         if not (pose and self.surfaces and answer.confident):
             return answer
-        return replace(answer, pose=self._pose(view, answer, distance, depth, up))
+        found = self._pose(view, matches, distance, depth, up)
+        kept = answer.matches
+        if found is not None and found.object not in {m.object for m in kept}:  # a candidate beyond the k listed
+            kept = [*kept, next(m for m in matches if m.object == found.object)]
+        return replace(answer, matches=kept, pose=found)
 
     def _pose(
-        self, view: View, answer: Recognition, distance: np.ndarray, depth: np.ndarray | None, up: np.ndarray | None
+        self, view: View, matches: list[Match], distance: np.ndarray, depth: np.ndarray | None, up: np.ndarray | None
     ) -> Pose | None:
-        """The first of the answer's :data:`CANDIDATES` nearest objects whose pose explains ``view``, else the
-        nearest one's pose (rejected)."""
+        """The first of the :data:`CANDIDATES` nearest objects whose pose explains ``view``, else the nearest one's
+        pose (rejected)."""
         depth = depth_image(view.vertices, view.intrinsics) if depth is None else depth
         canonical = view.canonical_rotation
         rejected = None
-        for match in answer.matches[:CANDIDATES]:
+        for match in matches[:CANDIDATES]:
             surface = self.surfaces.get(match.object)
             if surface is None:
                 continue

@@ -259,3 +259,19 @@ def test_a_library_without_surface_samples_answers_without_a_pose_and_says_how_t
     assert out.count("holds no surface samples") == 1 and "rebuild it with the workflow" in out and "bread" in out
     answer = hd.load_library(tmp_path / "older.parquet").recognize(hd.render_view(models["bread"], 30.0, seed=1))
     assert answer.object == "bread" and answer.pose is None and any("surface samples" in r for r in answer.repairs)
+
+
+def test_a_rejected_answer_falls_to_the_next_candidate_even_beyond_the_k_listed(library, models):
+    import copy
+
+    frame = scene([(models["bread"], 0.0, 0.0, 30.0)])
+    swapped = copy.copy(library)  # the loaf's surface filed under the mug's name, the mug's under the loaf's
+    swapped.surfaces = {
+        **library.surfaces,
+        "bread": library.surfaces["beer-mug"],
+        "beer-mug": library.surfaces["bread"],
+    }
+    (found,) = swapped.recognize_scene(frame.depth, frame.intrinsics, frame.rgb, k=1, threshold=0.0).detections
+    assert found.recognition.best.object == "bread"  # the nearest, whose (swapped) surface cannot explain it
+    assert found.object == "beer-mug" and found.pose.accepted  # the candidate whose surface is the loaf's
+    assert [m.object for m in found.recognition.matches][0] == "bread" and found.recognition.answer.object == "beer-mug"
