@@ -131,8 +131,8 @@ def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
     )
     assert result.returncode == 0, (result.stdout + result.stderr)[-4000:]
     submitted = (result.stdout + result.stderr).count("has been submitted with SLURM jobid")
-    # every job but `all`: catalog, 2 render, 2 describe, collect, 4 classify and 4 library (2 descriptors x
-    # 2 sizes), evaluate and report_figures
-    assert submitted == 16
+    # every job but `all`: catalog, 2 render, 2 surface, 2 describe, collect, 4 classify and 4 library (2 descriptors
+    # x 2 sizes), evaluate and report_figures
+    assert submitted == 18
     predictions, _ = read_table(workdir / "results" / "evaluation" / "predictions.parquet")
     assert predictions["correct"].mean() > 0.8

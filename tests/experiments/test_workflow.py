@@ -974,6 +974,10 @@ def test_scenes_are_rendered_recognized_scored_and_drawn(tiny_run, capsys):
     summary = pd.read_csv(results / "scenes" / "summary.csv")
     assert summary["descriptor"].tolist() == SCENES["descriptors"]
     assert {"recall", "false_segments", "naming", "naming_occluded", "median_seconds"} <= set(summary.columns)
+    assert {"posed", "pose_add_s", "pose_translation", "pose_rotation", "pose_seconds"} <= set(summary.columns)
+    posed = detections[detections["add_s"].notna()]  # posed as their true object: scored against the truth
+    assert len(posed) and posed["add_s_ok"].all() and (posed["translation_error"] < 0.02).all()
+    assert (detections["seconds_without_pose"] > 0).all()
     offaxis = pd.read_csv(results / "scenes" / "offaxis.csv")
     assert len(offaxis) == len(tiny_config()["descriptors"]) and (offaxis["views"] == 2 * 2).all()
     assert offaxis[["same_reseeded", "same_off_axis"]].stack().between(0, 1).all()
@@ -983,12 +987,14 @@ def test_scenes_are_rendered_recognized_scored_and_drawn(tiny_run, capsys):
     off = moved[kinds == "offaxis"]
     assert all(any("off the image centre" in r for r in repairs) for repairs in off["repairs"])
     page = (results / "figures" / "scenes.html").read_text()
-    assert page.count("<img") == 2 and "Objects anywhere in the frame" in page
+    assert page.count("<img") == 3 and "Objects anywhere in the frame" in page  # two overlays, the known/unknown curve
+    assert "Known or unknown" in page and "pose_add_s" in page
     library = results / "libraries" / "hgd_color=hue-saturation-8.parquet"
     assert main(["recognize", str(frames / "scene-000.png"), "--intrinsics", str(frames / "scene-000.json"),
                  "--rgb", str(frames / "scene-000.rgb.png"), "--library", str(library), "--json"]) == 0  # fmt: skip
     answer = json.loads(capsys.readouterr().out)
     assert answer["plane"] is not None and len(answer["objects"]) >= 1
+    assert all(o["pose"] is None or len(o["pose"]["matrix"]) == 4 for o in answer["objects"])
 
 
 # -- libraries and `heatdata recognize` (issue 33) -----------------------------------------------------------
