@@ -1,4 +1,4 @@
-"""Rigid geometry shared by the stages: the smallest rotation between two directions."""
+"""Rigid geometry shared by the stages: the smallest rotation between two directions, and a turn about the up axis."""
 
 from __future__ import annotations
 
@@ -35,3 +35,18 @@ def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         axis = axis / sine
     cross = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
     return np.eye(3) + sine * cross + (1.0 - cosine) * cross @ cross
+
+
+def turn_about_up(degrees: float) -> np.ndarray:
+    """The rotation by ``degrees`` about +y, a model's up axis (+z towards +x for a positive turn).
+
+    Parameters
+    ----------
+    degrees : float
+
+    Returns
+    -------
+    (3, 3) float64
+    """
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])

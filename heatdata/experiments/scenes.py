@@ -34,6 +34,7 @@ import numpy as np
 import pandas as pd
 from PIL import Image
 
+from heatdata.core.geometry import turn_about_up
 from heatdata.errors import HeatdataError
 from heatdata.io.files import atomic
 from heatdata.io.models import Model
@@ -100,10 +101,9 @@ def box_model(name: str, extents: tuple[float, float, float], color: tuple[float
 
 
 def _transform(translation, yaw: float = 0.0) -> np.ndarray:
-    """(4, 4): a turn of ``yaw`` radians about +y, then a translation."""
-    c, s = np.cos(yaw), np.sin(yaw)
+    """(4, 4): a turn of ``yaw`` degrees about +y, then a translation."""
     pose = np.eye(4)
-    pose[:3, :3] = [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]
+    pose[:3, :3] = turn_about_up(yaw)
     pose[:3, 3] = translation
     return pose
 
@@ -196,7 +196,7 @@ def object_pose(model: Model, x: float, z: float, yaw_degrees: float) -> np.ndar
     """(4, 4) model-to-scene pose of ``model`` standing on the table top, its footprint centred at ``(x, z)``."""
     low, high = model.vertices.min(axis=0), model.vertices.max(axis=0)
     centre = _transform([-(low[0] + high[0]) / 2, -low[1], -(low[2] + high[2]) / 2])
-    return _transform([x, TABLE_HEIGHT, z], np.radians(yaw_degrees)) @ centre
+    return _transform([x, TABLE_HEIGHT, z], yaw_degrees) @ centre
 
 
 def render_planned_scene(plan: dict, models: dict[str, Model], settings: dict) -> tuple[SceneFrame, dict]:

@@ -202,8 +202,8 @@ class Detection:
 
     @property
     def distance(self) -> float:
-        """The distance to the nearest object's nearest library view (NaN when there is none)."""
-        return float("nan") if self.recognition is None else self.recognition.best.distance
+        """The distance to the answer's nearest library view, as :meth:`to_dict` gives it (NaN when there is none)."""
+        return float("nan") if self.recognition is None else self.recognition.answer.distance
 
     def to_dict(self) -> dict:
         """The detection as plain types (one of ``heatdata recognize --json``'s ``objects``).

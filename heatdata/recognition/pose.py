@@ -35,7 +35,7 @@ from scipy.ndimage import minimum_filter
 from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist
 
-from heatdata.core.geometry import rotation_between
+from heatdata.core.geometry import rotation_between, turn_about_up
 from heatdata.errors import LibraryError
 from heatdata.io.files import atomic, require_file
 from heatdata.typing import StrPath
@@ -640,8 +640,8 @@ def estimate_pose(
     nearest = starts[0]
     for angle in TURNS:
         turned = nearest.copy()
-        turned[:3, :3] = nearest[:3, :3] @ _turn_y(angle)
-        turned[:3, 3] += nearest[:3, :3] @ (surface.center - _turn_y(angle) @ surface.center)
+        turned[:3, :3] = nearest[:3, :3] @ turn_about_up(angle)
+        turned[:3, 3] += nearest[:3, :3] @ (surface.center - turn_about_up(angle) @ surface.center)
         starts.append(turned)
     tried: list[tuple] = []
     for start in starts:
@@ -685,7 +685,7 @@ def symmetry_turns(surface: Surface) -> np.ndarray:
     angles = np.arange(0.0, 360.0, TURN_STEP)
     fits, gaps_mean = [], []
     for angle in angles:
-        gaps = tree.query(centred @ _turn_y(angle).T + surface.center)[0] / surface.spacing
+        gaps = tree.query(centred @ turn_about_up(angle).T + surface.center)[0] / surface.spacing
         fits.append(bool(np.quantile(gaps, 0.95) <= SYMMETRY_SPACINGS and gaps.max() <= SYMMETRY_MAX_SPACINGS))
         gaps_mean.append(float(gaps.mean()))
     fits[0] = True
@@ -702,11 +702,6 @@ def symmetry_turns(surface: Surface) -> np.ndarray:
             turns.append(angles[0] if 0 in run else angles[min(run, key=lambda i: gaps_mean[i])])
             run = []
     return np.sort(np.asarray(turns, dtype=np.float64))
-
-
-def _turn_y(degrees: float) -> np.ndarray:
-    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def pose_errors(estimate: np.ndarray, truth: np.ndarray, surface: Surface, turns: np.ndarray) -> dict:
@@ -737,7 +732,7 @@ def pose_errors(estimate: np.ndarray, truth: np.ndarray, surface: Surface, turns
     )
     angles = []
     for turn in turns:
-        relative = estimate[:3, :3].T @ truth[:3, :3] @ _turn_y(float(turn))
+        relative = estimate[:3, :3].T @ truth[:3, :3] @ turn_about_up(float(turn))
         angles.append(np.degrees(np.arccos(np.clip((np.trace(relative) - 1.0) / 2.0, -1.0, 1.0))))
     return {
         "add_s": add_s,
