@@ -225,6 +225,11 @@ class Kind:
         """What the kind learns from library ``views``, as named arrays (only if :attr:`fitted`)."""
         raise HeatdataError(f"{article(self.name)} {self.name} is not fitted")
 
+    def fitted_shapes(self, spec: DescriptorSpec) -> dict[str, tuple[int, ...]]:
+        """The names and shapes of what :meth:`fit` learns for ``spec`` (only if :attr:`fitted`): a fit of other
+        names or shapes (a damaged library file) is refused when a spec is made with it."""
+        raise HeatdataError(f"{article(self.name)} {self.name} is not fitted")
+
     def candidates(
         self, view, sources: np.ndarray, spec: DescriptorSpec, *, times=None, modes: int = 32
     ) -> list[Descriptor]:
@@ -322,7 +327,7 @@ class DescriptorSpec:
                 raise ViewError(f"{kind}: option {option.name} {exc}") from None
         object.__setattr__(self, "kind", kind)
         object.__setattr__(self, "options", impl.validate(options))
-        object.__setattr__(self, "fitted", None if fitted is None else dict(fitted))
+        object.__setattr__(self, "fitted", None if fitted is None else _checked_fit(kind, impl, self, fitted))
 
     def __getattr__(self, name: str):
         options = object.__getattribute__(self, "options")
@@ -408,6 +413,25 @@ class DescriptorSpec:
 def file_name(descriptor: str) -> str:
     """A descriptor name as a file name: ``pvhk/polar/center/64`` -> ``pvhk_polar_center_64``."""
     return descriptor.replace("/", "_")
+
+
+def _checked_fit(kind: str, impl: Kind, spec: DescriptorSpec, fitted: Mapping) -> dict[str, np.ndarray]:
+    """``fitted`` as finite float arrays of the names and shapes :meth:`Kind.fitted_shapes` gives for ``spec``."""
+    if not impl.fitted:
+        raise ViewError(f"{article(kind)} {kind} is not fitted, but a fit was given")
+    shapes = impl.fitted_shapes(spec)
+    if set(fitted) != set(shapes):
+        raise ViewError(f"{kind}: a fit of {sorted(fitted)}, not {sorted(shapes)}")
+    checked = {}
+    for name, shape in shapes.items():
+        try:
+            value = np.asarray(fitted[name], dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ViewError(f"{kind}: the fitted {name} is not an array of numbers") from None
+        if value.shape != shape or not np.all(np.isfinite(value)):
+            raise ViewError(f"{kind}: the fitted {name} is {value.shape}, not finite {shape}")
+        checked[name] = value
+    return checked
 
 
 def _rebuild(kind: str, options: dict, fitted) -> DescriptorSpec:

@@ -181,6 +181,10 @@ class Combined(Kind):
             "leave_one_out": np.array(scored.max()),
         }
 
+    def fitted_shapes(self, spec: DescriptorSpec) -> dict[str, tuple[int, ...]]:
+        parts = (len(spec.parts),)
+        return {"scales": parts, "weights": parts, "coefficients": parts, "leave_one_out": ()}
+
     def compute(self, work, spec: DescriptorSpec, **context) -> list[Descriptor]:
         if spec.fitted is None:
             raise ViewError(

@@ -51,14 +51,17 @@ class SIHKS(HistogramKind):
     fitted = True
     options = (
         Option("words", 32, "geometric words (k-means clusters); the histogram's bins", integer(2, 1024)),
-        Option("modes", 100, "eigenpairs of the heat kernel signature", integer(8)),
+        Option("modes", 100, "eigenpairs of the heat kernel signature", integer(8, 1000)),
         Option("frequencies", 6, "Fourier magnitudes kept per vertex", integer(1, TIME_STEPS // 2)),
-        Option("fit_vertices", 200, "vertices per library view the codebook is fitted on", integer(1)),
+        Option("fit_vertices", 200, "vertices per library view the codebook is fitted on", integer(1, 10**5)),
         Option("seed", 0, "seed of the vertex sample and of k-means", integer(0)),
     )
 
     def size(self, spec: DescriptorSpec, view) -> int:
         return spec.words
+
+    def fitted_shapes(self, spec: DescriptorSpec) -> dict[str, tuple[int, ...]]:
+        return {"words": (spec.words, spec.frequencies), "mean": (spec.frequencies,), "scale": (spec.frequencies,)}
 
     def fit(self, spec: DescriptorSpec, views: list) -> dict[str, np.ndarray]:
         from sklearn.cluster import KMeans
@@ -92,11 +95,7 @@ class SIHKS(HistogramKind):
                 f"{work.view.name}: an si-hks must be fitted on library views first "
                 "(spec = heatdata.fit_spec(spec, library_views))"
             )
-        words = np.asarray(spec.fitted["words"])
-        if words.shape != (spec.words, spec.frequencies):
-            raise ViewError(
-                f"si-hks: the fitted codebook is {words.shape}, the spec wants ({spec.words}, {spec.frequencies})"
-            )
+        words = spec.fitted["words"]  # of the spec's shape (DescriptorSpec checks a fit)
         self.check_points(work.largest())
         features, lam2, repairs = signatures(work, spec.modes, spec.frequencies)
         _, nearest = cKDTree(words).query((features - spec.fitted["mean"]) / spec.fitted["scale"])

@@ -346,6 +346,8 @@ def _run_metadata(file: pq.ParquetFile, path: str | Path) -> dict:
         meta["heatdata_version"] = raw.get(b"heatdata_version", b"").decode()
     except ValueError as exc:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
         raise HeatdataError(f"{path}: the table's heatdata metadata is damaged ({exc})") from None
+    except RecursionError:
+        raise HeatdataError(f"{path}: the table's heatdata metadata is damaged (nested too deep)") from None
     return meta
 
 

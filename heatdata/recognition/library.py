@@ -32,6 +32,7 @@ from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
 from heatdata.recognition.answers import Detection, Match, Recognition, SceneRecognition, SequenceStep
 from heatdata.recognition.confidence import Confidence, calibrate, calibration_rows, checked_threshold, nearest_two
 from heatdata.recognition.evaluate import TIME_RULES, library_subset, nan_views
+from heatdata.recognition.library_check import check_library, shortened, spec_of
 from heatdata.recognition.pose import STARTS, Pose, Surface, depth_image, estimate_pose
 from heatdata.typing import StrPath
 from heatdata.version import __version__
@@ -109,16 +110,6 @@ def uses_colour(spec: DescriptorSpec) -> bool:
     if spec.kind == COLOR_KIND or spec.get("color") not in (None, "none"):
         return True
     return any(uses_colour(part) for part in spec.get("parts") or ())
-
-
-def _spec_from_metadata(meta: dict) -> DescriptorSpec:
-    fitted = meta.get("fitted")
-    spec = DescriptorSpec(meta["kind"], **meta["options"])
-    if fitted is not None:
-        spec = spec.with_fitted({k: np.asarray(v) for k, v in fitted.items()})
-    if spec.name != meta["name"]:
-        raise LibraryError(f"the stored spec reads as {spec.name}, not {meta['name']}")
-    return spec
 
 
 def build_library(
@@ -271,7 +262,7 @@ class Library:
     def __init__(self, rows: pd.DataFrame, metadata: dict, path: StrPath = "library"):
         self.path = str(path)
         self.metadata = dict(metadata)
-        self.spec = _spec_from_metadata(metadata["spec"])
+        self.spec = spec_of(metadata["spec"])
         self.descriptor = self.spec.name
         self.time_rule = metadata["time_rule"]
         self.library_size = int(metadata["library_size"])
@@ -768,20 +759,27 @@ def load_library(path: StrPath) -> Library:
     LibraryError
         Not a library file, another layout, or a probe this heatdata describes differently.
     """
-    rows, run = read_table(Path(path), schema=DESCRIPTOR_SCHEMA)
+    try:
+        rows, run = read_table(Path(path), schema=DESCRIPTOR_SCHEMA)
+    except HeatdataError as exc:
+        raise LibraryError(str(exc)) from None
     metadata = run.get(LIBRARY_KEY)
     if not isinstance(metadata, dict):
         raise LibraryError(f"{path}: not a library file (build one with the workflow: results/libraries/)")
-    if metadata.get("format") != LIBRARY_FORMAT:
+    if metadata.get("format") != LIBRARY_FORMAT or isinstance(metadata.get("format"), bool):
         raise LibraryError(
-            f"{path}: a library of layout {metadata.get('format')}; this heatdata reads layout {LIBRARY_FORMAT}"
+            f"{path}: a library of layout {shortened(repr(metadata.get('format')))}; this heatdata reads layout "
+            f"{LIBRARY_FORMAT}"
         )
+    spec = check_library(rows, metadata, path)
     try:
         library = Library(rows, metadata, path)
-    except (KeyError, TypeError, ValueError) as exc:
-        raise LibraryError(f"{path}: a damaged library file ({type(exc).__name__}: {exc})") from None
+        now = probe_values(spec)
+    except LibraryError:
+        raise
+    except Exception as exc:  # what the checks above cannot foresee is still one line naming the file
+        raise LibraryError(f"{path}: a damaged library file ({type(exc).__name__}: {shortened(str(exc))})") from None
     probe = np.asarray(metadata["probe"], dtype=np.float64)
-    now = probe_values(library.spec)
     if now.shape != probe.shape or not np.allclose(now, probe, atol=PROBE_TOLERANCE, rtol=0, equal_nan=True):
         gap = np.nanmax(np.abs(now - probe)) if now.shape == probe.shape else float("inf")
         raise LibraryError(

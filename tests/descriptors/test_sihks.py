@@ -32,7 +32,11 @@ def test_fit_then_describe(mug):
     assert np.array_equal(fitted.fitted["words"], again.fitted["words"])  # seeded
     d = hd.describe(views[1], [fitted])[0]
     assert d.values.shape == (8,) and d.values.sum() == pytest.approx(1.0) and d.lambda2 > 0
-    with pytest.raises(hd.ViewError, match="codebook"):
-        hd.describe(views[1], [hd.DescriptorSpec("si-hks", words=4, modes=30).with_fitted(fitted.fitted)])
+    with pytest.raises(hd.ViewError, match=r"the fitted words is \(8, 6\), not finite \(4, 6\)"):
+        hd.DescriptorSpec("si-hks", words=4, modes=30).with_fitted(fitted.fitted)
+    with pytest.raises(hd.ViewError, match="the fitted mean"):
+        spec.with_fitted({**fitted.fitted, "mean": np.full(6, np.nan)})
+    with pytest.raises(hd.ViewError, match="a fit of"):
+        spec.with_fitted({"words": fitted.fitted["words"]})
     with pytest.raises(hd.ViewError, match="at least one library view"):
         hd.fit_spec(spec, [])

@@ -1,0 +1,264 @@
+"""A library file checked as a whole when it loads: its metadata against a schema, then against its rows.
+
+A library file comes from elsewhere (a colleague, a cluster, a download), so nothing in it is trusted.
+:func:`check_library` validates every metadata field with a JSON Schema (:data:`METADATA_SCHEMA`: types, ranges,
+a time rule among the allowed ones), refuses a number that is not finite, and then checks what a schema cannot
+say: the objects equal the rows' objects, every row's values are as long as the probe's, a time-scaled kind has one
+time scale per object, sizes and surfaces name the library's objects. The descriptor spec's fitted arrays are
+checked when the spec is made (:meth:`heatdata.descriptors.Kind.fitted_shapes`). Every failure is a
+:class:`~heatdata.errors.LibraryError` of one line.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import jsonschema
+import numpy as np
+import pandas as pd
+
+from heatdata.descriptors import DescriptorSpec
+from heatdata.errors import HeatdataError, LibraryError
+from heatdata.recognition.evaluate import TIME_RULES
+
+#: the most library views per object a library file may hold (one every 0.1 degree)
+MAX_LIBRARY_SIZE = 3600
+#: the largest time scale (Alg. 5.1) a library may give an object: that of an object tens of metres across
+MAX_TIME_SCALE = 1e3
+#: object names are at most this long
+MAX_NAME = 200
+
+_NUMBER = {"type": "number"}
+_NAME = {"type": "string", "minLength": 1, "maxLength": MAX_NAME}
+
+#: the JSON Schema of a library file's metadata (:func:`heatdata.build_library`'s)
+METADATA_SCHEMA: dict[str, Any] = {
+    "type": "object",
+    "required": ["format", "heatdata_version", "spec", "library_size", "objects", "time_rule", "probe"],
+    "properties": {
+        "format": {"type": "integer"},
+        "heatdata_version": {"type": "string", "minLength": 1, "maxLength": 64},
+        "spec": {
+            "type": "object",
+            "required": ["kind", "options", "name"],
+            "properties": {
+                "kind": _NAME,
+                "options": {"type": "object"},
+                "fitted": {"type": ["object", "null"], "additionalProperties": {"type": ["array", "number"]}},
+                "name": {"type": "string", "minLength": 1, "maxLength": 1000},
+            },
+        },
+        "library_size": {"type": "integer", "minimum": 1, "maximum": MAX_LIBRARY_SIZE},
+        "objects": {"type": "array", "items": _NAME, "minItems": 1, "uniqueItems": True},
+        "time_scales": {
+            "type": ["array", "null"],
+            "items": {
+                "type": "object",
+                "required": ["object", "time_scale"],
+                "properties": {
+                    "object": _NAME,
+                    "time_scale": {"type": "number", "exclusiveMinimum": 0, "maximum": MAX_TIME_SCALE},
+                },
+            },
+        },
+        "time_rule": {"enum": list(TIME_RULES)},
+        "render": {"type": "object"},
+        "probe": {"type": "array", "items": _NUMBER, "minItems": 1},
+        "source": {"type": "string"},
+        "sizes": {
+            "type": "object",
+            "additionalProperties": {
+                "type": "array",
+                "items": {"type": "number", "exclusiveMinimum": 0, "maximum": 100},
+                "minItems": 3,
+                "maxItems": 3,
+            },
+        },
+        "confidence": {
+            "type": ["object", "null"],
+            "required": ["coef", "intercept", "threshold", "known", "unknown", "auroc"],
+            "properties": {
+                "coef": {"type": "array", "items": _NUMBER, "minItems": 2, "maxItems": 2},
+                "intercept": _NUMBER,
+                "threshold": {"type": "number", "minimum": 0, "maximum": 1},
+                "known": {"type": "integer", "minimum": 0},
+                "unknown": {"type": "integer", "minimum": 0},
+                "auroc": {"type": "number", "minimum": 0, "maximum": 1},
+            },
+        },
+        "surfaces": {
+            "type": "object",
+            "additionalProperties": {
+                "type": "object",
+                "required": ["points", "normals", "center", "diameter", "spacing"],
+                "properties": {
+                    "points": {"type": "string"},
+                    "normals": {"type": "string"},
+                    "center": {"type": "array", "items": _NUMBER, "minItems": 3, "maxItems": 3},
+                    "diameter": {"type": "number", "exclusiveMinimum": 0},
+                    "spacing": {"type": "number", "exclusiveMinimum": 0},
+                },
+            },
+        },
+    },
+}
+
+_VALIDATOR = jsonschema.Draft202012Validator(METADATA_SCHEMA)
+
+
+def shortened(text: str, limit: int = 160) -> str:
+    """``text`` cut to ``limit`` characters (a damaged field can be megabytes long)."""
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _not_finite(value: Any, where: str) -> str | None:
+    """The key of the first number in ``value`` that is not finite (NaN, infinite), or None."""
+    stack = [(value, where)]
+    while stack:
+        item, key = stack.pop()
+        if isinstance(item, dict):
+            stack.extend((v, f"{key}.{k}") for k, v in item.items())
+        elif isinstance(item, list):
+            stack.extend((v, f"{key}[{i}]") for i, v in enumerate(item))
+        elif isinstance(item, float) and not math.isfinite(item):
+            return key
+    return None
+
+
+def check_metadata(metadata: dict) -> None:
+    """Validate a library file's metadata against :data:`METADATA_SCHEMA`, and every number in it but the probe's
+    as finite (the probe may hold a NaN its descriptor gives).
+
+    Parameters
+    ----------
+    metadata : dict
+        The file's ``library`` metadata.
+
+    Raises
+    ------
+    LibraryError
+        The first field that is wrong, named by its key.
+    """
+    try:
+        error = jsonschema.exceptions.best_match(_VALIDATOR.iter_errors(metadata))
+    except RecursionError:
+        raise LibraryError("its metadata nest too deep") from None
+    if error is not None:
+        key = ".".join(str(part) for part in error.absolute_path) or "the metadata"
+        raise LibraryError(f"{key}: {shortened(error.message)}")
+    bad = _not_finite({k: v for k, v in metadata.items() if k != "probe"}, "metadata")
+    if bad:
+        raise LibraryError(f"{bad.removeprefix('metadata.')}: not a finite number")
+
+
+def check_rows(rows: pd.DataFrame, metadata: dict) -> None:
+    """Check the rows of a library file against its (schema-valid) metadata.
+
+    Parameters
+    ----------
+    rows : pandas.DataFrame
+        Its :data:`heatdata.io.tables.DESCRIPTOR_SCHEMA` rows.
+    metadata : dict
+        Its metadata, valid by :func:`check_metadata`.
+
+    Raises
+    ------
+    LibraryError
+        Rows of another descriptor or split, values not as long as the probe's, weights not as long as the
+        values, objects other than the metadata's, more views per object than the library size, or time scales,
+        sizes or surfaces of other objects.
+    """
+    name = metadata["spec"]["name"]
+    if not rows["descriptor"].eq(name).all():
+        raise LibraryError(f"rows of descriptors {sorted(set(rows['descriptor']) - {name})}, not only {name}")
+    if not rows["split"].isin(["train", "similarity"]).all():
+        raise LibraryError(f"rows of splits {sorted(set(rows['split']))}, not train and similarity")
+    length = len(metadata["probe"])
+    lengths = {len(v) if isinstance(v, np.ndarray) else -1 for v in rows["values"]}
+    if lengths != {length}:
+        raise LibraryError(f"rows of {sorted(lengths)} values; its probe has {length}")
+    weights = {len(w) for w in rows["weights"] if w is not None and not (isinstance(w, float) and math.isnan(w))}
+    if weights - {length}:
+        raise LibraryError(f"rows of {sorted(weights)} weights for {length} values")
+    train = rows[rows["split"] == "train"]
+    objects = set(metadata["objects"])
+    if set(train["object"]) != objects:
+        raise LibraryError(
+            f"its library views are of {len(set(train['object']))} objects, its metadata names {len(objects)}"
+        )
+    if not set(rows["object"]) <= objects:
+        raise LibraryError(
+            f"its similarity views name objects outside the library: {sorted(set(rows['object']) - objects)[:5]}"
+        )
+    most = int(train.groupby("object")["view_id"].nunique().max())
+    if most > metadata["library_size"]:
+        raise LibraryError(f"an object has {most} library views; the library size is {metadata['library_size']}")
+    scales = metadata.get("time_scales")
+    if scales is not None:
+        scaled = [row["object"] for row in scales]
+        if len(scaled) != len(set(scaled)) or set(scaled) != objects:
+            raise LibraryError(f"time scales of {len(set(scaled))} objects ({len(scaled)} entries) for {len(objects)}")
+    for key in ("sizes", "surfaces"):
+        others = set(metadata.get(key) or {}) - objects
+        if others:
+            raise LibraryError(f"{key} of objects outside the library: {sorted(others)[:5]}")
+
+
+def spec_of(meta: dict) -> DescriptorSpec:
+    """The descriptor spec a library's metadata stores (its ``spec``), fitted arrays checked.
+
+    Parameters
+    ----------
+    meta : dict
+        The metadata's ``spec``: ``kind``, ``options``, ``fitted``, ``name``.
+
+    Returns
+    -------
+    DescriptorSpec
+
+    Raises
+    ------
+    LibraryError
+        An unknown kind, bad options or fit, or a spec whose name is not the stored one.
+    """
+    try:
+        spec = DescriptorSpec(meta["kind"], fitted=meta.get("fitted"), **meta["options"])
+    except (HeatdataError, TypeError, ValueError) as exc:
+        raise LibraryError(f"spec: {shortened(str(exc))}") from None
+    if spec.name != meta["name"]:
+        raise LibraryError(f"spec: reads as {spec.name}, not {shortened(meta['name'])}")
+    return spec
+
+
+def check_library(rows: pd.DataFrame, metadata: dict, path: object) -> DescriptorSpec:
+    """:func:`check_metadata`, :func:`spec_of` and :func:`check_rows`, with ``path`` in the message.
+
+    Parameters
+    ----------
+    rows : pandas.DataFrame
+        The file's rows.
+    metadata : dict
+        Its metadata.
+    path : str or Path
+        The file, for the message.
+
+    Returns
+    -------
+    DescriptorSpec
+        Its descriptor.
+
+    Raises
+    ------
+    LibraryError
+        ``"<path>: a damaged library file: <key>: <what is wrong>"``.
+    """
+    try:
+        check_metadata(metadata)
+        spec = spec_of(metadata["spec"])
+        if spec.impl.time_scaled != (metadata.get("time_scales") is not None):
+            raise LibraryError(f"time_scales: {'missing for' if spec.impl.time_scaled else 'given to'} {spec.name}")
+        check_rows(rows, metadata)
+    except LibraryError as exc:
+        raise LibraryError(f"{path}: a damaged library file: {exc}") from None
+    return spec
