@@ -44,3 +44,8 @@ class OutputError(HeatdataError):
 class LibraryError(HeatdataError):
     """A library file cannot be used: not one, damaged, of another layout, or built by a heatdata that describes
     views differently."""
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where the program stands so that it unwinds as from Ctrl-C and removes its temporary files
+    (:func:`heatdata.log.terminate_as_interrupt`)."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from heatdata.errors import ViewError
+from heatdata.io.files import is_partial
 
 CAPTURE_SUFFIXES = (".png", ".npy")
 
@@ -39,7 +40,7 @@ def find_captures(root) -> list[dict]:
     if not root.is_dir():
         raise ViewError(f"{root}: no such folder of captures")
     captures = []
-    for folder in sorted(p for p in root.iterdir() if p.is_dir()):
+    for folder in sorted(p for p in root.iterdir() if p.is_dir() and not is_partial(p)):
         for depth in sorted(folder.iterdir()):
             if _is_frame(depth, CAPTURE_SUFFIXES):
                 captures.append({"object": folder.name, **_frame(depth, [folder, root])})
@@ -73,10 +74,12 @@ def find_frames(folder) -> list[dict]:
 
 
 def _is_frame(path: Path, suffixes: tuple[str, ...]) -> bool:
-    """A frame's file: of one of ``suffixes``, not a colour, mask or label image beside a depth image."""
+    """A frame's file: of one of ``suffixes``, not a colour, mask or label image beside a depth image, nor a hidden
+    file or one being written (:func:`heatdata.io.files.is_partial`)."""
     name = path.name.lower()
     beside = (".rgb.png", ".mask.png", ".labels.png")
-    return path.is_file() and path.suffix.lower() in suffixes and not name.endswith(beside)
+    usable = path.suffix.lower() in suffixes and not name.endswith(beside) and not is_partial(path)
+    return usable and path.is_file()
 
 
 def _frame(depth: Path, folders: list[Path]) -> dict:

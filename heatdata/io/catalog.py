@@ -31,7 +31,7 @@ import numpy as np
 import pandas as pd
 
 from heatdata.errors import ModelError
-from heatdata.io.files import require_file
+from heatdata.io.files import is_partial, require_file
 from heatdata.io.models import SUPPORTED_SUFFIXES, Model, hue_rotated, load_model
 
 CATALOG_COLUMNS = [
@@ -137,7 +137,13 @@ def catalog_from_folder(models_dir: str | Path, scale: float = 1.0) -> pd.DataFr
     root = Path(models_dir)
     if not root.is_dir():
         raise ModelError(f"{root}: no such models folder")
-    files = sorted(p for p in root.rglob("*") if p.suffix.lower() in SUPPORTED_SUFFIXES and p.is_file())
+    files = sorted(
+        p
+        for p in root.rglob("*")
+        if p.suffix.lower() in SUPPORTED_SUFFIXES
+        and not any(is_partial(part) for part in p.relative_to(root).parts)
+        and p.is_file()
+    )
     if not files:
         raise ModelError(f"{root}: no mesh files ({', '.join(SUPPORTED_SUFFIXES)}) in the models folder")
     rows = []

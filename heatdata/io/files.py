@@ -6,15 +6,22 @@ write never leaves a half file under the real name (a rename within one folder i
 POSIX). Commands call :func:`check_output` (or :func:`check_folder`) first, so that an output
 that cannot be written, or would replace one of the command's inputs, is refused in one line
 before minutes of work.
+
+A command that writes several outputs writes them with :func:`atomic_group`: each under its temporary name, then
+all renamed together while the output folders are locked, so two runs writing the same outputs leave one run's
+set, never a mix. SIGTERM unwinds like Ctrl-C in heatdata's commands and jobs
+(:func:`heatdata.log.terminate_as_interrupt`), so the temporary files of an interrupted write are removed.
+Readers of folders skip what :func:`is_partial` names: hidden files and the temporary files of a write under way.
 """
 
 from __future__ import annotations
 
+import fcntl
 import os
 import secrets
 import tempfile
-from collections.abc import Iterable, Iterator
-from contextlib import contextmanager, suppress
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import ExitStack, contextmanager, suppress
 from pathlib import Path
 
 from heatdata.errors import HeatdataError, OutputError
@@ -160,6 +167,27 @@ def check_folder(path: StrPath, *, inputs: Iterable[StrPath | None] = ()) -> Pat
     return path
 
 
+def is_partial(path: StrPath) -> bool:
+    """Whether a folder's reader should skip ``path``: a hidden file, or the temporary file of a write under way
+    (:func:`atomic`'s ``.<stem>.<hex>.part<suffix>``).
+
+    Parameters
+    ----------
+    path : str or Path
+        A file found in a folder.
+
+    Returns
+    -------
+    bool
+    """
+    name = Path(path).name
+    return name.startswith(".") or ".part." in name or name.endswith(".part")
+
+
+def _temporary(path: Path) -> Path:
+    return path.with_name(f".{path.stem}.{secrets.token_hex(4)}.part{path.suffix}")
+
+
 @contextmanager
 def atomic(path: StrPath) -> Iterator[Path]:
     """A temporary file next to ``path`` to write; renamed onto ``path`` when the block ends without an error.
@@ -185,7 +213,7 @@ def atomic(path: StrPath) -> Iterator[Path]:
     path = Path(path)
     if path.is_dir():
         raise OutputError(f"{path}: is a folder; give a file name")
-    temporary = path.with_name(f".{path.stem}.{secrets.token_hex(4)}.part{path.suffix}")
+    temporary = _temporary(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         yield temporary
@@ -201,3 +229,61 @@ def atomic(path: StrPath) -> Iterator[Path]:
 def _remove(path: Path) -> None:
     with suppress(OSError):  # it may never have been created
         path.unlink()
+
+
+@contextmanager
+def _locked(folder: Path) -> Iterator[None]:
+    """An exclusive lock on ``folder`` (``flock`` on the folder itself: no lock file is left behind)."""
+    handle = os.open(folder, os.O_RDONLY)
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(handle)  # closing releases the lock
+
+
+@contextmanager
+def atomic_group(paths: Sequence[StrPath]) -> Iterator[list[Path]]:
+    """Temporary files for several outputs, renamed onto them together when the block ends without an error.
+
+    The renames happen while every output folder is locked, so two commands writing the same outputs leave
+    the whole set of one of them, never one's first file beside the other's second. On an error (or Ctrl-C,
+    or SIGTERM with :func:`heatdata.log.terminate_as_interrupt`) every temporary file is removed and no output is
+    touched.
+
+    Parameters
+    ----------
+    paths : sequence of str or Path
+        The files to write (distinct).
+
+    Yields
+    ------
+    list of Path
+        Where to write each, in the order of ``paths``.
+
+    Raises
+    ------
+    OutputError
+        A folder cannot be created or locked, or a file cannot be written or renamed.
+    """
+    outputs = [Path(p) for p in paths]
+    temporaries = [_temporary(p) for p in outputs]
+    try:
+        for path in outputs:
+            if path.is_dir():
+                raise OutputError(f"{path}: is a folder; give a file name")
+            path.parent.mkdir(parents=True, exist_ok=True)
+        yield temporaries
+        with ExitStack() as stack:
+            for folder in sorted({p.parent.resolve() for p in outputs}):  # one order: no two commands deadlock
+                stack.enter_context(_locked(folder))
+            for temporary, path in zip(temporaries, outputs):
+                os.replace(temporary, path)
+    except OSError as error:
+        for temporary in temporaries:
+            _remove(temporary)
+        raise OutputError(f"{', '.join(map(str, outputs))}: cannot be written ({_reason(error)})") from None
+    except BaseException:
+        for temporary in temporaries:
+            _remove(temporary)
+        raise

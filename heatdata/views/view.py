@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 import logging
 import zipfile
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -32,7 +33,7 @@ from heatdata.core.mesh import (
     mesh_edges,
 )
 from heatdata.errors import OutputError, ViewError
-from heatdata.io.files import atomic, require_file
+from heatdata.io.files import atomic, atomic_group, require_file
 from heatdata.typing import StrPath
 
 log = logging.getLogger(__name__)
@@ -41,7 +42,11 @@ MIN_VERTICES = 30
 ZERO_AREA = 1e-10  # faces below this fraction of the median face area (twice the area) are degenerate
 INTRINSIC_KEYS = ("fx", "fy", "cx", "cy", "width", "height")
 VIEW_ARRAYS = ("vertices", "faces", "colors", "pose", "angle", "intrinsics", "ids", "repairs")  # of a saved view
-MAX_IMAGE_PIXELS = 4096 * 4096  # larger depth, colour and mask images and organized clouds are refused unread
+#: larger depth, colour and mask images and organized clouds are refused unread: a 1920 x 1080 depth PNG made into a
+#: view and written as .npz and .ply peaks at 1.73 GB (a flat frame, every pixel a vertex; docs/guide/cli.md)
+MAX_IMAGE_PIXELS = 2**21
+#: a saved view of more vertices is refused before its arrays are read
+MAX_VIEW_VERTICES = MAX_IMAGE_PIXELS
 CANONICAL_STEPS = 8  # fixed-point steps of the canonical rotation (2-3 reach CANONICAL_PIXELS)
 CANONICAL_PIXELS = 1e-3  # how near the optical axis the canonical frame centres the image's bounding box
 KINECT_INTRINSICS = {"fx": 580.0, "fy": 580.0, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480}
@@ -77,7 +82,7 @@ def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, nam
     odd = [f"{key}={value!r}" for key, value in given.items() if isinstance(value, bool) or not _is_number(value)]
     if odd:
         raise ViewError(f"{name}: intrinsics must be numbers, got {', '.join(odd)}")
-    k = {key: float(value) for key, value in given.items()}
+    k = {key: _as_float(value) for key, value in given.items()}
     bad = [f"{key}={k[key]:g}" for key in INTRINSIC_KEYS if not np.isfinite(k[key])]
     bad += [f"{key}={k[key]:g} (a focal length in pixels is > 0)" for key in ("fx", "fy") if k[key] <= 0]
     bad += [
@@ -97,9 +102,19 @@ def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, nam
     return k
 
 
+def _as_float(value) -> float:
+    """``float(value)``; an integer of 400 digits is infinite, not an OverflowError."""
+    try:
+        return float(value)
+    except OverflowError:
+        return float("inf") if value > 0 else float("-inf")
+
+
 def _is_number(value: object) -> bool:
     try:
         float(value)  # type: ignore[arg-type]
+    except OverflowError:  # an integer of 400 digits is a number, an infinite one
+        return True
     except (TypeError, ValueError):
         return False
     return not isinstance(value, str)
@@ -130,6 +145,34 @@ def kinect_intrinsics(image_scale: float = 1.0) -> dict:
         "width": width,
         "height": height,
     }
+
+
+NPY_HEADERS = {(1, 0): np.lib.format.read_array_header_1_0, (2, 0): np.lib.format.read_array_header_2_0}
+
+
+def _check_array_sizes(path: StrPath) -> None:
+    """Refuse a ``.npz`` view whose arrays would not fit: each array's header is read, not its data (a compressed
+    archive of 1 MB can hold 50 million vertices)."""
+    limits = {"vertices": MAX_VIEW_VERTICES, "colors": MAX_VIEW_VERTICES, "faces": 2 * MAX_VIEW_VERTICES}
+    try:
+        with zipfile.ZipFile(path) as archive:
+            for member in archive.infolist():
+                key = member.filename.removesuffix(".npy")
+                with archive.open(member) as file:
+                    version = np.lib.format.read_magic(file)
+                    if version not in NPY_HEADERS:
+                        raise ValueError(f"npy format {version}")
+                    shape, _, _ = NPY_HEADERS[version](file)
+                rows = shape[0] if shape else 1
+                if rows > limits.get(key, MAX_VIEW_VERTICES) or int(np.prod(shape)) > 4 * MAX_VIEW_VERTICES:
+                    raise ViewError(
+                        f"{path}: its {key} hold {rows:,} rows; a view holds at most {MAX_VIEW_VERTICES:,} vertices "
+                        f"(one per pixel of a {MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel image)"
+                    )
+    except ViewError:
+        raise
+    except Exception as exc:  # a damaged archive or header: zipfile, zlib and numpy raise many kinds
+        raise ViewError(f"{path}: not a readable heatdata view ({type(exc).__name__}: {exc})") from None
 
 
 @dataclass
@@ -288,13 +331,33 @@ class View:
         path : str or Path
             The ``.ply`` to write.
         """
+        with atomic(path) as temporary:
+            self._write_ply(temporary)
+
+    def _write_ply(self, path: Path) -> None:
         import trimesh
 
         colors = np.round(np.clip(self.colors, 0.0, 1.0) * 255).astype(np.uint8)
-        with atomic(path) as temporary:
-            trimesh.Trimesh(self.vertices, self.faces, vertex_colors=colors, process=False).export(
-                temporary, file_type="ply"
-            )
+        trimesh.Trimesh(self.vertices, self.faces, vertex_colors=colors, process=False).export(path, file_type="ply")
+
+    def write(self, paths: Sequence[StrPath]) -> None:
+        """Write the view to several files at once, each a ``.npz`` (:meth:`save`) or a ``.ply`` (:meth:`to_ply`).
+
+        They are written as one unit (:func:`heatdata.io.files.atomic_group`): another command writing the same
+        files leaves its whole set or this one's, and an interrupted write leaves none.
+
+        Parameters
+        ----------
+        paths : sequence of str or Path
+            Files ending in ``.npz`` or ``.ply``.
+        """
+        writers = {".npz": self._write_npz, ".ply": self._write_ply}
+        for path in paths:
+            if Path(path).suffix.lower() not in writers:
+                raise OutputError(f"{path}: a view is written to a .npz or .ply file")
+        with atomic_group(paths) as temporaries:
+            for path, temporary in zip(paths, temporaries):
+                writers[Path(path).suffix.lower()](temporary)
 
     def save(self, path: StrPath) -> None:
         """Write the view to a ``.npz`` file (arrays plus identifiers and intrinsics).
@@ -341,6 +404,7 @@ class View:
                 f"{path}: not a readable .npz view file (not a zip archive: truncated, or not written by "
                 "heatdata render)"
             )
+        _check_array_sizes(path)
         try:
             with np.load(path, allow_pickle=False) as data:
                 arrays = {key: np.array(data[key]) for key in VIEW_ARRAYS}
