@@ -221,6 +221,10 @@ def rump_heat(
     f = np.asarray(faces, dtype=np.int64)
     if v.ndim != 2 or v.shape[1] != 3 or f.ndim != 2 or f.shape[1] != 3 or not len(f):
         raise RumpError(f"need (n, 3) vertices and (m, 3) faces, got {v.shape} and {f.shape}")
+    if f.min() < 0 or f.max() >= len(v):
+        raise RumpError(f"face indices run from {f.min()} to {f.max()}, not within the {len(v)} vertices")
+    if not np.isfinite(v).all():
+        raise RumpError("the vertices hold NaN or infinite coordinates")
     origin, rotation = landmark_frame(landmarks, toward)
     p = np.asarray(landmarks, dtype=np.float64)
     size = float(np.mean(np.linalg.norm(p - origin, axis=1)))

@@ -128,3 +128,14 @@ def make_sh3f(tmp_path, extra: tuple[str, ...] = ()) -> Path:
             for f in ("quad.obj", "quad.mtl", "tex.png"):
                 archive.write(src / f, f"{folder}/{f}")
     return path
+
+
+@pytest.fixture(scope="module")
+def depth_frame(tmp_path_factory) -> tuple[Path, Path]:
+    """A depth PNG and its intrinsics, written from a rendered view of an embedded model."""
+    folder = tmp_path_factory.mktemp("frame")
+    view = hd.render_view(hd.load_model(ROOT / "data/models/beer-mug/beerGlass.obj", size=(0.08, 0.15, 0.08)))
+    from heatdata.views.depth import write_depth
+
+    write_depth(view, folder / "d.png")
+    return folder / "d.png", folder / "d.json"

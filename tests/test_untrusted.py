@@ -56,15 +56,6 @@ def box(tmp_path) -> Path:
     return path
 
 
-@pytest.fixture(scope="module")
-def depth_frame(tmp_path_factory) -> tuple[Path, Path]:
-    """A depth PNG and its intrinsics, written from a rendered view of an embedded model."""
-    folder = tmp_path_factory.mktemp("frame")
-    view = hd.render_view(hd.load_model(ROOT / "data/models/beer-mug/beerGlass.obj", size=(0.08, 0.15, 0.08)))
-    write_depth(view, folder / "d.png")
-    return folder / "d.png", folder / "d.json"
-
-
 # -- 1. resources -------------------------------------------------------------------------------------------
 
 

@@ -7,7 +7,6 @@ view); 2 wrong command-line usage; 130 interrupted (Ctrl-C).
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import sys
 from pathlib import Path
@@ -16,7 +15,13 @@ import numpy as np
 import pandas as pd
 from tqdm.contrib.logging import logging_redirect_tqdm
 
-from heatdata.cli.arguments import frame_arguments, number
+from heatdata.cli.arguments import (
+    MAX_BOUNDARY_SAMPLES,
+    MAX_VIEWS,
+    dump_json,
+    frame_arguments,
+    number,
+)
 from heatdata.cli.demo import add_demo
 from heatdata.cli.recognize import add_recognize
 from heatdata.descriptors import (
@@ -27,7 +32,7 @@ from heatdata.descriptors import (
     DescriptorSpec,
     describe,
 )
-from heatdata.errors import HeatdataError
+from heatdata.errors import HeatdataError, Terminated
 from heatdata.io.files import check_output, require_file
 from heatdata.io.tables import (
     DESCRIPTOR_SCHEMA,
@@ -35,8 +40,8 @@ from heatdata.io.tables import (
     read_table,
     write_table,
 )
-from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN_ROBUST
-from heatdata.log import progress, setup_logging
+from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, MAX_SAMPLES, MIN_SAMPLES, SCAN_ALONG, SCAN_ROBUST
+from heatdata.log import printable, progress, setup_logging
 from heatdata.recognition.evaluate import TIME_RULES
 from heatdata.version import __version__
 
@@ -55,7 +60,7 @@ def cmd_render(args: argparse.Namespace) -> None:
     view = render_view(model, args.azimuth, args.elevation, args.distance, noise=not args.no_noise, seed=args.seed)
     view.save(out)
     print(
-        json.dumps(
+        dump_json(
             {
                 "view": str(out),
                 "vertices": view.n_vertices,
@@ -85,13 +90,9 @@ def cmd_view_from_depth(args: argparse.Namespace) -> None:
         scale=args.scale,
         max_depth_jump=args.max_depth_jump,
     )
-    for out in outs:
-        if out.suffix.lower() == ".npz":
-            view.save(out)
-        else:
-            view.to_ply(out)
+    view.write(outs)
     print(
-        json.dumps(
+        dump_json(
             {
                 "views": [str(p) for p in outs],
                 "vertices": view.n_vertices,
@@ -160,7 +161,7 @@ def cmd_stitch(args: argparse.Namespace) -> None:
         "translation": np.round(a.translation, 6).tolist(),
         "seconds": round(a.seconds, 2),
     }
-    print(json.dumps(summary))
+    print(dump_json(summary))
 
 
 def cmd_describe(args: argparse.Namespace) -> None:
@@ -201,7 +202,7 @@ def cmd_describe(args: argparse.Namespace) -> None:
     }
     if d.weights is not None:
         out["weights"] = np.round(d.weights, 8).tolist()
-    print(json.dumps(out))
+    print(dump_json(out))
 
 
 def cmd_classify(args: argparse.Namespace) -> None:
@@ -243,6 +244,7 @@ def _precision_lines(predictions: pd.DataFrame, every_view: bool) -> str:
         columns={"library_size": "library views", "object": "object precision", "class": "class precision"}
     )
     table = table[["descriptor", "library views", "object precision", "class precision"]]
+    table["descriptor"] = table["descriptor"].map(printable)  # a table's names come from a file
     for column in ("object precision", "class precision"):
         table[column] = table[column].map(lambda v: f"{v:.1%}")
     library = "every train view of each object" if every_view else "library views per object evenly spaced in azimuth"
@@ -380,9 +382,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     join.add_argument(
         "--samples",
-        type=number(8, whole=True),
+        type=number(MIN_SAMPLES, high=MAX_SAMPLES, whole=True),
         default=128,
-        help="boundary samples for the alignment; the coarse search tries twice as many (default 128)",
+        help=(
+            "boundary samples for the alignment; the coarse search tries twice as many "
+            f"(default 128, at most {MAX_SAMPLES})"
+        ),
     )
     join.add_argument("--scale", type=number(positive=True), default=1.0, help="file units to metres (default 1)")
     join.add_argument(
@@ -397,7 +402,11 @@ def build_parser() -> argparse.ArgumentParser:
         "describe", help="any descriptor of a saved view (PVHK by default)", description=cmd_describe.__doc__
     )
     desc.add_argument("view", type=Path, help=".npz view written by 'heatdata render'")
-    desc.add_argument("--samples", type=int, help="boundary samples (default 64); 0: one per boundary vertex")
+    desc.add_argument(
+        "--samples",
+        type=number(0, high=MAX_BOUNDARY_SAMPLES, whole=True),
+        help=f"boundary samples (default 64, at most {MAX_BOUNDARY_SAMPLES}); 0: one per boundary vertex",
+    )
     desc.add_argument("--source", help="closest (default), center, interior or a vertex index")
     desc.add_argument("--sampling", choices=["arclength", "polar"], help="boundary sampling (default arclength)")
     desc.add_argument("--color-map", default=None, help=f"c1, c2, c3, c4, hue or sat-hue: compute a {COLOR_KIND}")
@@ -425,7 +434,7 @@ def build_parser() -> argparse.ArgumentParser:
     cls.add_argument("--descriptor", help="descriptor name (default: every one in the table)")
     cls.add_argument(
         "--library-size",
-        type=number(1, whole=True),
+        type=number(1, high=MAX_VIEWS, whole=True),
         action="append",
         metavar="N",
         help="library views per object, evenly spaced in azimuth among the train views "
@@ -494,7 +503,8 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:  # the system refused a file operation: its own message names the file
         log.error("%s", exc)
         return 1
-    except KeyboardInterrupt:  # outputs are written atomically: none is left half written
-        log.error("interrupted; no output was left half written")
-        return 130
+    except KeyboardInterrupt as exc:  # outputs are written atomically: none is left half written
+        terminated = isinstance(exc, Terminated)
+        log.error("%s; no output was left half written", "terminated" if terminated else "interrupted")
+        return 143 if terminated else 130
     return 0

@@ -3,11 +3,48 @@
 from __future__ import annotations
 
 import argparse
+import json
 from pathlib import Path
 
 import numpy as np
 
 from heatdata.views.depth import MAX_DEPTH_JUMP
+
+#: the most boundary samples a descriptor takes (a flat 1920 x 1080 view's boundary has 6,000 vertices)
+MAX_BOUNDARY_SAMPLES = 4096
+#: the most views per object a command renders (one every 0.1 degree)
+MAX_VIEWS = 3600
+
+
+def _plain(value):
+    """``value`` in JSON's own types: NaN and infinities as null, numpy's numbers as Python's."""
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not np.isfinite(value):
+        return None
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 2**53:
+        return float(value) if abs(value) < 1e308 else None  # JSON readers hold 53-bit integers
+    return value
+
+
+def dump_json(value) -> str:
+    """Strict JSON of a command's answer for programs: no NaN or Infinity (null instead), no integer a reader
+    cannot hold.
+
+    Parameters
+    ----------
+    value : dict
+        The answer.
+
+    Returns
+    -------
+    str
+    """
+    return json.dumps(_plain(value), allow_nan=False)
 
 
 def number(low: float | None = None, *, high: float | None = None, positive: bool = False, whole: bool = False):
@@ -21,9 +58,12 @@ def number(low: float | None = None, *, high: float | None = None, positive: boo
             raise argparse.ArgumentTypeError(f"{text!r} is not a {'whole ' if whole else ''}number") from None
         too_high = high is not None and value > high
         if not np.isfinite(value) or (positive and value <= 0) or (low is not None and value < low) or too_high:
-            need = "a positive number" if positive else "a finite number" if low is None else f"a number >= {low:g}"
+            shown = (lambda v: f"{v:.0f}") if whole else (lambda v: f"{v:g}")
+            need = (
+                "a positive number" if positive else "a finite number" if low is None else f"a number >= {shown(low)}"
+            )
             if high is not None:
-                need = f"a number in [{low:g}, {high:g}]" if low is not None else f"a number <= {high:g}"
+                need = f"a number in [{shown(low)}, {shown(high)}]" if low is not None else f"a number <= {shown(high)}"
             raise argparse.ArgumentTypeError(f"{text!r}: need {need}")
         return value
 

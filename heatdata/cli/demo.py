@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from heatdata.cli.arguments import number
+from heatdata.cli.arguments import MAX_VIEWS, number
 from heatdata.descriptors import COLOR_KIND, DescriptorSpec, file_name
 from heatdata.errors import HeatdataError
 from heatdata.io.files import atomic, check_folder, check_output
@@ -119,8 +119,12 @@ def add_demo(sub) -> None:
     demo.add_argument("--catalog", type=Path, help="catalogue CSV (default: the embedded models)")
     demo.add_argument("--objects", help="comma-separated object ids (default: all in the catalogue)")
     demo.add_argument("--out", default="results/demo", help="output folder (default: results/demo)")
-    demo.add_argument("--train", type=number(1, whole=True), default=40, help="library views per object (default 40)")
-    demo.add_argument("--test", type=number(1, whole=True), default=120, help="test views per object (default 120)")
+    demo.add_argument(
+        "--train", type=number(1, high=MAX_VIEWS, whole=True), default=40, help="library views per object (default 40)"
+    )
+    demo.add_argument(
+        "--test", type=number(1, high=MAX_VIEWS, whole=True), default=120, help="test views per object (default 120)"
+    )
     demo.add_argument("--elevation", type=number(), default=30.0, help="view elevation, degrees (default 30)")
     demo.add_argument("--distance", type=number(positive=True), default=1.0, help="camera distance, metres (default 1)")
     demo.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")

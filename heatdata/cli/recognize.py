@@ -3,15 +3,16 @@
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from heatdata.cli.arguments import frame_arguments, number
+from heatdata.cli.arguments import dump_json, frame_arguments, number
 from heatdata.errors import HeatdataError
 from heatdata.io.files import check_output, require_file
+from heatdata.log import printable
+from heatdata.recognition.multiview.filters import MAX_PARTICLES
 
 
 def _frames(args: argparse.Namespace) -> list[dict]:
@@ -112,13 +113,19 @@ def _view_image(view) -> np.ndarray:
     return image
 
 
+def say(line: str) -> None:
+    """Print one line of the terminal's answer, its control characters escaped (:func:`heatdata.log.printable`):
+    the names in it come from files."""
+    print(printable(line))
+
+
 def _print_scene(frame: dict, answer, library) -> None:
     """The terminal's answer for one frame: a row per object, then what the frame and each object showed."""
     found = len(answer.detections)
     where = " on the support plane" if answer.plane is not None else ""
-    print(f"{frame['depth']}: {found} object{'s' if found != 1 else ''}{where}; {library!r}")
+    say(f"{frame['depth']}: {found} object{'s' if found != 1 else ''}{where}; {library!r}")
     if not found:
-        print(f"no object found ({answer.repairs[-1] if answer.repairs else 'nothing in the frame'})")
+        say(f"no object found ({answer.repairs[-1] if answer.repairs else 'nothing in the frame'})")
         return
     rows = []
     for rank, d in enumerate(answer.detections, 1):
@@ -127,8 +134,8 @@ def _print_scene(frame: dict, answer, library) -> None:
         rows.append(
             [
                 rank,
-                d.object or "unknown",
-                d.label or "",
+                printable(d.object or "unknown"),
+                printable(d.label or ""),
                 "" if np.isnan(d.confidence) else f"{d.confidence:.2f}",
                 "" if best is None else f"{best.distance:.4g}",
                 "" if best is None else f"{best.azimuth:.0f}",
@@ -147,14 +154,14 @@ def _print_scene(frame: dict, answer, library) -> None:
     print(pd.DataFrame(rows, columns=columns).to_string(index=False))
     for rank, d in enumerate(answer.detections, 1):
         if d.recognition is not None and d.object is None:
-            print(f"  {rank}: {_unknown(d.recognition)}")
+            say(f"  {rank}: {_unknown(d.recognition)}")
         if d.pose is not None and d.object is not None:
             matrix = "; ".join(" ".join(f"{x:+.4f}" for x in row) for row in d.pose.matrix[:3])
-            print(f"  {rank}: pose of the {d.pose.object} (model to camera, rows of [R | t]): [{matrix}]")
+            say(f"  {rank}: pose of the {d.pose.object} (model to camera, rows of [R | t]): [{matrix}]")
         for note in d.notes:
-            print(f"  {rank}: {note}")
+            say(f"  {rank}: {note}")
     for note in answer.repairs:
-        print(f"  frame: {note}")
+        say(f"  frame: {note}")
 
 
 def _unknown(answer) -> str:
@@ -198,7 +205,7 @@ def cmd_recognize(args: argparse.Namespace) -> None:
 
             save_overlay(args.overlay, image, detection_marks(answer.detections, library.surfaces, intrinsics))
         if args.json:
-            print(json.dumps({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
+            print(dump_json({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
             return
         _print_scene(frames[0], answer, library)
         return
@@ -209,22 +216,22 @@ def cmd_recognize(args: argparse.Namespace) -> None:
         views, args.moves or [0.0], exact=args.exact, particles=args.particles, seed=args.seed, threshold=args.threshold
     )
     if args.json:
-        print(json.dumps({"library": str(args.library), "exact": args.exact, "steps": [s.to_dict() for s in steps]}))
+        print(dump_json({"library": str(args.library), "exact": args.exact, "steps": [s.to_dict() for s in steps]}))
         return
-    print(f"{len(views)} frames; {library!r}; {'exhaustive filter' if args.exact else f'{args.particles} particles'}")
+    say(f"{len(views)} frames; {library!r}; {'exhaustive filter' if args.exact else f'{args.particles} particles'}")
     for step, frame in zip(steps, frames, strict=True):
         top = sorted(step.posterior.items(), key=lambda item: -item[1])[: args.k]
         belief = ", ".join(f"{obj} {p:.2f}" for obj, p in top)
         if step.unknown > 0:
             belief += f"; none of them {step.unknown:.2f}"
         state = "converged" if step.converged else "not converged"
-        print(f"frame {step.frame + 1} ({frame['name']}, moved {step.move:g} deg): {belief} ({state})")
+        say(f"frame {step.frame + 1} ({frame['name']}, moved {step.move:g} deg): {belief} ({state})")
     last = steps[-1]
     if last.estimate is None:
         said = f"an object the library lacks ({last.unknown:.0%})"
     else:
         said = f"{last.estimate} ({last.posterior[last.estimate]:.0%})"
-    print(f"{'converged on' if last.converged else 'not converged; most probable:'} {said} after {len(steps)} frames")
+    say(f"{'converged on' if last.converged else 'not converged; most probable:'} {said} after {len(steps)} frames")
 
 
 def add_recognize(sub) -> None:
@@ -244,7 +251,9 @@ def add_recognize(sub) -> None:
     )
     rec.add_argument("--library", type=Path, required=True, help="a library file (results/libraries/*.parquet)")
     frame_arguments(rec)
-    rec.add_argument("-k", type=number(1, whole=True), default=5, help="nearest objects to keep per object (default 5)")
+    rec.add_argument(
+        "-k", type=number(1, high=1000, whole=True), default=5, help="nearest objects to keep per object (default 5)"
+    )
     rec.add_argument("--json", action="store_true", help="print JSON for programs")
     rec.add_argument(
         "--threshold",
@@ -271,6 +280,11 @@ def add_recognize(sub) -> None:
         help="degrees the sensor turned between frames: one per gap, or one for all (a sequence)",
     )
     rec.add_argument("--exact", action="store_true", help="a sequence by the exhaustive filter, not particles")
-    rec.add_argument("--particles", type=number(1, whole=True), default=100, help="particles (default 100)")
+    rec.add_argument(
+        "--particles",
+        type=number(1, high=MAX_PARTICLES, whole=True),
+        default=100,
+        help=f"particles (default 100, at most {MAX_PARTICLES:,})",
+    )
     rec.add_argument("--seed", type=number(0, whole=True), default=0, help="the particle filter's seed (default 0)")
     rec.set_defaults(func=cmd_recognize)

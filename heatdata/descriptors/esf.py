@@ -158,7 +158,7 @@ class ESF(HistogramKind):
     summary = "Ensemble of Shape Functions (PCL's algorithm, re-implemented; thesis 3.6.1)"
     bins = 10 * BINS
     options = (
-        Option("triplets", 20000, "random point triplets (PCL: 20,000)", integer(100)),
+        Option("triplets", 20000, "random point triplets (PCL: 20,000)", integer(100, 10**7)),
         Option("seed", 0, "seed of the random triplets", integer(0)),
     )
 

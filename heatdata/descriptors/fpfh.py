@@ -22,7 +22,7 @@ class FPFH(HistogramKind):
     bins = 33
     options = (
         Option("radius", 0.015, "neighbourhood radius, metres", number(0.0, 1.0)),
-        Option("max_nn", 100, "at most this many neighbours", integer(3)),
+        Option("max_nn", 100, "at most this many neighbours", integer(3, 10000)),
     )
 
     def compute(self, work, spec: DescriptorSpec, **context):

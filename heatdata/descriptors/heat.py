@@ -80,7 +80,7 @@ SAMPLES = Option(
     "samples",
     64,
     "boundary samples M (None: one value per boundary vertex)",
-    integer(2, allow_none=True),
+    integer(2, 4096, allow_none=True),
     none_is_default=False,
 )
 SOURCE = Option(

@@ -155,6 +155,84 @@ def run_catalog(config: dict[str, Any]) -> pd.DataFrame:
     return table.set_index("object", drop=False)
 
 
+def run_inputs(config: dict[str, Any], catalog: pd.DataFrame) -> list[tuple[str, str]]:
+    """Every file and folder the run reads, each with the config key that names it.
+
+    Parameters
+    ----------
+    config : dict
+        The validated config.
+    catalog : pandas.DataFrame
+        The run's catalogue rows (:func:`run_catalog`): their model files are inputs, unless the run extracts them
+        from ``sh3f.files`` into its results.
+
+    Returns
+    -------
+    list of (str, str)
+        ``(key, path)`` pairs.
+    """
+    if config["sh3f"]["files"]:
+        inputs = [("sh3f.files", f) for f in config["sh3f"]["files"]]
+    elif config["models_dir"]:
+        inputs = [("models_dir", config["models_dir"])]
+    else:
+        inputs = [("catalog", config["catalog"])]
+        inputs += [(f"the catalogue's model of {obj}", path) for obj, path in catalog["path"].items()]
+    inputs += [
+        (f"stitch.pairs[{k}].{key}", pair[key])
+        for k, pair in enumerate(config["stitch"]["pairs"])
+        for key in ("first", "second")
+    ]
+    for key, value in (
+        ("captures.dir", config["captures"]["dir"]),
+        ("people.reallusion", config["people"]["reallusion"]),
+        ("ablation", config["ablation"]),
+    ):
+        if value:
+            inputs.append((key, value))
+    return inputs
+
+
+def check_results(config: dict[str, Any], catalog: pd.DataFrame) -> None:
+    """The config's ``results`` is a folder of the run's own: no output the run plans (all lie under it) can
+    overwrite one of its inputs.
+
+    Parameters
+    ----------
+    config : dict
+        The validated config.
+    catalog : pandas.DataFrame
+        The run's catalogue rows (:func:`run_catalog`).
+
+    Raises
+    ------
+    ConfigError
+        ``results`` is empty, the filesystem's root, the working folder or one above it, a file, a folder holding
+        one of :func:`run_inputs`, or a folder inside an input folder.
+    """
+    given = config["results"]
+    if not given.strip():
+        raise ConfigError("results: give the folder for the run's outputs (it is empty)")
+    folder = Path(given).resolve()
+    here = Path.cwd().resolve()
+    if folder == here or folder in here.parents:
+        raise ConfigError(
+            f"results: {given} is {'the working folder' if folder == here else 'a folder above the working one'}: "
+            "give the outputs a folder of their own (results/...)"
+        )
+    if folder.exists() and not folder.is_dir():
+        raise ConfigError(f"results: {given} is a file, not a folder")
+    for key, path in run_inputs(config, catalog):
+        read = Path(path).resolve()
+        if read == folder or folder in read.parents:
+            raise ConfigError(
+                f"results: {given} holds {key} ({path}), which the run reads: its outputs could overwrite it; "
+                "give the outputs another folder"
+            )
+        if read.is_dir() and read in folder.parents:
+            raise ConfigError(f"results: {given} lies inside {key} ({path}), which the run reads: give another folder")
+
+
 def checked_spec(d: dict[str, Any], where: str) -> DescriptorSpec:
     """A config's descriptor checked against its kind: its options, and that this machine can compute it.
 

@@ -246,8 +246,22 @@ def _drop_oversized_images(scene: trimesh.Scene) -> list[str]:
     return notes
 
 
+#: an OBJ face's index 0 (OBJ counts from 1): a token ``0`` of a face line, alone or between slashes
+OBJ_ZERO_INDEX = re.compile(rb"(?m)^[ \t]*f[ \t][^\n]*?(?<![\w.+-])0(?![\w.])")
+
+
+def _check_obj_indices(path: Path) -> None:
+    """Refuse an OBJ with a face index 0, which trimesh would read as the last vertex (OBJ counts from 1)."""
+    found = OBJ_ZERO_INDEX.search(path.read_bytes())
+    if found:
+        line = found.string.count(b"\n", 0, found.start()) + 1
+        raise ModelError(f"{path}: line {line}: a face index 0 (OBJ counts vertices from 1)")
+
+
 def _read_scene(path: Path) -> tuple[trimesh.Scene, list[str]]:
     """The file's scene and what its resolver refused or missed (MTL, textures)."""
+    if path.suffix.lower() == ".obj":
+        _check_obj_indices(path)
     resolver = _FolderResolver(path)
     try:
         loaded = trimesh.load(str(path), force="scene", process=False, resolver=resolver)
@@ -587,17 +601,31 @@ def transformed(model: Model, rotation: np.ndarray, translation: np.ndarray) -> 
     return replace(model, vertices=model.vertices @ np.asarray(rotation).T + np.asarray(translation))
 
 
+#: the largest translation a motion may give (in the files' units): a kilometre in millimetres; far beyond it the
+#: moved mesh's coordinates lose the precision of its vertices
+MAX_TRANSLATION = 1e6
+
+
 def rigid_motion(motion) -> np.ndarray:
-    """``motion`` as a (4, 4) float64 rigid transform, or a :class:`StitchError`: a rotation (no reflection), a
-    translation, last row 0 0 0 1."""
-    m = np.asarray(motion, np.float64)
-    if (
-        m.shape != (4, 4)
-        or not np.allclose(m[:3, :3] @ m[:3, :3].T, np.eye(3), atol=1e-6)
-        or np.linalg.det(m[:3, :3]) < 0
-        or not np.allclose(m[3], [0.0, 0.0, 0.0, 1.0])
-    ):
+    """``motion`` as a (4, 4) float64 rigid transform, or a :class:`StitchError` saying what it is not: a rotation
+    (no reflection), a translation of at most :data:`MAX_TRANSLATION`, last row 0 0 0 1."""
+    need = "a 4x4 rigid transform (a rotation, no reflection, last row 0 0 0 1)"
+    try:
+        m = np.asarray(motion, np.float64)
+    except (TypeError, ValueError, OverflowError):
+        raise StitchError(f"motion must be {need}, not numbers") from None
+    if m.shape != (4, 4):
+        raise StitchError(f"motion must be {need}, got shape {m.shape}")
+    if not np.all(np.isfinite(m)):
+        raise StitchError(f"motion must be {need} of finite numbers, got {np.sum(~np.isfinite(m))} NaN or infinite")
+    if np.abs(m[:3, 3]).max() > MAX_TRANSLATION:
         raise StitchError(
-            f"motion must be a 4x4 rigid transform (a rotation, no reflection, last row 0 0 0 1), got shape {m.shape}"
+            f"motion's translation {np.abs(m[:3, 3]).max():.3g} is beyond {MAX_TRANSLATION:g} (the files' units): "
+            "the meshes would lose their precision"
         )
+    rotation = m[:3, :3]
+    if not np.allclose(rotation @ rotation.T, np.eye(3), atol=1e-6) or np.linalg.det(rotation) < 0:
+        raise StitchError(f"motion must be {need}: its 3x3 part is not a rotation")
+    if not np.allclose(m[3], [0.0, 0.0, 0.0, 1.0]):
+        raise StitchError(f"motion must be {need}: its last row is {m[3].tolist()}")
     return m

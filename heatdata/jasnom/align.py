@@ -21,7 +21,7 @@ from heatdata.jasnom.cost import (
     _Weights,
     _weights,
 )
-from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA
+from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, MAX_SAMPLES, MIN_SAMPLES
 
 log = logging.getLogger(__name__)
 
@@ -114,6 +114,13 @@ def _differs(
     return angle > degrees or float(np.linalg.norm(a[0] @ centre + a[1] - b[0] @ centre - b[1])) > fraction * size
 
 
+def checked_samples(samples: int) -> int:
+    """``samples`` if it is a whole number in [:data:`MIN_SAMPLES`, :data:`MAX_SAMPLES`], else a StitchError."""
+    if not (MIN_SAMPLES <= samples <= MAX_SAMPLES and int(samples) == samples):
+        raise StitchError(f"samples must be a whole number in [{MIN_SAMPLES}, {MAX_SAMPLES}], got {samples}")
+    return int(samples)
+
+
 def align(
     first: Boundary | list[Boundary],
     second: Boundary | list[Boundary],
@@ -166,9 +173,10 @@ def align(
     Raises
     ------
     StitchError
-        A boundary of fewer than :data:`MIN_BOUNDARY` vertices, or a weight that is not a
-        finite number in range.
+        A boundary of fewer than :data:`MIN_BOUNDARY` vertices, a weight that is not a
+        finite number in range, or ``samples`` outside [MIN_SAMPLES, MAX_SAMPLES].
     """
+    checked_samples(samples)
     first, second = _as_loops(first), _as_loops(second)
     for b in (first[0], second[0]):
         if len(b.loop) < MIN_BOUNDARY:

@@ -12,3 +12,6 @@ ALONG = 1.0
 #: ``along`` and ``robust`` for two depth scans (``stitch(..., scans=True)``): a band of unseen surface lies between
 #: them, along the seam's continuation, and parts of either boundary (self-occlusions) have no partner
 SCAN_ALONG, SCAN_ROBUST = 0.1, 0.05
+#: the fewest and most boundary samples of the alignment: 4,096 peaked at 2.03 GB in 140 s (two halves of a sphere,
+#: ``heatdata stitch --samples 4096``), so the most is half that
+MIN_SAMPLES, MAX_SAMPLES = 8, 2048

@@ -11,7 +11,7 @@ from scipy.spatial import cKDTree
 
 from heatdata.errors import StitchError
 from heatdata.io.models import Model, reversed_faces, rigid_motion, transformed, vertex_colors
-from heatdata.jasnom.align import Alignment, align, alignment_at
+from heatdata.jasnom.align import Alignment, align, alignment_at, checked_samples
 from heatdata.jasnom.boundary import (
     Boundary,
     _longest,
@@ -238,6 +238,7 @@ def stitch(
         As :func:`boundary` and :func:`align` (no pose where the meshes face each other);
         the same mesh twice.
     """
+    checked_samples(samples)
     if (
         first.vertices.shape == second.vertices.shape
         and first.faces.shape == second.faces.shape

@@ -288,13 +288,14 @@ def checked_rgb(rgb: np.ndarray, shape: tuple[int, int], name: str) -> np.ndarra
 
 
 def read_intrinsics(path) -> dict:
-    """Intrinsics from a JSON or YAML file with ``fx, fy, cx, cy, width, height``."""
+    """Intrinsics from a JSON (``.json``, read as JSON) or YAML file with ``fx, fy, cx, cy, width, height``."""
     path = require_file(path, "intrinsics file", ViewError)
     if path.stat().st_size > 1 << 20:
         raise ViewError(f"{path}: {path.stat().st_size >> 20} MB is not an intrinsics file (six numbers)")
     try:
-        data = yaml.safe_load(path.read_text())  # JSON is YAML
-    except (OSError, ValueError, yaml.YAMLError) as error:
+        text = path.read_text()
+        data = json.loads(text) if path.suffix.lower() == ".json" else yaml.safe_load(text)  # YAML reads 5.8e2 as text
+    except (OSError, ValueError, RecursionError, yaml.YAMLError) as error:
         raise ViewError(f"{path}: cannot read the intrinsics ({error})") from error
     if not isinstance(data, dict):
         raise ViewError(f"{path}: the intrinsics must be a mapping of {', '.join(INTRINSIC_KEYS)}")
@@ -482,9 +483,14 @@ def read_image(path: StrPath, what: str, mode: str) -> np.ndarray:
                     f"{MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel"
                 )
             if mode == "depth":
+                if image.format != "PNG":  # a 32-bit TIFF renamed .png read as millimetres gives kilometres
+                    raise ViewError(f"{path}: a depth image ending in .png must be a PNG, this is {image.format}")
                 if image.mode not in DEPTH_MODES:
                     raise ViewError(f"{path}: a depth PNG must be 16-bit (millimetres), got mode {image.mode}")
-                return np.asarray(image, dtype=np.float64)
+                depth = np.asarray(image, dtype=np.float64)
+                if depth.size and (depth.min() < 0 or depth.max() > 65535):
+                    raise ViewError(f"{path}: a depth PNG holds 16-bit millimetres, got values up to {depth.max():g}")
+                return depth
             return np.asarray(image.convert(mode))
     except (OSError, ValueError, SyntaxError, Image.DecompressionBombError) as error:  # Pillow's errors
         raise ViewError(f"{path}: cannot read the {what} ({error})") from None

@@ -31,6 +31,7 @@ def checked(config: dict) -> None:
     """Every check of common.smk, in its order."""
     specs = checks.descriptor_specs(config)
     catalog = checks.run_catalog(config)
+    checks.check_results(config, catalog)
     if config["stitch"]["pairs"]:
         catalog = checks.stitched_objects(config, catalog)
     checks.check_stages(config, catalog.index.tolist(), specs)
@@ -88,6 +89,63 @@ def test_a_bad_run_is_one_config_error_naming_its_key(overrides, message):
     with pytest.raises(ConfigError) as caught:
         checked(tiny(**overrides))
     assert message in str(caught.value) and "\n" not in str(caught.value)
+
+
+MODELS = ROOT / "data" / "models"
+
+
+@pytest.mark.parametrize(
+    "overrides, message",
+    [
+        # results: data/models rewrote the input catalogue (15 objects became 3) with exit status 0
+        ({"results": str(MODELS)}, f"results: {MODELS} holds catalog ({MODELS / 'catalog.csv'}), which the run reads"),
+        ({"results": str(ROOT / "data")}, "holds catalog"),
+        ({"results": str(MODELS / "beer-mug")}, "holds the catalogue's model of beer-mug"),
+        ({"results": ""}, "results: give the folder for the run's outputs (it is empty)"),
+        ({"results": " "}, "it is empty"),
+        ({"results": "/"}, "results: / is a folder above the working one"),
+        ({"results": str(ROOT / "README.md")}, "README.md is a file, not a folder"),
+        ({"models_dir": str(MODELS), "objects": [], "results": str(MODELS / "out")}, "lies inside models_dir"),
+        (
+            {"captures": {"dir": str(ROOT / "tests")}, "results": str(ROOT / "tests" / "out")},
+            "lies inside captures.dir",
+        ),
+    ],
+)
+def test_the_results_folder_never_holds_an_input(overrides, message, monkeypatch):
+    monkeypatch.chdir(ROOT)
+    config = tiny(**overrides)
+    with pytest.raises(ConfigError) as caught:
+        checks.check_results(config, checks.run_catalog(config))
+    assert message in str(caught.value) and "\n" not in str(caught.value)
+    monkeypatch.chdir(ROOT / "docs")
+    with pytest.raises(ConfigError, match="results: . is the working folder"):
+        checks.check_results(tiny(results="."), checks.run_catalog(tiny()))
+    checks.check_results(tiny(results="results/run"), checks.run_catalog(tiny()))
+
+
+@pytest.mark.parametrize(
+    "overrides, key",
+    [
+        ({"views": {"train": 10**9}}, "views.train"),
+        ({"views": {"test": 10**12}}, "views.test"),
+        ({"stitch": {"samples": 10**9}}, "stitch.samples"),
+        ({"multiview": {"particles": [10**9]}}, "multiview.particles.0"),
+        ({"library_sizes": [10**6]}, "library_sizes.0"),
+    ],
+)
+def test_counts_beyond_what_the_machine_holds_are_refused_by_the_schema(overrides, key):
+    """views.train: 1e9, views.test: 1e12 and samples: 1e9 passed the check; the render job died with SystemError."""
+    from jsonschema import ValidationError
+
+    with pytest.raises(Exception) as caught:
+        tiny(**overrides)
+    cause = caught.value.__cause__ or caught.value.__context__
+    while cause is not None and not isinstance(cause, ValidationError):
+        cause = cause.__cause__ or cause.__context__
+    assert ".".join(map(str, cause.absolute_path)) == key and "is greater than the maximum" in cause.message
+    with pytest.raises(ConfigError, match=r"descriptors\[0\]: pvhk: option samples must be in 2..4096"):
+        checks.descriptor_specs(tiny(descriptors=[{"kind": "pvhk", "samples": 10**9}]))
 
 
 def test_the_default_config_passes_and_names_its_objects():

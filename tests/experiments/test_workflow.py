@@ -516,6 +516,8 @@ def test_report_is_self_contained_html(tiny_run):
         ),
         ({"stitch": {"pairs": [{"object": "x", "first": "a.ply"}]}}, "'second' is a required property"),
         ({"captures": {"dir": "/no/captures"}}, "captures.dir: /no/captures: no such folder of captures"),
+        # snakemake data/models/catalog.csv with results: data/models rewrote the input catalogue, exit status 0
+        ({"results": str(ROOT / "data/models")}, "config error: results: "),
         (
             {"stitch": {"pairs": [{"object": "x", "first": "a.ply", "second": "b.ply", "motion": [[1, 0, 0]]}]}},
             "motion",

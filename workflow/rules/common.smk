@@ -7,9 +7,9 @@ import pandas as pd
 import heatdata
 from heatdata.descriptors import file_name
 from heatdata.errors import ConfigError
-from heatdata.experiments.config import (CONFUSION_PATTERN, check_numbers, check_stages, descriptor_specs,
-                                         multiview_descriptor, run_captures, run_catalog, run_scenes,
-                                         stitched_objects)
+from heatdata.experiments.config import (CONFUSION_PATTERN, check_numbers, check_results, check_stages,
+                                         descriptor_specs, multiview_descriptor, run_captures, run_catalog,
+                                         run_scenes, stitched_objects)
 from heatdata.io.catalog import catalog_sizes
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
@@ -21,6 +21,7 @@ try:
     check_numbers(config)
     SPECS = descriptor_specs(config)
     CATALOG = run_catalog(config)
+    check_results(config, CATALOG)  # every output lies under results: none may overwrite an input
     for row in CATALOG.drop(columns="path").to_dict("records"):  # every row, before any job
         try:
             validate(row, "../schemas/catalog.schema.yaml")

@@ -21,6 +21,9 @@ from heatdata.recognition.multiview.appearance import (
 
 log = logging.getLogger(__name__)
 
+#: the most particles a filter draws: a million (hypotheses of object and azimuth) fit in well under 1 GB
+MAX_PARTICLES = 1_000_000
+
 
 def stochastic_universal_sampling(weights: np.ndarray, count: int, rng: np.random.Generator) -> np.ndarray:
     """``count`` indices drawn in proportion to ``weights`` with one random offset (Baker 1987)."""
@@ -216,8 +219,8 @@ class ParticleFilter(HypothesisFilter):
         alpha: float | None = None,
         seed: int = 0,
     ):
-        if particles < 1 or int(particles) != particles:
-            raise HeatdataError(f"particles must be a whole number >= 1, got {particles}")
+        if not (1 <= particles <= MAX_PARTICLES and int(particles) == particles):
+            raise HeatdataError(f"particles must be a whole number in [1, {MAX_PARTICLES:,}], got {particles}")
         if bootstrap not in ("similarity", "angular"):
             raise HeatdataError(
                 f"bootstrap is 'similarity' (4.4.6) or 'angular' (the baseline of 4.5), got {bootstrap!r}"
