@@ -6,6 +6,7 @@ import logging
 import re
 import signal
 import sys
+import threading
 from collections.abc import Iterable
 
 from tqdm import tqdm
@@ -81,9 +82,11 @@ def terminate_as_interrupt() -> None:
     ``KeyboardInterrupt``, in the main thread.
 
     The default SIGTERM ends the process at once, leaving the temporary file of a write under way; raised, it
-    passes through :func:`heatdata.io.files.atomic`, which removes it.
+    passes through :func:`heatdata.io.files.atomic`, which removes it. Outside the main thread (where Python takes no
+    signal handler) nothing changes.
     """
-    signal.signal(signal.SIGTERM, _raise_terminated)
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _raise_terminated)
 
 
 def progress(items: Iterable, *, total: int | None = None, desc: str, unit: str) -> Iterable:

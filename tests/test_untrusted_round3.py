@@ -151,6 +151,8 @@ def npz_claiming(path: Path, shapes: dict[str, tuple[int, ...]]) -> None:
         ({"faces": (3 * MAX_VIEW_VERTICES, 3)}, "its faces hold"),
         ({"repairs": (10**9,)}, "its repairs hold"),
         ({"vertices": (MAX_VIEW_VERTICES + 1, 3)}, "at most 2,097,152 vertices"),
+        # a flat full-HD frame's view is not refused for its size (its arrays are absent here, so it is unreadable)
+        ({"vertices": (1920 * 1080, 3), "faces": (4_141_202, 3)}, "not a readable heatdata view"),
     ],
 )
 def test_a_saved_view_too_large_is_refused_from_its_headers(tmp_path, shapes, needle):

@@ -1,7 +1,7 @@
 """The ``heatdata`` command.
 
 Exit codes: 0 success; 1 bad input (a heatdata error, its message names the file or
-view); 2 wrong command-line usage; 130 interrupted (Ctrl-C).
+view); 2 wrong command-line usage; 130 interrupted (Ctrl-C); 143 terminated (SIGTERM).
 """
 
 from __future__ import annotations

@@ -103,7 +103,7 @@ def read_cloud_grid(path: StrPath, *, scale: float = 1.0) -> tuple[np.ndarray, n
     return points, colors, fit_intrinsics(points)
 
 
-MAX_CLOUD_BYTES = 256 * 2**20  # 16 bytes a point (x y z rgb floats) of a full MAX_IMAGE_PIXELS grid
+MAX_CLOUD_BYTES = 256 * 2**20  # an ASCII cloud of a full MAX_IMAGE_PIXELS grid (about 60 bytes a point), with room
 
 PCD_TYPES = {
     ("F", 4): "<f4",

@@ -150,10 +150,15 @@ def kinect_intrinsics(image_scale: float = 1.0) -> dict:
 NPY_HEADERS = {(1, 0): np.lib.format.read_array_header_1_0, (2, 0): np.lib.format.read_array_header_2_0}
 
 
+#: the largest array of a saved view, in bytes, by name (another array: :data:`MAX_OTHER_BYTES`)
+MAX_ARRAY_BYTES = {"vertices": MAX_VIEW_VERTICES * 3 * 8, "colors": MAX_VIEW_VERTICES * 3 * 8}
+MAX_ARRAY_BYTES["faces"] = 2 * MAX_ARRAY_BYTES["vertices"]
+MAX_OTHER_BYTES = 2**20  # a pose, the angles, the identifiers, the intrinsics' and repairs' JSON
+
+
 def _check_array_sizes(path: StrPath) -> None:
     """Refuse a ``.npz`` view whose arrays would not fit: each array's header is read, not its data (a compressed
     archive of 1 MB can hold 50 million vertices)."""
-    limits = {"vertices": MAX_VIEW_VERTICES, "colors": MAX_VIEW_VERTICES, "faces": 2 * MAX_VIEW_VERTICES}
     try:
         with zipfile.ZipFile(path) as archive:
             for member in archive.infolist():
@@ -162,12 +167,13 @@ def _check_array_sizes(path: StrPath) -> None:
                     version = np.lib.format.read_magic(file)
                     if version not in NPY_HEADERS:
                         raise ValueError(f"npy format {version}")
-                    shape, _, _ = NPY_HEADERS[version](file)
-                rows = shape[0] if shape else 1
-                if rows > limits.get(key, MAX_VIEW_VERTICES) or int(np.prod(shape)) > 4 * MAX_VIEW_VERTICES:
+                    shape, _, dtype = NPY_HEADERS[version](file)
+                size = int(np.prod(shape, dtype=object)) * dtype.itemsize
+                if size > MAX_ARRAY_BYTES.get(key, MAX_OTHER_BYTES):
                     raise ViewError(
-                        f"{path}: its {key} hold {rows:,} rows; a view holds at most {MAX_VIEW_VERTICES:,} vertices "
-                        f"(one per pixel of a {MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel image)"
+                        f"{path}: its {key} hold {shape[0] if shape else 1:,} rows ({size / 2**20:,.0f} MB); a view "
+                        f"holds at most {MAX_VIEW_VERTICES:,} vertices (one per pixel of a "
+                        f"{MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel image)"
                     )
     except ViewError:
         raise
