@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import multiprocessing
 import re
 import signal
 import sys
@@ -83,9 +84,10 @@ def terminate_as_interrupt() -> None:
 
     The default SIGTERM ends the process at once, leaving the temporary file of a write under way; raised, it
     passes through :func:`heatdata.io.files.atomic`, which removes it. Outside the main thread (where Python takes no
-    signal handler) nothing changes.
+    signal handler) and in a worker of a multiprocessing pool (which its pool ends with SIGTERM, and which would
+    then hang) nothing changes.
     """
-    if threading.current_thread() is threading.main_thread():
+    if threading.current_thread() is threading.main_thread() and multiprocessing.parent_process() is None:
         signal.signal(signal.SIGTERM, _raise_terminated)
 
 

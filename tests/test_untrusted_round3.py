@@ -70,6 +70,22 @@ def test_sigterm_while_writing_leaves_no_temporary_file(tmp_path, depth_frame):
     assert list(out.iterdir()) == []
 
 
+def _handler_after_setup() -> bool:
+    from heatdata.log import setup_logging
+
+    setup_logging()
+    return signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+
+
+def test_a_pool_worker_keeps_the_default_sigterm(sigterm):
+    """A pool ends its workers with SIGTERM: a worker that raised on it instead (the demo's, which sets up logging)
+    hung the pool's exit."""
+    from multiprocessing import get_context
+
+    with get_context("spawn").Pool(1) as pool:
+        assert pool.apply(_handler_after_setup)
+
+
 def test_folder_readers_skip_hidden_and_partial_files(tmp_path, depth_frame):
     """``recognize FOLDER --moves`` used to read an interrupted write's ``.v.<hash>.part.npz`` as a frame."""
     depth, intrinsics = depth_frame
