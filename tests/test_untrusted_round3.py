@@ -107,9 +107,9 @@ def test_two_writers_of_the_same_outputs_leave_one_of_their_sets(tmp_path, depth
     """Two ``view-from-depth`` runs 3 s apart used to leave a v.npz of 1,669 vertices beside a v.ply of 1,048,576."""
     depth, intrinsics = depth_frame
     big = tmp_path / "big.png"
-    Image.fromarray(np.full((480, 640), 900, np.uint16)).save(big)
+    Image.fromarray(np.full((240, 320), 900, np.uint16)).save(big)
     k = json.loads(intrinsics.read_text())
-    (tmp_path / "big.json").write_text(json.dumps({**k, "width": 640, "height": 480}))
+    (tmp_path / "big.json").write_text(json.dumps({**k, "width": 320, "height": 240}))
     outs = ["-o", str(tmp_path / "v.npz"), "-o", str(tmp_path / "v.ply")]
     first = subprocess.Popen(
         [*HEATDATA, "view-from-depth", str(big), "--intrinsics", str(tmp_path / "big.json"), *outs]
