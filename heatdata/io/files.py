@@ -193,7 +193,8 @@ def atomic(path: StrPath) -> Iterator[Path]:
     """A temporary file next to ``path`` to write; renamed onto ``path`` when the block ends without an error.
 
     The temporary name keeps ``path``'s suffix (writers that choose a format by suffix work unchanged) and
-    starts with a dot. On an error it is removed and ``path`` is left as it was. The folder is created.
+    starts with a dot. On an error it is removed and ``path`` is left as it was. The folder is created. It is
+    :func:`atomic_group` of one file.
 
     Parameters
     ----------
@@ -210,20 +211,8 @@ def atomic(path: StrPath) -> Iterator[Path]:
     OutputError
         The folder cannot be created, or the file cannot be written or renamed (the system's reason is given).
     """
-    path = Path(path)
-    if path.is_dir():
-        raise OutputError(f"{path}: is a folder; give a file name")
-    temporary = _temporary(path)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_group([path]) as (temporary,):
         yield temporary
-        os.replace(temporary, path)
-    except OSError as error:
-        _remove(temporary)
-        raise OutputError(f"{path}: cannot be written ({_reason(error)})") from None
-    except BaseException:
-        _remove(temporary)
-        raise
 
 
 def _remove(path: Path) -> None:
