@@ -112,7 +112,8 @@ def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
     workdir = tmp_path / "run"
     (workdir / "config").mkdir(parents=True)
     config = tiny_config()
-    config["descriptors"] = config["descriptors"][:2]  # the PVHKs: no time-scale jobs
+    config["descriptors"] = config["descriptors"][:1]  # a PVHK: no time-scale jobs
+    config["library_sizes"] = [4]
     (workdir / "config" / "config.yaml").write_text(yaml.safe_dump(config))
     result = subprocess.run(
         [
@@ -131,8 +132,8 @@ def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
     )
     assert result.returncode == 0, (result.stdout + result.stderr)[-4000:]
     submitted = (result.stdout + result.stderr).count("has been submitted with SLURM jobid")
-    # every job but `all`: catalog, 2 render, 2 surface, 2 describe, collect, 4 classify and 4 library (2 descriptors
-    # x 2 sizes), evaluate and report_figures
-    assert submitted == 18
+    # every job but `all`: catalog, 2 render, 2 surface, 2 describe, collect, classify, library, evaluate and
+    # report_figures
+    assert submitted == 12
     predictions, _ = read_table(workdir / "results" / "evaluation" / "predictions.parquet")
     assert predictions["correct"].mean() > 0.8
