@@ -146,6 +146,9 @@ class Kind:
     options: tuple[Option, ...] = ()
     #: learned on library views before use (:func:`fit_spec`), e.g. SI-HKS's codebook
     fitted: bool = False
+    #: a network trained on the library views (the pointnet): left out where a test cannot afford its training, and
+    #: of the open-set runs that leave each object out (it has seen them all)
+    learned: bool = False
     #: described at given fixed times (the objects' time scales, Alg. 5.1); a test view once per object
     time_scaled: bool = False
     #: can be computed from many sources of one view (:func:`heatdata.candidate_descriptors`, ch. 6)
@@ -229,6 +232,11 @@ class Kind:
         """The names and shapes of what :meth:`fit` learns for ``spec`` (only if :attr:`fitted`): a fit of other
         names or shapes (a damaged library file) is refused when a spec is made with it."""
         raise HeatdataError(f"{article(self.name)} {self.name} is not fitted")
+
+    def foreign_fit(self, spec: DescriptorSpec, objects: list[str]) -> str | None:
+        """Why what ``spec`` learned does not belong to a library of ``objects`` (weights trained on other objects),
+        or None; a kind that learns nothing object-specific keeps the default."""
+        return None
 
     def candidates(
         self, view, sources: np.ndarray, spec: DescriptorSpec, *, times=None, modes: int = 32

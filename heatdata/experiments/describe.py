@@ -159,13 +159,15 @@ FIT_VIEWS_PER_OBJECT = 10  # library views per object a fitted kind (SI-HKS's co
 def fit_view_tables(
     frames: list[pd.DataFrame], spec: DescriptorSpec, *, per_object: int = FIT_VIEWS_PER_OBJECT
 ) -> DescriptorSpec:
-    """Workflow step: fit ``spec`` on up to ``per_object`` library views of each object, evenly spaced in azimuth.
+    """Workflow step: fit ``spec`` on up to ``per_object`` library views of each object, evenly spaced in azimuth
+    (a kind with a ``train_views`` option, the pointnet, sets its own count: the views of a library of that size).
 
     ``frames`` are :data:`VIEW_SCHEMA` tables (one per object); only ``split = "train"`` rows are used.
     """
     from heatdata.recognition.evaluate import library_subset
     from heatdata.views.frames import frame_to_views
 
+    per_object = spec.get("train_views") or per_object
     views = []
     for frame in frames:
         library = frame[frame["split"] == "train"]

@@ -259,6 +259,9 @@ def check_library(rows: pd.DataFrame, metadata: dict, path: object) -> Descripto
         if spec.impl.time_scaled != (metadata.get("time_scales") is not None):
             raise LibraryError(f"time_scales: {'missing for' if spec.impl.time_scaled else 'given to'} {spec.name}")
         check_rows(rows, metadata)
+        foreign = spec.impl.foreign_fit(spec, metadata["objects"])
+        if foreign:
+            raise LibraryError(f"spec: {foreign}")
     except LibraryError as exc:
         raise LibraryError(f"{path}: a damaged library file: {exc}") from None
     return spec

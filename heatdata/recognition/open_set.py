@@ -22,9 +22,13 @@ from heatdata.recognition.confidence import calibrate, calibration_rows, nearest
 
 
 def open_set_scores(
-    library: pd.DataFrame, tests: pd.DataFrame, kind: str, threshold: float | None = None
+    library: pd.DataFrame,
+    tests: pd.DataFrame,
+    kind: str,
+    threshold: float | None = None,
+    folds: list[list[str]] | None = None,
 ) -> pd.DataFrame:
-    """One row per fold (object left out) and test view: its answer and confidence.
+    """One row per fold (objects left out) and test view: its answer and confidence.
 
     Parameters
     ----------
@@ -36,11 +40,15 @@ def open_set_scores(
         The descriptor kind, for its distance (not a time-scaled one).
     threshold : float in [0, 1], optional
         One threshold for every fold (default: each fold's library's own).
+    folds : list of lists of str, optional
+        The objects each fold leaves out (default: each object alone). A learned kind is measured on one fold, the
+        objects its network was not trained on.
 
     Returns
     -------
     pandas.DataFrame
-        ``left_out, view_id, object, known, nearest, confidence, threshold``.
+        ``left_out, view_id, object, known, nearest, confidence, threshold``; ``left_out`` names a fold's objects,
+        joined by ``", "``.
 
     Raises
     ------
@@ -60,8 +68,11 @@ def open_set_scores(
     answers = impl.distance_matrix(queries, values)
     truth = tests["object"].to_numpy()
     rows = []
-    for left_out in names:
-        kept = np.flatnonzero(objects != left_out)
+    for fold in folds if folds is not None else [[name] for name in names]:
+        unknown = np.isin(truth, fold)
+        kept = np.flatnonzero(~np.isin(objects, fold))
+        if len(set(objects[kept])) < 2:
+            raise HeatdataError(f"leaving out {len(fold)} objects leaves {len(set(objects[kept]))}; two must remain")
         chosen = kept[calibration_rows(len(kept))]
         confidence = calibrate(
             among[np.ix_(chosen, kept)], objects[kept], np.searchsorted(kept, chosen), threshold=threshold
@@ -71,10 +82,10 @@ def open_set_scores(
         rows.append(
             pd.DataFrame(
                 {
-                    "left_out": left_out,
+                    "left_out": ", ".join(fold),
                     "view_id": tests["view_id"].to_numpy(),
                     "object": truth,
-                    "known": truth != left_out,
+                    "known": ~unknown,
                     "nearest": objects[kept][best],
                     "confidence": sure,
                     "threshold": confidence.threshold,

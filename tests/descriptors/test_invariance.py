@@ -1,11 +1,12 @@
 """Where an object stands in the frame does not change its answer, for every registered kind (eq. 2.8, 2.3.3).
 
 The same objects are rendered centred, shifted by a fraction of a pixel, and 15 cm off the optical axis at 1 m (the
-camera turned 8.5 deg), without noise, and recognized against one library: every kind with its default options,
+camera turned 8.5 deg), without noise, and recognized against one library: every kind with its default options
+(but the learned kind, trained in its own test),
 and the PVHK and C-PVHK from the centre of the image (eq. 2.8), which before the canonical frame lost half their
 answers off the axis. A kind's answer may change under any resampling of the surface by the pixel grid: the
 sub-pixel shift measures that floor (83-96% of the answers kept for the heat kinds, 100% for the ESF, FPFH and
-HGD). Off the axis, no kind loses more than three of the 36 views in precision, or changes its answer in three
+HGD). Off the axis, no kind loses more than five of the 54 views in precision, or changes its answer in five
 views more than that floor (without the canonical frame, the PVHK from the image centre changed 26); and the kinds
 whose answers resampling does not change keep them in at least 99% of the views.
 """
@@ -23,7 +24,7 @@ from heatdata.experiments.views import render_views, view_plan
 from heatdata.recognition.evaluate import classify
 from heatdata.views.view import kinect_intrinsics
 
-OBJECTS = ["beer-mug", "milk-carton"]
+OBJECTS = ["beer-mug", "milk-carton", "bread"]
 OPTIONS = {  # every kind, with the options that make it cheap (or that it needs)
     "c-pvhk": {"color_map": "c3"},
     "pvst": {"source": "interior", "samples": 32},
@@ -50,8 +51,13 @@ def test_an_object_anywhere_in_the_frame_gets_the_answer_it_gets_at_the_centre()
             offsets = np.tile(shift, (len(test), 1))
             tests[name] += render_views(model, test, noise=False, intrinsics=camera, offsets=offsets)
         test_plan.append(test)
-    specs = [hd.DescriptorSpec(kind, **OPTIONS.get(kind, {})) for kind, why in available().items() if why is None]
-    assert len(specs) >= len(KINDS) - 1  # VFH needs Debian's pcl-tools, which the test set-up installs
+    learned = {kind for kind, impl in KINDS.items() if impl.learned}  # trained: its own test, test_pointnet.py
+    specs = [
+        hd.DescriptorSpec(kind, **OPTIONS.get(kind, {}))
+        for kind, why in available().items()
+        if why is None and kind not in learned
+    ]
+    assert len(specs) >= len(KINDS) - len(learned) - 1  # VFH needs Debian's pcl-tools, which the test set-up installs
     specs += [
         hd.DescriptorSpec("pvhk", 64, "center", "polar"),
         hd.DescriptorSpec("c-pvhk", 64, "center", "polar", "c3"),
@@ -71,7 +77,7 @@ def test_an_object_anywhere_in_the_frame_gets_the_answer_it_gets_at_the_centre()
         floor = np.mean(answers["sub-pixel"][spec.name] == centred)
         same = np.mean(moved == centred)
         report.append((spec.name, floor, same, np.mean(centred == truth), np.mean(moved == truth)))
-        slack = 3 / len(centred) + 1e-9  # 5 of 54 views when it held three objects
+        slack = 5 / len(centred) + 1e-9
         assert report[-1][4] >= report[-1][3] - slack, report[-1]
         assert same >= floor - slack, report[-1]
         if floor >= 0.99:

@@ -1,5 +1,6 @@
 """The registry of descriptor kinds and DescriptorSpec: every kind through one interface, clear errors."""
 
+import dataclasses
 import pickle
 from pathlib import Path
 
@@ -18,7 +19,7 @@ def test_every_kind_is_registered_and_reported():
     assert (
         set(hd.DESCRIPTORS)
         == set(KINDS)
-        == {"pvhk", "c-pvhk", "ft-pvhk", "pvst", "si-hks", "fpfh", "vfh", "esf", "hgd", "combined"}
+        == {"pvhk", "c-pvhk", "ft-pvhk", "pvst", "si-hks", "fpfh", "vfh", "esf", "hgd", "combined", "pointnet"}
     )
     for name, kind in KINDS.items():
         assert kind.name == name and kind.summary and kind.distance_name
@@ -52,8 +53,10 @@ def test_each_kind_describes_a_view_through_describe(kind, mug):
         "si-hks": {"words": 8, "modes": 30},
         "pvst": {"source": "interior"},
         "combined": {"parts": [{"kind": "hgd"}, {"kind": "esf"}]},
+        "pointnet": {"points": 64, "steps": 2},
     }.get(kind, {})
-    spec = hd.fit_spec(hd.DescriptorSpec(kind, **options), [view, hd.render_view(mug, 120.0, 30.0, 1.0, seed=1)])
+    other = dataclasses.replace(hd.render_view(mug, 120.0, 30.0, 1.0, seed=1), object_id="other")  # a second object
+    spec = hd.fit_spec(hd.DescriptorSpec(kind, **options), [view, other])
     (d,) = hd.describe(view, [spec], times=[0.01])
     assert d.kind == kind and d.values.shape == (spec.impl.size(spec, view),) and np.all(np.isfinite(d.values))
     assert hd.distance(d, d) == pytest.approx(0.0, abs=1e-6)
@@ -99,7 +102,9 @@ def test_histogram_kinds_have_no_heat_source():
     with pytest.raises(hd.ViewError, match="no heat source"):
         hd.candidate_descriptors(square_view(21), [200], hd.DescriptorSpec("esf"))
     assert {k for k, v in KINDS.items() if v.multi_source} == {"pvhk", "c-pvhk", "ft-pvhk", "pvst"}
-    assert {k for k, v in KINDS.items() if v.fitted} == {"si-hks", "combined"} and kind_of("ft-pvhk").time_scaled
+    assert {k for k, v in KINDS.items() if v.fitted} == {"si-hks", "combined", "pointnet"} and kind_of(
+        "ft-pvhk"
+    ).time_scaled
 
 
 def test_config_schema_leaves_kinds_to_the_registry():

@@ -40,3 +40,16 @@ def test_what_it_cannot_measure_is_refused():
         open_set_scores(library, library, "esf")
     with pytest.raises(hd.HeatdataError, match="time-scaled"):
         open_set_scores(library, library, "ft-pvhk")
+
+
+def test_a_fold_may_leave_out_several_objects_together():
+    """The learned kind's one fold: the objects its network was not trained on, all unknown at once."""
+    library = histograms(5, 12, 0.05, seed=0)
+    tests = histograms(5, 5, 0.05, seed=1)
+    scores = open_set_scores(library, tests, "esf", folds=[["object-1", "object-3"]])
+    assert len(scores) == len(tests) and set(scores["left_out"]) == {"object-1, object-3"}
+    assert set(scores.loc[~scores["known"], "object"]) == {"object-1", "object-3"}
+    assert set(scores["nearest"]) <= {"object-0", "object-2", "object-4"}
+    assert open_set_summary(scores)["auroc"] == 1.0
+    with pytest.raises(hd.HeatdataError, match="two must remain"):
+        open_set_scores(library, tests, "esf", folds=[["object-0", "object-1", "object-2", "object-3"]])

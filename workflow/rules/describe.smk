@@ -38,7 +38,7 @@ rule fit_descriptor:
         f"{RESULTS}/logs/fit/{{descriptor}}.log",
     benchmark:
         f"{RESULTS}/benchmarks/fit/{{descriptor}}.tsv"
-    threads: 1
+    threads: 1  # XLA trains the pointnet on one core here: two fits run side by side
     resources:
         mem_mb=lambda wildcards, attempt: 4000 * attempt,
         runtime=lambda wildcards, attempt: 60 * attempt,
