@@ -554,6 +554,29 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
                 ),
             ],
         ),
+        "docs_learned": (  # the learned kind beside the descriptors on the chairs: 8 and 40 views, unseen objects
+            "results/chairs_learned",
+            [f"{E}/chairs.yaml", f"{E}/chairs_learned.yaml"],
+            ["results/chairs_learned/evaluation/precision.csv", "results/chairs_learned/descriptors.parquet"],
+            [csv("chairs_learned_precision"), csv("chairs_learned_metric"), csv("chairs_learned_unseen")],
+            [
+                {"precision": ["results/chairs_learned/evaluation/precision.csv", csv("chairs_learned_precision")]},
+                script("learned_metric", "results/chairs_learned", "--out", csv("chairs_learned_metric")),
+                script(
+                    "learned_unseen",
+                    "results/chairs_learned",
+                    *("--config", f"{E}/chairs.yaml", f"{E}/chairs_learned.yaml"),
+                    *("--out", csv("chairs_learned_unseen")),
+                ),
+            ],
+        ),
+        "docs_learned_household": (  # the learned kind on the 14 household objects, beside the descriptors
+            "results/household_learned",
+            ["config/config.yaml", f"{E}/household_learned.yaml"],
+            ["results/household_learned/evaluation/precision.csv"],
+            [csv("household_learned_precision")],
+            [{"precision": ["results/household_learned/evaluation/precision.csv", csv("household_learned_precision")]}],
+        ),
         "docs_poses": (  # the default library's poses on the main job's test views, and verification's open set
             "results",
             ["config/config.yaml"],
