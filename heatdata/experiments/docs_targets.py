@@ -557,7 +557,11 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
         "docs_learned": (  # the learned kind beside the descriptors on the chairs: 8 and 40 views, unseen objects
             "results/chairs_learned",
             [f"{E}/chairs.yaml", f"{E}/chairs_learned.yaml"],
-            ["results/chairs_learned/evaluation/precision.csv", "results/chairs_learned/descriptors.parquet"],
+            [
+                "results/chairs_learned/evaluation/precision.csv",
+                "results/chairs_learned/descriptors.parquet",
+                *views_of("results/chairs_learned"),  # learned_unseen trains and describes from the views
+            ],
             [csv("chairs_learned_precision"), csv("chairs_learned_metric"), csv("chairs_learned_unseen")],
             [
                 {"precision": ["results/chairs_learned/evaluation/precision.csv", csv("chairs_learned_precision")]},
