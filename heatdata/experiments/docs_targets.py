@@ -574,12 +574,45 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
                 ),
             ],
         ),
-        "docs_learned_household": (  # the learned kind on the 14 household objects, beside the descriptors
+        "docs_learned_household": (  # the learned kind on the 14 household objects: views, scenes, unseen objects
             "results/household_learned",
             ["config/config.yaml", f"{E}/household_learned.yaml"],
-            ["results/household_learned/evaluation/precision.csv"],
-            [csv("household_learned_precision")],
-            [{"precision": ["results/household_learned/evaluation/precision.csv", csv("household_learned_precision")]}],
+            [
+                "results/household_learned/evaluation/precision.csv",
+                "results/household_learned/descriptors.parquet",
+                "results/household_learned/scenes/summary.csv",
+                "results/household_learned/scenes/offaxis.csv",
+                *views_of("results/household_learned"),  # learned_unseen trains and describes from the views
+            ],
+            [
+                csv("household_learned_precision"),
+                csv("household_learned_scenes"),
+                csv("household_learned_offaxis"),
+                csv("household_learned_unseen"),
+            ],
+            [
+                {
+                    "precision": [
+                        "results/household_learned/evaluation/precision.csv",
+                        csv("household_learned_precision"),
+                    ]
+                },
+                {"copy": ["results/household_learned/scenes/summary.csv", csv("household_learned_scenes")]},
+                {"copy": ["results/household_learned/scenes/offaxis.csv", csv("household_learned_offaxis")]},
+                script(
+                    "learned_unseen",
+                    "results/household_learned",
+                    *("--held-out", "4", "--config", "config/config.yaml", f"{E}/household_learned.yaml"),
+                    *("--out", csv("household_learned_unseen")),
+                ),
+            ],
+        ),
+        "docs_learned_twins": (  # the learned kind on the colour twins, beside the HGD with and without colour
+            "results/twins_learned",
+            [f"{E}/twins.yaml", f"{E}/twins_learned.yaml"],
+            ["results/twins_learned/evaluation/precision.csv"],
+            [csv("twins_learned_precision")],
+            [{"precision": ["results/twins_learned/evaluation/precision.csv", csv("twins_learned_precision")]}],
         ),
         "docs_poses": (  # the default library's poses on the main job's test views, and verification's open set
             "results",
