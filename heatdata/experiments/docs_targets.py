@@ -583,12 +583,15 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
                 "results/household_learned/scenes/summary.csv",
                 "results/household_learned/scenes/offaxis.csv",
                 *views_of("results/household_learned"),  # learned_unseen trains and describes from the views
+                # learned_transfer describes them with the networks trained on the chairs (docs_learned's run)
+                *(f"results/chairs_learned/fitted/{name}.npz" for name in ("pointnet", "pointnet_color=none")),
             ],
             [
                 csv("household_learned_precision"),
                 csv("household_learned_scenes"),
                 csv("household_learned_offaxis"),
                 csv("household_learned_unseen"),
+                csv("household_learned_transfer"),
             ],
             [
                 {
@@ -604,6 +607,13 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
                     "results/household_learned",
                     *("--held-out", "4", "--config", "config/config.yaml", f"{E}/household_learned.yaml"),
                     *("--out", csv("household_learned_unseen")),
+                ),
+                script(
+                    "learned_transfer",
+                    "results/household_learned",
+                    *("--weights", "results/chairs_learned"),
+                    *("--config", "config/config.yaml", f"{E}/household_learned.yaml"),
+                    *("--out", csv("household_learned_transfer")),
                 ),
             ],
         ),

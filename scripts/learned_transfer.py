@@ -1,0 +1,105 @@
+"""Objects of another class: a learned kind's network trained on one run's objects, describing another run's.
+
+    .venv/bin/python scripts/learned_transfer.py results/household_learned --weights results/chairs_learned \\
+        --config config/config.yaml config/experiments/household_learned.yaml \\
+        --out docs/results/household_learned_transfer.csv
+
+A user with a network trained on chairs adds a mug. Here the pointnets that ``--weights`` (a run's results
+folder) trained on its own library views (``fitted/pointnet*.npz``, 8 views per object) describe every view of
+``run``'s objects, none of which they were trained on: the library of ``--size`` views per object and the test
+views. Measured on the run's test views, for those networks, the run's own networks and its descriptor kinds:
+
+- ``precision``: closed set, every object in the library;
+- ``auroc``, ``known_kept``, ``unknown_rejected``: the open set, each object left out of the library in turn
+  (:func:`heatdata.recognition.open_set.open_set_scores`). Only a network trained on none of the run's objects is
+  measured here honestly; the run's own networks are left out of it (``NaN``).
+
+Rendered views, not real sensor data.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from pathlib import Path
+
+import pandas as pd
+import yaml
+
+from heatdata.descriptors import DescriptorSpec, file_name
+from heatdata.experiments.config import descriptor_specs
+from heatdata.experiments.describe import describe_view_table, load_fitted
+from heatdata.io.tables import read_table
+from heatdata.log import setup_logging
+from heatdata.recognition.evaluate import classify, library_subset
+from heatdata.recognition.open_set import open_set_scores, open_set_summary
+
+
+def measured(rows: pd.DataFrame, descriptor: str, size: int, open_set: bool) -> dict:
+    """Closed-set precision and, with ``open_set``, the leave-one-object-out summary of one descriptor's rows."""
+    rows = rows[(rows["descriptor"] == descriptor) & rows["time_object"].isin(["", None])]
+    library = library_subset(rows[rows["split"] == "train"], size)
+    tests = rows[rows["split"] == "test"]
+    answers = classify(pd.concat([library, tests], ignore_index=True), descriptor)
+    out = {"precision": float(answers["correct"].mean())}
+    summary = open_set_summary(open_set_scores(library, tests, rows["kind"].iloc[0])) if open_set else {}
+    for key in ("auroc", "known_kept", "unknown_rejected"):
+        out[key] = summary.get(key, math.nan)
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("run", type=Path, help="the results folder of the objects described (views/, descriptors)")
+    parser.add_argument("--weights", type=Path, required=True, help="the results folder whose networks describe")
+    parser.add_argument("--size", type=int, default=8, help="library views per object (8)")
+    parser.add_argument("--color", nargs="+", default=["rgb", "none"], help="the pointnets' colour options")
+    parser.add_argument("--config", type=Path, nargs="+", required=True, help="the run's config files, in order")
+    parser.add_argument("--out", type=Path, required=True, help="the table to write (.csv)")
+    args = parser.parse_args()
+    setup_logging()
+    table, _ = read_table(args.run / "descriptors.parquet")
+    config: dict = {}
+    for path in args.config:
+        config.update(yaml.safe_load(path.read_text()))
+    out = []
+    for spec in descriptor_specs(config):
+        if spec.name in set(table["descriptor"]):
+            trained_on = "the run's objects" if spec.impl.learned else ""
+            out.append(
+                {
+                    "descriptor": spec.name,
+                    "trained_on": trained_on,
+                    **measured(table, spec.name, args.size, not spec.impl.learned),
+                }
+            )
+            print(out[-1])
+    frames = [read_table(path)[0] for path in sorted((args.run / "views").glob("*.parquet"))]
+    for color in args.color:
+        spec = DescriptorSpec("pointnet", color=color, train_views=args.size)
+        weights = args.weights / "fitted" / f"{file_name(spec.name)}.npz"
+        (spec,) = load_fitted([spec], {spec.name: weights})
+        start = time.perf_counter()
+        rows = []
+        for frame in frames:
+            library = library_subset(frame[frame["split"] == "train"], args.size)
+            rows.append(describe_view_table(pd.concat([library, frame[frame["split"] == "test"]]), [spec]))
+        described = pd.concat(rows, ignore_index=True)
+        seconds = time.perf_counter() - start
+        out.append(
+            {
+                "descriptor": spec.name,
+                "trained_on": str(args.weights),
+                **measured(described, spec.name, args.size, True),
+            }
+        )
+        print(out[-1], f"described in {seconds:.0f} s")
+    frame = pd.DataFrame(out).assign(library_size=args.size)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    frame.round(4).to_csv(args.out, index=False)
+    print(frame.to_string(index=False))
+
+
+if __name__ == "__main__":
+    main()
