@@ -620,9 +620,15 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
         "docs_learned_twins": (  # the learned kind on the colour twins, beside the HGD with and without colour
             "results/twins_learned",
             [f"{E}/twins.yaml", f"{E}/twins_learned.yaml"],
-            ["results/twins_learned/evaluation/precision.csv"],
-            [csv("twins_learned_precision")],
-            [{"precision": ["results/twins_learned/evaluation/precision.csv", csv("twins_learned_precision")]}],
+            ["results/twins_learned/evaluation/predictions.parquet", "results/twins_learned/catalog.csv"],
+            [csv("twins_learned_precision"), png("colour_twins_learned")],
+            [
+                script(
+                    "color_twins",
+                    "results/twins_learned",
+                    *("--out", csv("twins_learned_precision"), "--figure", png("colour_twins_learned")),
+                )
+            ],
         ),
         "docs_poses": (  # the default library's poses on the main job's test views, and verification's open set
             "results",
