@@ -10,9 +10,10 @@ folder) trained on its own library views (``fitted/pointnet*.npz``, 8 views per 
 views. Measured on the run's test views, for those networks, the run's own networks and its descriptor kinds:
 
 - ``precision``: closed set, every object in the library;
-- ``auroc``, ``known_kept``, ``unknown_rejected``: the open set, each object left out of the library in turn
-  (:func:`heatdata.recognition.open_set.open_set_scores`). Only a network trained on none of the run's objects is
-  measured here honestly; the run's own networks are left out of it (``NaN``).
+- ``auroc``, ``known_kept_<side>``, ``unknown_rejected_<side>``: the open set, each object left out of the
+  library in turn, its threshold set from the library's own unknown or known answers
+  (:func:`heatdata.recognition.open_set.threshold_sides`). Only a network trained on none of the run's objects is
+  measured here honestly; the run's own networks are left out of it (empty).
 
 Rendered views, not real sensor data.
 """
@@ -20,7 +21,6 @@ Rendered views, not real sensor data.
 from __future__ import annotations
 
 import argparse
-import math
 import time
 from pathlib import Path
 
@@ -33,7 +33,7 @@ from heatdata.experiments.describe import describe_view_table, load_fitted
 from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
 from heatdata.recognition.evaluate import classify, library_subset
-from heatdata.recognition.open_set import open_set_scores, open_set_summary
+from heatdata.recognition.open_set import threshold_sides
 
 
 def measured(rows: pd.DataFrame, descriptor: str, size: int, open_set: bool) -> dict:
@@ -43,10 +43,7 @@ def measured(rows: pd.DataFrame, descriptor: str, size: int, open_set: bool) -> 
     tests = rows[rows["split"] == "test"]
     answers = classify(pd.concat([library, tests], ignore_index=True), descriptor)
     out = {"precision": float(answers["correct"].mean())}
-    summary = open_set_summary(open_set_scores(library, tests, rows["kind"].iloc[0])) if open_set else {}
-    for key in ("auroc", "known_kept", "unknown_rejected"):
-        out[key] = summary.get(key, math.nan)
-    return out
+    return out | (threshold_sides(library, tests, rows["kind"].iloc[0]) if open_set else {})
 
 
 def main() -> None:

@@ -12,7 +12,9 @@ object but ``--held-out`` of them (evenly spread over the sorted names), as the 
   retraining; the run's test views of every object are recognized against the whole library (``precision``), and
   those of the newcomers alone (``precision_newcomers``);
 - **open set**: the held-out objects are left out of the library; their test views should be answered unknown
-  by the library's calibrated confidence (:func:`heatdata.recognition.open_set.open_set_scores`, one fold).
+  by the library's calibrated confidence (:func:`heatdata.recognition.open_set.open_set_scores`, one fold), its
+  threshold set from the library's own unknown answers and, beside it, from its own known answers (a learned
+  kind's default; :func:`heatdata.recognition.open_set.threshold_sides`).
 
 The run's descriptor kinds are measured on the same fold from its table (their rows do not depend on which objects
 a library holds; their specs come from the run's ``--config`` files). ``add_seconds`` is what adding one object
@@ -37,7 +39,7 @@ from heatdata.experiments.describe import describe_view_table, fit_view_tables
 from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
 from heatdata.recognition.evaluate import classify, library_subset
-from heatdata.recognition.open_set import open_set_scores, open_set_summary
+from heatdata.recognition.open_set import threshold_sides
 from heatdata.views.frames import frame_to_views
 
 
@@ -57,14 +59,10 @@ def measured(table: pd.DataFrame, descriptor: str, size: int, unseen: list[str])
     tests = rows[rows["split"] == "test"]
     answers = classify(pd.concat([library, tests], ignore_index=True), descriptor)
     newcomers = answers["object"].isin(unseen)
-    kind = rows["kind"].iloc[0]
-    summary = open_set_summary(open_set_scores(library, tests, kind, folds=[unseen]))
     return {
         "precision": float(answers["correct"].mean()),
         "precision_newcomers": float(answers.loc[newcomers, "correct"].mean()),
-        "auroc": summary["auroc"],
-        "known_kept": summary["known_kept"],
-        "unknown_rejected": summary["unknown_rejected"],
+        **threshold_sides(library, tests, rows["kind"].iloc[0], folds=[unseen]),
     }
 
 

@@ -18,6 +18,11 @@ known. Below the library's threshold the answer is ``unknown``: by default the c
 can and still reject most of them, for a known object seen otherwise than the library's views were rendered (from
 another elevation or distance, through another sensor) lies farther from them than they lie from each other. No
 test view is used.
+
+A learned kind's library takes its threshold from the other side: the confidence above which :data:`KEPT` of its
+own known answers lie. Its network was trained to set exactly the library's objects apart, so their
+leave-one-object-out answers lie farther than an object it never saw, and a threshold learned from them is too
+lenient (measured on the learned kind's page, ``docs/guide/learned.md``).
 """
 
 from __future__ import annotations
@@ -34,6 +39,11 @@ TINY = 1e-12
 CALIBRATION_VIEWS = 2000
 #: the share of a library's own unknown answers (leave-one-object-out) its default threshold rejects
 REJECTED = 0.95
+#: the share of a learned kind's library's own known answers (leave-one-view-out) its default threshold keeps
+KEPT = 0.95
+#: which of a library's own answers set its default threshold: ``unknown`` (:data:`REJECTED` of them rejected) or
+#: ``known`` (:data:`KEPT` of them kept)
+SIDES = ("unknown", "known")
 
 
 @dataclass(frozen=True)
@@ -158,7 +168,11 @@ def nearest_two(distance: np.ndarray, objects: np.ndarray) -> tuple[np.ndarray, 
 
 
 def calibrate(
-    distance: np.ndarray, objects: np.ndarray, rows: np.ndarray, threshold: float | None = None
+    distance: np.ndarray,
+    objects: np.ndarray,
+    rows: np.ndarray,
+    threshold: float | None = None,
+    side: str = "unknown",
 ) -> Confidence:
     """Learn a library's confidence from its own views (the module's leave-one-view-out and leave-one-object-out).
 
@@ -171,8 +185,10 @@ def calibrate(
     rows : (q,) int
         Which library view each query is.
     threshold : float in [0, 1], optional
-        The threshold stored with it (default: the confidence under which :data:`REJECTED` of the unknown
-        answers fall).
+        The threshold stored with it (default: set by ``side``).
+    side : {"unknown", "known"}
+        Which answers set the default threshold: the confidence under which :data:`REJECTED` of the unknown
+        answers fall, or the one above which :data:`KEPT` of the known answers lie (a learned kind's).
 
     Returns
     -------
@@ -181,11 +197,13 @@ def calibrate(
     Raises
     ------
     HeatdataError
-        A library of one object (nothing to leave it out against), or distances that are not finite.
+        A library of one object (nothing to leave it out against), distances that are not finite, or another side.
     """
     from sklearn.linear_model import LogisticRegression
     from sklearn.metrics import roc_auc_score
 
+    if side not in SIDES:
+        raise HeatdataError(f"the threshold's side is one of {', '.join(SIDES)}, got {side!r}")
     objects = np.asarray(objects)
     if len(np.unique(objects)) < 2:
         raise HeatdataError("a library of one object cannot learn what an unknown object looks like")
@@ -202,7 +220,11 @@ def calibrate(
     model = LogisticRegression(class_weight="balanced").fit(features, truth)
     scores = model.decision_function(features)
     if threshold is None:
-        threshold = float(np.quantile(1.0 / (1.0 + np.exp(-scores[truth == 0])), REJECTED))
+        confidence = 1.0 / (1.0 + np.exp(-scores))
+        if side == "unknown":
+            threshold = float(np.quantile(confidence[truth == 0], REJECTED))
+        else:
+            threshold = float(np.quantile(confidence[truth == 1], 1.0 - KEPT))
     return Confidence(
         coef=(float(model.coef_[0, 0]), float(model.coef_[0, 1])),
         intercept=float(model.intercept_[0]),
@@ -211,6 +233,12 @@ def calibrate(
         unknown=len(rows),
         auroc=float(roc_auc_score(truth, scores)),
     )
+
+
+def default_side(learned: bool) -> str:
+    """Which of a library's own answers set its default threshold: ``known`` for a learned kind (the module
+    docstring), ``unknown`` for every other."""
+    return "known" if learned else "unknown"
 
 
 def calibration_rows(n_views: int, seed: int = 0) -> np.ndarray:

@@ -30,7 +30,14 @@ from heatdata.descriptors.rows import descriptor_rows
 from heatdata.errors import HeatdataError, LibraryError
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
 from heatdata.recognition.answers import Detection, Match, Recognition, SceneRecognition, SequenceStep
-from heatdata.recognition.confidence import Confidence, calibrate, calibration_rows, checked_threshold, nearest_two
+from heatdata.recognition.confidence import (
+    Confidence,
+    calibrate,
+    calibration_rows,
+    checked_threshold,
+    default_side,
+    nearest_two,
+)
 from heatdata.recognition.evaluate import TIME_RULES, library_subset, nan_views
 from heatdata.recognition.library_check import check_library, shortened, spec_of
 from heatdata.recognition.pose import STARTS, Pose, Surface, depth_image, estimate_pose
@@ -210,7 +217,7 @@ def _calibration(views: pd.DataFrame, spec: DescriptorSpec) -> dict | None:
         query_weights=None if stacked is None else stacked[rows],
         library_weights=stacked,
     )
-    confidence = calibrate(distance, views["object"].to_numpy(), rows)
+    confidence = calibrate(distance, views["object"].to_numpy(), rows, side=default_side(spec.impl.learned))
     log.info("%s: confidence calibrated on %d views (AUROC %.3f)", spec.name, len(rows), confidence.auroc)
     return confidence.to_dict()
 

@@ -18,7 +18,7 @@ import pandas as pd
 
 from heatdata.descriptors import kind_of
 from heatdata.errors import HeatdataError
-from heatdata.recognition.confidence import calibrate, calibration_rows, nearest_two
+from heatdata.recognition.confidence import SIDES, calibrate, calibration_rows, default_side, nearest_two
 
 
 def open_set_scores(
@@ -27,6 +27,7 @@ def open_set_scores(
     kind: str,
     threshold: float | None = None,
     folds: list[list[str]] | None = None,
+    side: str | None = None,
 ) -> pd.DataFrame:
     """One row per fold (objects left out) and test view: its answer and confidence.
 
@@ -43,6 +44,9 @@ def open_set_scores(
     folds : list of lists of str, optional
         The objects each fold leaves out (default: each object alone). A learned kind is measured on one fold, the
         objects its network was not trained on.
+    side : {"unknown", "known"}, optional
+        Which of each fold's library's own answers set its threshold
+        (:func:`heatdata.recognition.confidence.calibrate`; default: the kind's, as its library files do).
 
     Returns
     -------
@@ -75,7 +79,11 @@ def open_set_scores(
             raise HeatdataError(f"leaving out {len(fold)} objects leaves {len(set(objects[kept]))}; two must remain")
         chosen = kept[calibration_rows(len(kept))]
         confidence = calibrate(
-            among[np.ix_(chosen, kept)], objects[kept], np.searchsorted(kept, chosen), threshold=threshold
+            among[np.ix_(chosen, kept)],
+            objects[kept],
+            np.searchsorted(kept, chosen),
+            threshold=threshold,
+            side=side or default_side(impl.learned),
         )
         best, nearest, other = nearest_two(answers[:, kept], objects[kept])
         sure = confidence(nearest, other)
@@ -126,3 +134,33 @@ def open_set_summary(scores: pd.DataFrame) -> dict:
         "precision_open": float((right & kept).mean()),
         "accepted_precision": float(right[kept].mean()) if kept.any() else float("nan"),
     }
+
+
+def threshold_sides(
+    library: pd.DataFrame, tests: pd.DataFrame, kind: str, folds: list[list[str]] | None = None
+) -> dict:
+    """The open set under each way a library sets its threshold (:data:`heatdata.recognition.confidence.SIDES`).
+
+    Parameters
+    ----------
+    library, tests : pandas.DataFrame
+        As for :func:`open_set_scores`.
+    kind : str
+        The descriptor kind.
+    folds : list of lists of str, optional
+        As for :func:`open_set_scores`.
+
+    Returns
+    -------
+    dict
+        ``auroc`` (the same for both) and, for each side, ``known_kept_<side>`` and ``unknown_rejected_<side>``.
+    """
+    out = {}
+    for side in SIDES:
+        summary = open_set_summary(open_set_scores(library, tests, kind, folds=folds, side=side))
+        out |= {
+            "auroc": summary["auroc"],
+            f"known_kept_{side}": summary["known_kept"],
+            f"unknown_rejected_{side}": summary["unknown_rejected"],
+        }
+    return out

@@ -7,6 +7,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import heatdata as hd
+from heatdata.errors import HeatdataError
 from heatdata.recognition.confidence import (
     CALIBRATION_VIEWS,
     Confidence,
@@ -14,6 +15,7 @@ from heatdata.recognition.confidence import (
     calibrate,
     calibration_rows,
     checked_threshold,
+    default_side,
     nearest_two,
 )
 
@@ -92,3 +94,19 @@ def test_the_default_threshold_rejects_most_of_the_librarys_own_unknown_answers(
     own = distance + np.diag(np.full(len(objects), np.inf))
     _, nearest, other = nearest_two(own, objects)
     assert np.mean(confidence(nearest, other) >= confidence.threshold) > 0.95  # the known ones kept
+
+
+def test_a_learned_kinds_threshold_keeps_most_of_the_librarys_own_known_answers():
+    steps = np.random.default_rng(0).uniform(0.005, 0.015, (4, 20))  # unequal neighbours: no ties among answers
+    x = np.concatenate([o * 0.3 + np.cumsum(steps[o]) for o in range(4)])
+    distance, objects = np.abs(x[:, None] - x[None, :]), np.repeat([f"object-{o}" for o in range(4)], 20)
+    confidence = calibrate(distance, objects, np.arange(len(objects)), side="known")
+    own = distance + np.diag(np.full(len(objects), np.inf))
+    _, nearest, other = nearest_two(own, objects)
+    kept = np.mean(confidence(nearest, other) >= confidence.threshold)
+    assert 0.94 <= kept <= 0.97  # KEPT (0.95), to the quantile's step of 80 answers
+    unknown_side = calibrate(distance, objects, np.arange(len(objects)))
+    assert confidence.threshold > unknown_side.threshold  # far apart objects: the known side is the stricter
+    assert default_side(learned=True) == "known" and default_side(learned=False) == "unknown"
+    with pytest.raises(HeatdataError, match="side is one of unknown, known"):
+        calibrate(distance, objects, np.arange(len(objects)), side="both")

@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 
 import heatdata as hd
-from heatdata.recognition.open_set import open_set_scores, open_set_summary
+from heatdata.recognition.open_set import open_set_scores, open_set_summary, threshold_sides
 
 
 def histograms(objects, views, noise, seed):
@@ -53,3 +53,27 @@ def test_a_fold_may_leave_out_several_objects_together():
     assert open_set_summary(scores)["auroc"] == 1.0
     with pytest.raises(hd.HeatdataError, match="two must remain"):
         open_set_scores(library, tests, "esf", folds=[["object-0", "object-1", "object-2", "object-3"]])
+
+
+def test_either_side_of_the_librarys_own_answers_may_set_the_threshold():
+    """The known side keeps about KEPT of the known answers; the default side is the kind's (unknown for the ESF)."""
+    library = histograms(4, 12, 0.05, seed=0)
+    tests = histograms(4, 5, 0.05, seed=1)
+    sides = threshold_sides(library, tests, "esf")
+    assert set(sides) == {
+        "auroc",
+        "known_kept_unknown",
+        "unknown_rejected_unknown",
+        "known_kept_known",
+        "unknown_rejected_known",
+    }
+    default = open_set_summary(open_set_scores(library, tests, "esf"))
+    assert (sides["known_kept_unknown"], sides["unknown_rejected_unknown"]) == (
+        default["known_kept"],
+        default["unknown_rejected"],
+    )
+    known = open_set_scores(library, tests, "esf", side="known")
+    stricter = (known["threshold"] > open_set_scores(library, tests, "esf")["threshold"]).all()
+    assert stricter  # objects far apart: their own unknown answers lie far below the known ones
+    assert sides["known_kept_known"] <= sides["known_kept_unknown"]
+    assert sides["unknown_rejected_known"] >= sides["unknown_rejected_unknown"]
