@@ -155,7 +155,7 @@ def threshold_sides(
     dict
         ``auroc`` (the same for both) and, for each side, ``known_kept_<side>`` and ``unknown_rejected_<side>``.
     """
-    out = {}
+    out: dict[str, float] = {}
     for side in SIDES:
         summary = open_set_summary(open_set_scores(library, tests, kind, folds=folds, side=side))
         out |= {
