@@ -31,7 +31,7 @@ rule describe_captures:
     input:
         views=f"{RESULTS}/captures/views/{{object}}.parquet",
         fitted=[f"{RESULTS}/fitted/{name}.npz" for name in FITTED],
-        time_scales=expand(f"{RESULTS}/time_scales/{{object}}.csv", object=OBJECTS) if FIXED_TIME else [],
+        time_scales=TIME_SCALES,
     output:
         f"{RESULTS}/captures/descriptors/{{object}}.parquet",
     params:

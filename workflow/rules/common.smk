@@ -39,6 +39,9 @@ except ConfigError as exc:
 # the descriptors by file name (pvhk/polar/center/64 -> pvhk_polar_center_64): the classify jobs' wildcard
 SPEC_FILES = {file_name(s.name): s for s in SPECS}
 FIXED_TIME = any(s.impl.time_scaled for s in SPECS)  # needs the objects' time scales (Alg. 5.1)
+# every object's time scales in one table: each describe job needs them all, and one file per job keeps the DAG's
+# edges linear in the objects (N files per job made planning quadratic: benchmarks/bench_dag.py)
+TIME_SCALES = [f"{RESULTS}/time_scales.csv"] if FIXED_TIME else []
 # kinds learned on the library views (SI-HKS's codebook): one fit job each, before any describe job
 FITTED = {file_name(s.name): s for s in SPECS if s.impl.fitted}
 MULTIVIEW_DESCRIPTOR = multiview_descriptor(config)

@@ -1,4 +1,4 @@
-# Describe: the objects' time scales (Alg. 5.1, for FT-PVHK), the fitted kinds (SI-HKS's codebook, from
+# Describe: the objects' time scales (Alg. 5.1, for FT-PVHK; one table for the run), the fitted kinds (SI-HKS's codebook, from
 # every object's library views), descriptor tables one job per object,
 # then one table for the run.
 
@@ -21,6 +21,22 @@ rule time_scale:
         runtime=lambda wildcards, attempt: 10 * attempt,
     script:
         "../scripts/time_scale.py"
+
+
+rule collect_time_scales:
+    input:
+        expand(f"{RESULTS}/time_scales/{{object}}.csv", object=OBJECTS),
+    output:
+        f"{RESULTS}/time_scales.csv",
+    log:
+        f"{RESULTS}/logs/collect_time_scales.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/collect_time_scales.tsv"
+    resources:
+        mem_mb=lambda wildcards, attempt: 1000 * attempt,
+        runtime=10,
+    script:
+        "../scripts/collect_time_scales.py"
 
 
 rule fit_descriptor:
@@ -52,7 +68,7 @@ rule describe:
         # kinds learned on every object's library views (SI-HKS)
         fitted=[f"{RESULTS}/fitted/{name}.npz" for name in FITTED],
         # a test view is described at every object's time scale (Alg. 5.2)
-        time_scales=expand(f"{RESULTS}/time_scales/{{object}}.csv", object=OBJECTS) if FIXED_TIME else [],
+        time_scales=TIME_SCALES,
     output:
         f"{RESULTS}/descriptors/{{object}}.parquet",
     params:

@@ -133,7 +133,7 @@ rule library:
     input:
         descriptors=f"{RESULTS}/descriptors.parquet",
         surfaces=expand(f"{RESULTS}/surfaces/{{object}}.json", object=OBJECTS),
-        time_scales=expand(f"{RESULTS}/time_scales/{{object}}.csv", object=OBJECTS) if FIXED_TIME else [],
+        time_scales=TIME_SCALES,
         fitted=lambda wildcards: [f"{RESULTS}/fitted/{wildcards.descriptor}.npz"] if wildcards.descriptor in FITTED else [],
     output:
         f"{RESULTS}/libraries/{{descriptor}}-{{size}}.parquet",

@@ -82,7 +82,7 @@ rule describe_offaxis:
     input:
         views=f"{RESULTS}/scenes/offaxis/views/{{object}}.parquet",
         fitted=[f"{RESULTS}/fitted/{name}.npz" for name in FITTED],
-        time_scales=expand(f"{RESULTS}/time_scales/{{object}}.csv", object=OBJECTS) if FIXED_TIME else [],
+        time_scales=TIME_SCALES,
     output:
         f"{RESULTS}/scenes/offaxis/descriptors/{{object}}.parquet",
     params:
