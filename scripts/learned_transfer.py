@@ -1,7 +1,6 @@
 """Objects of another class: a learned kind's network trained on one run's objects, describing another run's.
 
     .venv/bin/python scripts/learned_transfer.py results/household_learned --weights results/chairs_learned \\
-        --config config/config.yaml config/experiments/household_learned.yaml \\
         --out docs/results/household_learned_transfer.csv
 
 A user with a network trained on chairs adds a mug. Here the pointnets that ``--weights`` (a run's results
@@ -25,20 +24,18 @@ import time
 from pathlib import Path
 
 import pandas as pd
-import yaml
 
-from heatdata.descriptors import DescriptorSpec, file_name
-from heatdata.experiments.config import descriptor_specs
-from heatdata.experiments.describe import describe_view_table, load_fitted
+from heatdata.descriptors import DescriptorSpec, file_name, kind_of
+from heatdata.experiments.describe import describe_library_and_tests, load_fitted
 from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
-from heatdata.recognition.evaluate import classify, library_subset
+from heatdata.recognition.evaluate import classify, library_subset, own_time_scale
 from heatdata.recognition.open_set import threshold_sides
 
 
 def measured(rows: pd.DataFrame, descriptor: str, size: int, open_set: bool) -> dict:
     """Closed-set precision and, with ``open_set``, the leave-one-object-out summary of one descriptor's rows."""
-    rows = rows[(rows["descriptor"] == descriptor) & rows["time_object"].isin(["", None])]
+    rows = own_time_scale(rows[rows["descriptor"] == descriptor])
     library = library_subset(rows[rows["split"] == "train"], size)
     tests = rows[rows["split"] == "test"]
     answers = classify(pd.concat([library, tests], ignore_index=True), descriptor)
@@ -52,37 +49,25 @@ def main() -> None:
     parser.add_argument("--weights", type=Path, required=True, help="the results folder whose networks describe")
     parser.add_argument("--size", type=int, default=8, help="library views per object (8)")
     parser.add_argument("--color", nargs="+", default=["rgb", "none"], help="the pointnets' colour options")
-    parser.add_argument("--config", type=Path, nargs="+", required=True, help="the run's config files, in order")
     parser.add_argument("--out", type=Path, required=True, help="the table to write (.csv)")
     args = parser.parse_args()
     setup_logging()
     table, _ = read_table(args.run / "descriptors.parquet")
-    config: dict = {}
-    for path in args.config:
-        config.update(yaml.safe_load(path.read_text()))
     out = []
-    for spec in descriptor_specs(config):
-        if spec.name in set(table["descriptor"]):
-            trained_on = "the run's objects" if spec.impl.learned else ""
-            out.append(
-                {
-                    "descriptor": spec.name,
-                    "trained_on": trained_on,
-                    **measured(table, spec.name, args.size, not spec.impl.learned),
-                }
-            )
-            print(out[-1])
+    for descriptor, kind in table[["descriptor", "kind"]].drop_duplicates().itertuples(index=False):
+        learned = kind_of(kind).learned
+        trained_on = "the run's objects" if learned else ""
+        out.append(
+            {"descriptor": descriptor, "trained_on": trained_on, **measured(table, descriptor, args.size, not learned)}
+        )
+        print(out[-1])
     frames = [read_table(path)[0] for path in sorted((args.run / "views").glob("*.parquet"))]
     for color in args.color:
         spec = DescriptorSpec("pointnet", color=color, train_views=args.size)
         weights = args.weights / "fitted" / f"{file_name(spec.name)}.npz"
         (spec,) = load_fitted([spec], {spec.name: weights})
         start = time.perf_counter()
-        rows = []
-        for frame in frames:
-            library = library_subset(frame[frame["split"] == "train"], args.size)
-            rows.append(describe_view_table(pd.concat([library, frame[frame["split"] == "test"]]), [spec]))
-        described = pd.concat(rows, ignore_index=True)
+        described = describe_library_and_tests(frames, spec, args.size)
         seconds = time.perf_counter() - start
         out.append(
             {

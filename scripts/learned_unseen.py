@@ -35,10 +35,10 @@ import yaml
 
 from heatdata.descriptors import DescriptorSpec, describe
 from heatdata.experiments.config import descriptor_specs
-from heatdata.experiments.describe import describe_view_table, fit_view_tables
+from heatdata.experiments.describe import describe_library_and_tests, fit_view_tables
 from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
-from heatdata.recognition.evaluate import classify, library_subset
+from heatdata.recognition.evaluate import classify, library_subset, own_time_scale
 from heatdata.recognition.open_set import threshold_sides
 from heatdata.views.frames import frame_to_views
 
@@ -52,9 +52,7 @@ def held_out_objects(objects: list[str], count: int) -> list[str]:
 def measured(table: pd.DataFrame, descriptor: str, size: int, unseen: list[str]) -> dict:
     """Closed-set precision over every test view and the newcomers', and the open-set summary of the ``unseen``
     fold, for one descriptor's rows at ``size`` library views per object."""
-    rows = table[table["descriptor"] == descriptor]
-    own = rows["time_object"].isin(["", None]) | (rows["time_object"] == rows["object"])
-    rows = rows[own]
+    rows = own_time_scale(table[table["descriptor"] == descriptor])
     library = library_subset(rows[rows["split"] == "train"], size)
     tests = rows[rows["split"] == "test"]
     answers = classify(pd.concat([library, tests], ignore_index=True), descriptor)
@@ -115,11 +113,7 @@ def main() -> None:
         start = time.perf_counter()
         spec = fit_view_tables([f for f in frames if f["object"].iloc[0] not in unseen], spec)
         trained = time.perf_counter() - start
-        rows = []
-        for frame in frames:
-            library = library_subset(frame[frame["split"] == "train"], args.size)
-            rows.append(describe_view_table(pd.concat([library, frame[frame["split"] == "test"]]), [spec]))
-        described = pd.concat(rows, ignore_index=True)
+        described = describe_library_and_tests(frames, spec, args.size)
         out.append(
             {
                 "descriptor": spec.name,

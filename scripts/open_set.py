@@ -20,6 +20,7 @@ import pandas as pd
 
 from heatdata.descriptors import kind_of
 from heatdata.io.tables import read_table
+from heatdata.recognition.evaluate import own_time_scale
 from heatdata.recognition.library import load_library
 from heatdata.recognition.open_set import open_set_scores, open_set_summary
 
@@ -32,8 +33,7 @@ def main() -> None:
     parser.add_argument("--out", type=Path, required=True, help="the table to write (.csv)")
     args = parser.parse_args()
     descriptors, _ = read_table(args.run / "descriptors.parquet")
-    tests = descriptors[descriptors["split"] == "test"]
-    tests = tests[tests["time_object"].isin(["", None]) | (tests["time_object"] == tests["object"])]
+    tests = own_time_scale(descriptors[descriptors["split"] == "test"])
     rows = []
     for size in args.size:
         for path in sorted((args.run / "libraries").glob(f"*-{size}.parquet")):

@@ -134,6 +134,18 @@ def describe_view_table(
     return descriptor_rows(frame_to_views(frame), frame[["split", "seed"]], specs, time_scales=time_scales)
 
 
+def describe_library_and_tests(frames: list[pd.DataFrame], spec: DescriptorSpec, size: int) -> pd.DataFrame:
+    """Descriptor rows of each object's library of ``size`` views (as :func:`library_subset` chooses them) and of
+    its test views: a run's :data:`VIEW_SCHEMA` frames (one per object) described again with one spec."""
+    from heatdata.recognition.evaluate import library_subset
+
+    rows = []
+    for frame in frames:
+        library = library_subset(frame[frame["split"] == "train"], size)
+        rows.append(describe_view_table(pd.concat([library, frame[frame["split"] == "test"]]), [spec]))
+    return pd.concat(rows, ignore_index=True)
+
+
 def candidate_view_table(
     frame: pd.DataFrame, spec: DescriptorSpec, *, library_count: int | None, test_count: int | None
 ) -> pd.DataFrame:

@@ -612,7 +612,6 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
                     "learned_transfer",
                     "results/household_learned",
                     *("--weights", "results/chairs_learned"),
-                    *("--config", "config/config.yaml", f"{E}/household_learned.yaml"),
                     *("--out", csv("household_learned_transfer")),
                 ),
             ],

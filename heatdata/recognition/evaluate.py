@@ -303,7 +303,7 @@ def evaluate_table(
     columns = [*CLASSIFY_COLUMNS, *TIME_SCALED_COLUMNS]
     rows = [("descriptor", "==", descriptor)]
     own_time = [
-        group[group["time_object"].isin(["", None]) | (group["time_object"] == group["object"])]
+        own_time_scale(group)
         for group in iter_table(path, columns=columns, filters=[*rows, ("split", "==", library_split)])
     ]
     if not own_time:
@@ -412,6 +412,12 @@ def evaluate_compact(
             )
         log.info("%s, %d views: %d test views classified", method, size, len(per_view))
     return pd.DataFrame(out)
+
+
+def own_time_scale(rows: pd.DataFrame) -> pd.DataFrame:
+    """The descriptor ``rows`` a view gives as itself: at no time scale, or at its own object's (Alg. 5.2 describes
+    a time-scaled kind's views at every object's time scale; ``time_object`` names it)."""
+    return rows[rows["time_object"].isin(["", None]) | (rows["time_object"] == rows["object"])]
 
 
 def library_subset(descriptors: pd.DataFrame, size: int, split: str = "train") -> pd.DataFrame:

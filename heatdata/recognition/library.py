@@ -38,7 +38,7 @@ from heatdata.recognition.confidence import (
     default_side,
     nearest_two,
 )
-from heatdata.recognition.evaluate import TIME_RULES, library_subset, nan_views
+from heatdata.recognition.evaluate import TIME_RULES, library_subset, nan_views, own_time_scale
 from heatdata.recognition.library_check import check_library, shortened, spec_of
 from heatdata.recognition.pose import STARTS, Pose, Surface, depth_image, estimate_pose
 from heatdata.typing import StrPath
@@ -169,9 +169,9 @@ def build_library(
     rows = descriptors[descriptors["descriptor"] == spec.name]
     if rows.empty:
         raise HeatdataError(f"no rows of descriptor {spec.name} to build a library from")
-    own = rows["time_object"].isin(["", None]) | (rows["time_object"] == rows["object"])
-    library = library_subset(rows[own & (rows["split"] == "train")], size)  # as classify chooses them
-    tests = rows[own & (rows["split"] == "test")]
+    own = own_time_scale(rows)
+    library = library_subset(own[own["split"] == "train"], size)  # as classify chooses them
+    tests = own[own["split"] == "test"]
     independent = library_subset(tests.assign(split="train"), min(SIMILARITY_PER_VIEW * size, _views(tests)))
     library, independent = _finite(library, spec), _finite(independent, spec)
     if spec.impl.time_scaled and (time_scales is None or time_scales.empty):
