@@ -70,6 +70,7 @@ def setup_logging(verbose: bool = False, path: str | None = None) -> None:
 
         sys.excepthook = log_and_raise
     logging.getLogger("trimesh").setLevel(logging.WARNING)
+    logging.getLogger("faiss.loader").setLevel(logging.WARNING)  # which of its CPU builds it tried
     if not verbose:  # per-view repairs are summarized per object and recorded in the tables
         logging.getLogger("heatdata.views.view").setLevel(logging.WARNING)
 

@@ -23,7 +23,7 @@ from heatdata.cli.arguments import (
     number,
 )
 from heatdata.cli.demo import add_demo
-from heatdata.cli.recognize import add_recognize
+from heatdata.cli.recognize import add_index, add_recognize
 from heatdata.descriptors import (
     COLOR_KIND,
     DEFAULT_KIND,
@@ -451,6 +451,7 @@ def build_parser() -> argparse.ArgumentParser:
     cls.set_defaults(func=cmd_classify)
 
     add_recognize(sub)
+    add_index(sub)
 
     kinds = sub.add_parser("kinds", help="list the descriptor kinds and their options", description=cmd_kinds.__doc__)
     kinds.set_defaults(func=cmd_kinds)

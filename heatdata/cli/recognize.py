@@ -184,7 +184,9 @@ def cmd_recognize(args: argparse.Namespace) -> None:
     --depth-range keep part of a depth frame (each object in it is still one answer); a frame of one isolated object,
     or a saved view, is one object. Several frames
     of one object (a folder, or files with --moves, the degrees turned between them) are followed by the particle
-    filter of ch. 4 (--exact: the exhaustive filter), which prints the posterior over objects after each frame."""
+    filter of ch. 4 (--exact: the exhaustive filter), which prints the posterior over objects after each frame.
+    A library is searched through its index (name.faiss beside it, or built when it loads); --exact compares every
+    library view."""
     from heatdata.recognition.library import load_library
 
     require_file(args.library, "library")
@@ -197,7 +199,7 @@ def cmd_recognize(args: argparse.Namespace) -> None:
         check_output(args.overlay, inputs=[f[key] for f in frames for key in ("depth", "rgb", "mask") if f[key]])
         if args.overlay.suffix.lower() != ".png":
             raise HeatdataError(f"{args.overlay}: the overlay is written as a .png")
-    library = load_library(args.library)
+    library = load_library(args.library, index=not args.exact)
     if len(frames) == 1 and args.moves is None:
         answer, image, intrinsics = _scene(frames[0], args, library)
         if args.overlay is not None:
@@ -279,7 +281,12 @@ def add_recognize(sub) -> None:
         metavar="DEG",
         help="degrees the sensor turned between frames: one per gap, or one for all (a sequence)",
     )
-    rec.add_argument("--exact", action="store_true", help="a sequence by the exhaustive filter, not particles")
+    rec.add_argument(
+        "--exact",
+        action="store_true",
+        help="compare every library view, not through the library's index; a sequence by the exhaustive filter, "
+        "not particles",
+    )
     rec.add_argument(
         "--particles",
         type=number(1, high=MAX_PARTICLES, whole=True),
@@ -288,3 +295,27 @@ def add_recognize(sub) -> None:
     )
     rec.add_argument("--seed", type=number(0, whole=True), default=0, help="the particle filter's seed (default 0)")
     rec.set_defaults(func=cmd_recognize)
+
+
+def cmd_index(args: argparse.Namespace) -> None:
+    """Build a library's search index and write it beside the library file (name.faiss beside name.parquet), where
+    heatdata recognize and load_library read it. A library without one still answers: it builds one in memory each
+    time it loads (seconds at hundreds of thousands of views). The index finds candidates fast; the kind's own
+    distance ranks them (see the recognition guide's section on large libraries)."""
+    from heatdata.recognition.library import write_library_index
+
+    require_file(args.library, "library")
+    written = write_library_index(args.library)
+    say(f"{written}: the index of {args.library}")
+
+
+def add_index(sub) -> None:
+    """The ``index`` command's arguments, on the ``heatdata`` parser's subcommands ``sub``."""
+    index = sub.add_parser(
+        "index",
+        help="write a library's search index beside it (name.faiss)",
+        description=cmd_index.__doc__,
+        epilog="E.g. heatdata index results/libraries/hgd_color=hue-saturation-40.parquet",
+    )
+    index.add_argument("library", type=Path, help="a library file (results/libraries/*.parquet)")
+    index.set_defaults(func=cmd_index)

@@ -157,6 +157,10 @@ class Kind:
     weighted: bool = False
     #: what :meth:`distance_matrix` computes, for figure titles
     distance_name: str = ""
+    #: how a library's search index compares the values before :meth:`distance_matrix` re-ranks its candidates
+    #: (:mod:`heatdata.recognition.index`): ``"hellinger"`` (chi-square histograms), ``"l2"``, ``"l1"``, or None
+    #: where only the exact search answers (a time-scaled kind, whose query differs per object)
+    index_space: str | None = None
     #: what ``Descriptor.values`` holds, with its unit, for figure axes
     value_label: str = "value"
 

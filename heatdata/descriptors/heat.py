@@ -111,6 +111,7 @@ class BoundaryKind(Kind):
 
     options: tuple[Option, ...] = BOUNDARY_OPTIONS
     distance_name = "modified Hausdorff distance, eq. 3.1"
+    index_space: str | None = "l1"  # Alg. 6.1's shortlist
 
     def label(self, options: Mapping) -> str:
         parts = [self.name, options["sampling"], str(options["source"]), str(options["samples"] or "all")]
@@ -273,6 +274,7 @@ class FixedTimePVHK(HeatKind):
     summary = "Fixed-time PVHK at the objects' time scales (Alg. 5.1), part-weighted distance (eq. 5.12-5.14, Alg. 5.2)"
     time_scaled = True
     weighted = True
+    index_space = None
 
     def times(self, work, connected, op, spec, context) -> tuple:
         times = context.get("times")

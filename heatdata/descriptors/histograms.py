@@ -18,6 +18,7 @@ class HistogramKind(Kind):
     #: bins of the histogram (``values`` has this length)
     bins: int = 0
     distance_name = "chi-square distance"
+    index_space = "hellinger"
     value_label = "fraction of the histogram"
 
     def size(self, spec: DescriptorSpec, view) -> int:

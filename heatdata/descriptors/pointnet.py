@@ -90,6 +90,7 @@ class PointNet(Kind):
     fitted = True
     learned = True
     distance_name = "Euclidean distance"
+    index_space = "l2"
     value_label = "embedding"
     options = (
         Option("points", 1024, "vertices drawn per view", integer(64, 4096)),

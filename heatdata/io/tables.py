@@ -12,8 +12,10 @@ import json
 from collections.abc import Iterator
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pyarrow as pa
+import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
 from heatdata.errors import HeatdataError
@@ -187,7 +189,14 @@ SIMILARITY_SCHEMA = pa.schema(
 )
 
 
-def write_table(frame: pd.DataFrame, path: str | Path, schema: pa.Schema, metadata: dict | None = None) -> None:
+def write_table(
+    frame: pd.DataFrame,
+    path: str | Path,
+    schema: pa.Schema,
+    metadata: dict | None = None,
+    *,
+    row_group_size: int | None = None,
+) -> None:
     """Write ``frame`` as Parquet with ``schema`` and JSON-encoded ``metadata``.
 
     Parameters
@@ -200,6 +209,8 @@ def write_table(frame: pd.DataFrame, path: str | Path, schema: pa.Schema, metada
         One of this module's schemas (:data:`DESCRIPTOR_SCHEMA`, ...).
     metadata : dict, optional
         The run's settings, stored as JSON (:func:`read_metadata`).
+    row_group_size : int, optional
+        Rows per Parquet row group (pyarrow's default: about a million); smaller groups are decoded in parallel.
     """
     from heatdata.version import __version__
 
@@ -213,7 +224,7 @@ def write_table(frame: pd.DataFrame, path: str | Path, schema: pa.Schema, metada
     }
     table = table.replace_schema_metadata({**(table.schema.metadata or {}), **meta})
     with atomic(path) as temporary:
-        pq.write_table(table, temporary)
+        pq.write_table(table, temporary, row_group_size=row_group_size)
 
 
 def read_table(
@@ -268,6 +279,92 @@ def read_table(
     except Exception as exc:
         raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
     return frame, _run_metadata(file, path)
+
+
+def read_matrix_table(
+    path: str | Path, matrix: str, *, schema: pa.Schema, skip: tuple[str, ...] = ()
+) -> tuple[pd.DataFrame, np.ndarray | None, dict]:
+    """:func:`read_table` for a large table whose list column ``matrix`` holds rows of equal length: that column as
+    one (N, M) array, without a Python object per row built and then copied.
+
+    The frame's ``matrix`` column holds views of the array's rows. A table whose rows differ in length (or hold a
+    null) is read as :func:`read_table` reads it, and the array is None.
+
+    Parameters
+    ----------
+    path : str or Path
+        A table heatdata wrote.
+    matrix : str
+        A column of ``list<double>``.
+    schema : pyarrow.Schema
+        The table the caller needs: a file without its columns is refused.
+    skip : tuple of str
+        Columns not to read (they are left out of the frame).
+
+    Returns
+    -------
+    frame : pandas.DataFrame
+    values : (N, M) float64 or None
+    metadata : dict
+        As :func:`read_table`'s.
+
+    Raises
+    ------
+    HeatdataError
+        As :func:`read_table`.
+    """
+    file = _open(path)
+    missing = [name for name in schema.names if name not in file.schema_arrow.names]
+    if missing:
+        raise HeatdataError(f"{path}: not the table this needs: it lacks column(s) {', '.join(missing)}")
+    columns = [name for name in file.schema_arrow.names if name not in skip]
+    try:
+        values = _matrix(file, matrix)
+        frame = file.read(columns=[c for c in columns if c != matrix or values is None]).to_pandas()
+    except Exception as exc:
+        raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
+    if values is not None:
+        frame.insert(columns.index(matrix), matrix, list(values))
+    return frame, values, _run_metadata(file, path)
+
+
+def _matrix(file: pq.ParquetFile, column: str) -> np.ndarray | None:
+    """A list column of equal-length rows as one (N, M) float64 array, its row groups decoded side by side into it;
+    None when its rows differ in length or one is null."""
+    import concurrent.futures
+    import os
+
+    def lengths(group: int) -> tuple[int, int, int]:
+        stats = file.metadata.row_group(group)
+        return stats.num_rows, stats.column(file.schema_arrow.names.index(column)).num_values, group
+
+    groups = [lengths(g) for g in range(file.num_row_groups)]
+    rows = sum(g[0] for g in groups)
+    if not rows:
+        return None
+    widths = {g[1] / g[0] for g in groups if g[0]}
+    if len(widths) != 1 or not float(next(iter(widths))).is_integer():
+        return None
+    width = int(next(iter(widths)))
+    out = np.empty((rows, width))
+    starts = np.concatenate([[0], np.cumsum([g[0] for g in groups])])
+
+    def fill(group: int) -> bool:
+        part = file.read_row_group(group, columns=[column]).column(0)
+        if part.null_count or len(part) == 0:
+            return False
+        counts = pc.min_max(pc.list_value_length(part))
+        if counts["min"].as_py() != width or counts["max"].as_py() != width:
+            return False
+        at = starts[group]
+        for chunk in part.chunks:
+            out[at : at + len(chunk)] = chunk.flatten().to_numpy(zero_copy_only=False).reshape(-1, width)
+            at += len(chunk)
+        return True
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=min(4, os.cpu_count() or 1)) as pool:
+        filled = list(pool.map(fill, range(len(groups))))
+    return out if all(filled) else None
 
 
 def iter_table(

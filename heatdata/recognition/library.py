@@ -28,7 +28,7 @@ import pandas as pd
 from heatdata.descriptors import COLOR_KIND, DescriptorSpec, describe, kind_of
 from heatdata.descriptors.rows import descriptor_rows
 from heatdata.errors import HeatdataError, LibraryError
-from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_table, write_table
+from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_matrix_table, write_table
 from heatdata.recognition.answers import Detection, Match, Recognition, SceneRecognition, SequenceStep
 from heatdata.recognition.confidence import (
     Confidence,
@@ -39,6 +39,14 @@ from heatdata.recognition.confidence import (
     nearest_two,
 )
 from heatdata.recognition.evaluate import TIME_RULES, library_subset, nan_views, own_time_scale
+from heatdata.recognition.index import (
+    CANDIDATE_ROWS,
+    SHORTLIST_OBJECTS,
+    SearchIndex,
+    build_index,
+    index_path,
+    read_index,
+)
 from heatdata.recognition.library_check import check_library, shortened, spec_of
 from heatdata.recognition.pose import STARTS, Pose, Surface, depth_image, estimate_pose
 from heatdata.typing import StrPath
@@ -66,6 +74,10 @@ TOUCHING = 1.15
 UNKNOWN_SETTLED = 0.99
 #: the nearest objects of an answer posed in turn until one explains the view (verification)
 CANDIDATES = 3
+#: columns of a library file that no search reads (where the values lie, how the rows were made), left unread
+UNREAD = ("positions", "repairs", "seconds")
+#: rows per row group of a library file (groups are decoded in parallel when it loads)
+ROW_GROUP = 16_384
 
 
 def probe_view() -> View:
@@ -245,9 +257,20 @@ def _views(rows: pd.DataFrame) -> int:
     return max(1, int(rows.groupby("object")["view_id"].nunique().min())) if len(rows) else 1
 
 
+def _rows_of(values, keep: np.ndarray):
+    """``values[keep]`` of an array or a frame, a slice (no copy) when the kept rows are consecutive (a library
+    file's library views come first)."""
+    kept = np.flatnonzero(keep)
+    rows = values.iloc if isinstance(values, pd.DataFrame) else values
+    if len(kept) and kept[-1] - kept[0] + 1 == len(kept):
+        return rows[kept[0] : kept[-1] + 1]
+    return rows[kept]
+
+
 def write_library(rows: pd.DataFrame, metadata: dict, path: StrPath) -> None:
-    """Write a library file (Parquet; written whole, then renamed)."""
-    write_table(rows, Path(path), DESCRIPTOR_SCHEMA, {LIBRARY_KEY: metadata})
+    """Write a library file (Parquet; written whole, then renamed), its library views first."""
+    rows = rows.iloc[np.argsort((rows["split"] != "train").to_numpy(), kind="stable")]
+    write_table(rows, Path(path), DESCRIPTOR_SCHEMA, {LIBRARY_KEY: metadata}, row_group_size=ROW_GROUP)
 
 
 class Library:
@@ -264,9 +287,14 @@ class Library:
         Its metadata (:func:`build_library`).
     path : str or Path
         Where it was read from, for messages.
+    values : (len(rows), M) float64, optional
+        The rows' values as one array (:func:`heatdata.io.tables.read_matrix_table`), so that they are not stacked
+        again.
     """
 
-    def __init__(self, rows: pd.DataFrame, metadata: dict, path: StrPath = "library"):
+    def __init__(
+        self, rows: pd.DataFrame, metadata: dict, path: StrPath = "library", *, values: np.ndarray | None = None
+    ):
         self.path = str(path)
         self.metadata = dict(metadata)
         self.spec = spec_of(metadata["spec"])
@@ -281,16 +309,20 @@ class Library:
             if scales is None
             else pd.DataFrame(scales).assign(descriptor=self.descriptor, source_rule=str(self.spec.get("source")))
         )
-        self.views = rows[rows["split"] == "train"].reset_index(drop=True)
-        self.independent = rows[rows["split"] == "similarity"].reset_index(drop=True)
+        train = (rows["split"] == "train").to_numpy()
+        self.views = _rows_of(rows, train).reset_index(drop=True)
+        self.independent = rows[~train].reset_index(drop=True)
         if self.views.empty:
             raise LibraryError(f"{self.path}: the library holds no library view")
-        self.objects = sorted(self.views["object"].unique())
-        self._values = np.stack(self.views["values"].to_numpy())
+        codes, objects = pd.factorize(self.views["object"], sort=True)
+        self.objects, self._codes = [str(obj) for obj in objects], codes
+        self._values = np.stack(self.views["values"].to_numpy()) if values is None else _rows_of(values, train)
         weights = self.views["weights"]
         self._weights = None if weights.isna().any() else np.stack(weights.to_numpy())
         self._by_object = self.views.groupby("object").indices
-        self._view_objects = self.views["object"].to_numpy()
+        self._positions = [self._by_object[obj] for obj in self.objects]
+        #: the search index beside the exact search (:mod:`heatdata.recognition.index`); None: exact search only
+        self.index: SearchIndex | None = None
         self._similarity: pd.DataFrame | None = None
         if "confidence" not in self.metadata:  # a file written before calibration: learned now, not stored
             self.metadata["confidence"] = _calibration(self.views, self.spec)
@@ -350,22 +382,55 @@ class Library:
             raise HeatdataError(f"{view.name}: {self.descriptor} cannot describe this view ({reasons})")
         return rows
 
-    def distances(self, query: pd.DataFrame) -> np.ndarray:
+    def use_index(self, index: SearchIndex | None) -> None:
+        """Search through ``index`` (None: the exact search alone).
+
+        Parameters
+        ----------
+        index : SearchIndex or None
+            An index of this library's views in their order, in its kind's space
+            (:func:`heatdata.recognition.index.build_index`).
+        """
+        if index is not None and (len(index) != len(self.views) or index.space != self.spec.impl.index_space):
+            raise LibraryError(
+                f"{self.path}: an index of {len(index)} views in the {index.space} space does not fit "
+                f"{len(self.views)} library views of {self.descriptor}"
+            )
+        self.index = index
+
+    def distances(self, query: pd.DataFrame, *, exact: bool = False) -> np.ndarray:
         """The query's distance to each library view, by the kind's own distance (eq. 3.1, 5.14, chi-square).
+
+        Through the library's index (:mod:`heatdata.recognition.index`) unless ``exact``: every library view of the
+        objects its candidates name is compared, the others are inf.
 
         Parameters
         ----------
         query : pandas.DataFrame
             The rows of :meth:`describe`.
+        exact : bool
+            Compare every library view (Alg. 3.1 as written), whether or not the library has an index.
 
         Returns
         -------
         (N,) ndarray
-            One distance per row of :attr:`views`; inf where Alg. 5.2's time rule does not compare them.
+            One distance per row of :attr:`views`; inf where Alg. 5.2's time rule does not compare them, or the
+            index did not shortlist their object.
         """
         impl = kind_of(self.spec.kind)
         if not impl.time_scaled:
-            return impl.distance_matrix(np.stack(query["values"].to_numpy())[:1], self._values)[0]
+            values = np.stack(query["values"].to_numpy())[:1]
+            if exact or self.index is None:
+                return impl.distance_matrix(values, self._values)[0]
+            codes = self._codes[
+                self.index.candidates(values[0], max(CANDIDATE_ROWS, SHORTLIST_OBJECTS * self.library_size))
+            ]
+            _, first = np.unique(codes, return_index=True)
+            shortlist = codes[np.sort(first)][:SHORTLIST_OBJECTS]
+            positions = np.concatenate([self._positions[code] for code in shortlist])
+            distance = np.full(len(self.views), np.inf)
+            distance[positions] = impl.distance_matrix(values, self._values[positions])[0]
+            return distance
         distance = np.full(len(self.views), np.inf)
         at = query.set_index("time_object")
         allowed = set(at.index)
@@ -385,7 +450,9 @@ class Library:
             )[0]
         return distance
 
-    def recognize(self, view: View, k: int = 5, *, threshold: float | None = None, pose: bool = True) -> Recognition:
+    def recognize(
+        self, view: View, k: int = 5, *, threshold: float | None = None, pose: bool = True, exact: bool = False
+    ) -> Recognition:
         """The ``k`` objects nearest ``view`` (Alg. 3.1; Alg. 5.2 for a time-scaled kind), nearest first, how
         confident the answer is that the nearest is the object seen, and where it is.
 
@@ -408,6 +475,8 @@ class Library:
         pose : bool
             Estimate the pose and verify the answer (a library without surface samples says so and answers
             without).
+        exact : bool
+            Compare the view with every library view, not through the library's index (:meth:`distances`).
 
         Returns
         -------
@@ -416,7 +485,7 @@ class Library:
         notes = self._colour_note(bool(np.ptp(view.colors) > 0), view.name)
         if pose and not self.surfaces:
             notes.append(self.no_surfaces())
-        answer = self._nearest(view, k, threshold, pose=pose)
+        answer = self._nearest(view, k, threshold, pose=pose, exact=exact)
         return replace(answer, repairs=answer.repairs + notes)
 
     def no_surfaces(self) -> str:
@@ -457,6 +526,7 @@ class Library:
         pose: bool = False,
         depth: np.ndarray | None = None,
         up: np.ndarray | None = None,
+        exact: bool = False,
     ) -> Recognition:
         """:meth:`recognize` without its notes; ``depth`` is the frame's (default the view's own) and ``up`` the
         support plane's normal, for the pose."""
@@ -464,27 +534,24 @@ class Library:
             raise HeatdataError(f"k must be a whole number >= 1, got {k}")
         limit = self.threshold(threshold)
         query = self.describe(view)
-        distance = self.distances(query)
+        distance = self.distances(query, exact=exact)
         confidence = float("nan")
         if self.confidence is not None:
-            _, nearest, other = nearest_two(distance[None], self._view_objects)
+            _, nearest, other = nearest_two(distance[None], self._codes)
             confidence = float(self.confidence(nearest, other)[0])
         matches = []
-        for obj, positions in self._by_object.items():
-            best = positions[int(np.argmin(distance[positions]))]
-            if np.isfinite(distance[best]):
-                row = self.views.iloc[best]
-                matches.append(
-                    Match(
-                        str(obj),
-                        str(row["label"]),
-                        float(distance[best]),
-                        float(row["azimuth"]),
-                        float(row["elevation"]),
-                        str(row["view_id"]),
-                    )
+        for best in self._nearest_views(distance)[: max(int(k), CANDIDATES)]:
+            row = self.views.iloc[best]
+            matches.append(
+                Match(
+                    str(row["object"]),
+                    str(row["label"]),
+                    float(distance[best]),
+                    float(row["azimuth"]),
+                    float(row["elevation"]),
+                    str(row["view_id"]),
                 )
-        matches.sort(key=lambda m: (m.distance, self.objects.index(m.object)))
+            )
         repairs = sorted({r for rs in query["repairs"] for r in rs})
         answer = Recognition(self.descriptor, matches[: int(k)], repairs, confidence, limit)
         if not (pose and self.surfaces and answer.confident):
@@ -494,6 +561,16 @@ class Library:
         if found is not None and found.object not in {m.object for m in kept}:  # a candidate beyond the k listed
             kept = [*kept, next(m for m in matches if m.object == found.object)]
         return replace(answer, matches=kept, pose=found)
+
+    def _nearest_views(self, distance: np.ndarray) -> np.ndarray:
+        """Each compared object's nearest library view (the first of equals), nearest objects first (equals by
+        name)."""
+        finite = np.flatnonzero(np.isfinite(distance))
+        codes = self._codes[finite]
+        order = finite[np.lexsort((distance[finite], codes))]
+        ordered = self._codes[order]
+        firsts = order[np.r_[True, ordered[1:] != ordered[:-1]]] if len(order) else order
+        return firsts[np.lexsort((self._codes[firsts], distance[firsts]))]
 
     def _pose(
         self, view: View, matches: list[Match], distance: np.ndarray, depth: np.ndarray | None, up: np.ndarray | None
@@ -541,6 +618,7 @@ class Library:
         name: str = "frame",
         threshold: float | None = None,
         pose: bool = True,
+        exact: bool = False,
     ) -> SceneRecognition:
         """Every object of a depth frame: the support plane, the objects on it, and what each is nearest.
 
@@ -571,6 +649,8 @@ class Library:
             The confidence below which an object is unknown (default: the library's).
         pose : bool
             Estimate each object's pose and verify its answer against the frame's depth (:meth:`recognize`).
+        exact : bool
+            Compare each object with every library view, not through the library's index (:meth:`distances`).
 
         Returns
         -------
@@ -583,10 +663,16 @@ class Library:
             An empty frame (no reading), intrinsics or a colour image that do not fit the depth image.
         """
         segmentation = segment_frame(depth, intrinsics, rgb, settings, mask=mask, depth_range=depth_range, name=name)
-        return self.recognize_segments(segmentation, k=k, threshold=threshold, pose=pose)
+        return self.recognize_segments(segmentation, k=k, threshold=threshold, pose=pose, exact=exact)
 
     def recognize_segments(
-        self, segmentation: Segmentation, *, k: int = 5, threshold: float | None = None, pose: bool = True
+        self,
+        segmentation: Segmentation,
+        *,
+        k: int = 5,
+        threshold: float | None = None,
+        pose: bool = True,
+        exact: bool = False,
     ) -> SceneRecognition:
         """:meth:`recognize_scene` of a frame already segmented (:func:`heatdata.views.segment.segment_points`).
 
@@ -600,6 +686,8 @@ class Library:
             The confidence below which an object is unknown (default: the library's).
         pose : bool
             Estimate each object's pose and verify its answer against the frame's depth (:meth:`recognize`).
+        exact : bool
+            As :meth:`recognize_scene`'s.
 
         Returns
         -------
@@ -615,7 +703,7 @@ class Library:
             notes = list(segment.notes)
             try:
                 answer: Recognition | None = self._nearest(
-                    segment.view, k, limit, pose=pose, depth=segmentation.depth, up=up
+                    segment.view, k, limit, pose=pose, depth=segmentation.depth, up=up, exact=exact
                 )
             except HeatdataError as exc:  # a segment the descriptor cannot describe is still a detection
                 answer = None
@@ -741,7 +829,7 @@ class Library:
             query = self.describe(view)
             belief.step([np.asarray(query["values"].iloc[0], dtype=np.float64)], move)
             if belief.log_unknown is not None and self.confidence is not None:
-                _, nearest, other = nearest_two(self.distances(query)[None], self._view_objects)
+                _, nearest, other = nearest_two(self.distances(query)[None], self._codes)
                 belief.weigh_unknown(float(self.confidence(nearest, other)[0]))
             estimate = belief.estimate
             settled = belief.unknown >= UNKNOWN_SETTLED if estimate is None else bool(belief.converged)
@@ -749,13 +837,15 @@ class Library:
         return steps
 
 
-def load_library(path: StrPath) -> Library:
+def load_library(path: StrPath, *, index: bool = True) -> Library:
     """Read a library file and check that this heatdata describes views as the one that built it.
 
     Parameters
     ----------
     path : str or Path
         A file the workflow wrote (``results/libraries/{descriptor}-{size}.parquet``).
+    index : bool
+        Search through the index beside it (:func:`library_index`); False: the exact search alone.
 
     Returns
     -------
@@ -767,9 +857,10 @@ def load_library(path: StrPath) -> Library:
         Not a library file, another layout, or a probe this heatdata describes differently.
     """
     try:
-        rows, run = read_table(Path(path), schema=DESCRIPTOR_SCHEMA)
+        rows, values, run = read_matrix_table(Path(path), "values", schema=DESCRIPTOR_SCHEMA, skip=UNREAD)
     except HeatdataError as exc:
         raise LibraryError(str(exc)) from None
+    rows = rows.assign(**dict.fromkeys(UNREAD))
     metadata = run.get(LIBRARY_KEY)
     if not isinstance(metadata, dict):
         raise LibraryError(f"{path}: not a library file (build one with the workflow: results/libraries/)")
@@ -778,9 +869,9 @@ def load_library(path: StrPath) -> Library:
             f"{path}: a library of layout {shortened(repr(metadata.get('format')))}; this heatdata reads layout "
             f"{LIBRARY_FORMAT}"
         )
-    spec = check_library(rows, metadata, path)
+    spec = check_library(rows, metadata, path, values)
     try:
-        library = Library(rows, metadata, path)
+        library = Library(rows, metadata, path, values=values)
         now = probe_values(spec)
     except LibraryError:
         raise
@@ -793,4 +884,67 @@ def load_library(path: StrPath) -> Library:
             f"{path}: built by heatdata {metadata['heatdata_version']}, whose {library.descriptor} describes views "
             f"differently from this heatdata {__version__} (probe off by {gap:.2g}): rebuild the library"
         )
+    if index:
+        library.use_index(library_index(library, path))
     return library
+
+
+def library_index(library: Library, path: StrPath) -> SearchIndex | None:
+    """The index of a library file (:mod:`heatdata.recognition.index`): the one beside it, read and checked, or one
+    built in memory when there is none or it is not this library's (said in a log line).
+
+    Parameters
+    ----------
+    library : Library
+        The file's library.
+    path : str or Path
+        The library file.
+
+    Returns
+    -------
+    SearchIndex or None
+        None for a kind without an index space (a time-scaled kind): the exact search answers.
+    """
+    space = library.spec.impl.index_space
+    if space is None:
+        return None
+    beside = index_path(path)
+    if beside.exists():
+        try:
+            return read_index(beside, library._values, space)
+        except HeatdataError as exc:
+            log.warning("%s: building one in memory instead (heatdata index %s rewrites it)", exc, path)
+    else:
+        log.info("%s has no index beside it: building one in memory (heatdata index %s writes it)", path, path)
+    return build_index(library._values, space, what=str(path))
+
+
+def write_library_index(path: StrPath) -> Path:
+    """Build the index of a library file and write it beside it (``name.faiss``).
+
+    Parameters
+    ----------
+    path : str or Path
+        A library file.
+
+    Returns
+    -------
+    Path
+        The index file.
+
+    Raises
+    ------
+    LibraryError
+        Not a library file, or one whose kind answers by the exact search alone (a time-scaled kind).
+    """
+    library = load_library(path, index=False)
+    space = library.spec.impl.index_space
+    if space is None:
+        raise LibraryError(
+            f"{path}: {library.descriptor} describes a query at each object's time scale; its library answers by "
+            "the exact search and has no index"
+        )
+    written = index_path(path)
+    build_index(library._values, space, what=str(path)).write(written)
+    log.info("%s: index written (%.1f MB)", written, written.stat().st_size / 1e6)
+    return written

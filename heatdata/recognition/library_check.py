@@ -152,7 +152,7 @@ def check_metadata(metadata: dict) -> None:
         raise LibraryError(f"{bad.removeprefix('metadata.')}: not a finite number")
 
 
-def check_rows(rows: pd.DataFrame, metadata: dict) -> None:
+def check_rows(rows: pd.DataFrame, metadata: dict, values: np.ndarray | None = None) -> None:
     """Check the rows of a library file against its (schema-valid) metadata.
 
     Parameters
@@ -161,6 +161,8 @@ def check_rows(rows: pd.DataFrame, metadata: dict) -> None:
         Its :data:`heatdata.io.tables.DESCRIPTOR_SCHEMA` rows.
     metadata : dict
         Its metadata, valid by :func:`check_metadata`.
+    values : (len(rows), M) float64, optional
+        The rows' values as one array, when they were read as one (so all are M long).
 
     Raises
     ------
@@ -175,22 +177,25 @@ def check_rows(rows: pd.DataFrame, metadata: dict) -> None:
     if not rows["split"].isin(["train", "similarity"]).all():
         raise LibraryError(f"rows of splits {sorted(set(rows['split']))}, not train and similarity")
     length = len(metadata["probe"])
-    lengths = {len(v) if isinstance(v, np.ndarray) else -1 for v in rows["values"]}
+    lengths = (
+        {values.shape[1]}
+        if values is not None
+        else {len(v) if isinstance(v, np.ndarray) else -1 for v in rows["values"]}
+    )
     if lengths != {length}:
         raise LibraryError(f"rows of {sorted(lengths)} values; its probe has {length}")
-    weights = {len(w) for w in rows["weights"] if w is not None and not (isinstance(w, float) and math.isnan(w))}
+    given = rows["weights"][rows["weights"].notna()]
+    weights = {len(w) for w in given if not (isinstance(w, float) and math.isnan(w))}
     if weights - {length}:
         raise LibraryError(f"rows of {sorted(weights)} weights for {length} values")
     train = rows[rows["split"] == "train"]
     objects = set(metadata["objects"])
-    if set(train["object"]) != objects:
-        raise LibraryError(
-            f"its library views are of {len(set(train['object']))} objects, its metadata names {len(objects)}"
-        )
-    if not set(rows["object"]) <= objects:
-        raise LibraryError(
-            f"its similarity views name objects outside the library: {sorted(set(rows['object']) - objects)[:5]}"
-        )
+    named = set(train["object"].unique())
+    if named != objects:
+        raise LibraryError(f"its library views are of {len(named)} objects, its metadata names {len(objects)}")
+    outside = set(rows["object"].unique()) - objects
+    if outside:
+        raise LibraryError(f"its similarity views name objects outside the library: {sorted(outside)[:5]}")
     most = int(train.groupby("object")["view_id"].nunique().max())
     if most > metadata["library_size"]:
         raise LibraryError(f"an object has {most} library views; the library size is {metadata['library_size']}")
@@ -231,7 +236,7 @@ def spec_of(meta: dict) -> DescriptorSpec:
     return spec
 
 
-def check_library(rows: pd.DataFrame, metadata: dict, path: object) -> DescriptorSpec:
+def check_library(rows: pd.DataFrame, metadata: dict, path: object, values: np.ndarray | None = None) -> DescriptorSpec:
     """:func:`check_metadata`, :func:`spec_of` and :func:`check_rows`, with ``path`` in the message.
 
     Parameters
@@ -242,6 +247,8 @@ def check_library(rows: pd.DataFrame, metadata: dict, path: object) -> Descripto
         Its metadata.
     path : str or Path
         The file, for the message.
+    values : (len(rows), M) float64, optional
+        As :func:`check_rows`'s.
 
     Returns
     -------
@@ -258,7 +265,7 @@ def check_library(rows: pd.DataFrame, metadata: dict, path: object) -> Descripto
         spec = spec_of(metadata["spec"])
         if spec.impl.time_scaled != (metadata.get("time_scales") is not None):
             raise LibraryError(f"time_scales: {'missing for' if spec.impl.time_scaled else 'given to'} {spec.name}")
-        check_rows(rows, metadata)
+        check_rows(rows, metadata, values)
         foreign = spec.impl.foreign_fit(spec, metadata["objects"])
         if foreign:
             raise LibraryError(f"spec: {foreign}")

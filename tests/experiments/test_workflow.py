@@ -1060,6 +1060,12 @@ def test_heatdata_recognize_names_the_object_of_a_depth_png_and_follows_a_circle
     assert answer["plane"] is None and found["object"] == "beer-mug" and found["matches"][0]["object"] == "beer-mug"
     assert {"distance", "azimuth", "label", "view_id"} <= set(found["matches"][0])
     assert found["pixels"] == pytest.approx(view.n_vertices, rel=0.02)
+    assert library.with_suffix(".faiss").exists()  # the library rule writes its index beside it
+    library.with_suffix(".faiss").unlink()
+    assert main(["index", str(library)]) == 0 and library.with_suffix(".faiss").exists()
+    capsys.readouterr()
+    assert main([*command, "--library", str(library), "--json", "--exact"]) == 0  # every library view compared
+    assert json.loads(capsys.readouterr().out)["objects"][0]["matches"] == found["matches"]
     assert main([*command, "--library", str(library)]) == 0
     table = capsys.readouterr().out
     assert "1 object;" in table and " beer-mug " in table and "no support plane" in table

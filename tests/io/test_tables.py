@@ -6,7 +6,7 @@ import pyarrow as pa
 import pytest
 
 import heatdata as hd
-from heatdata.io.tables import PREDICTION_SCHEMA, read_table, write_table
+from heatdata.io.tables import PREDICTION_SCHEMA, read_matrix_table, read_table, write_table
 
 
 def prediction_rows():
@@ -87,3 +87,26 @@ def test_concatenate_and_read_part_of_a_table(tmp_path):
     write_table(pd.DataFrame({"x": [1.0]}), tmp_path / "other.parquet", pa.schema([("x", pa.float64())]))
     with pytest.raises(hd.HeatdataError, match="schema differs"):
         concat_tables([parts[0], tmp_path / "other.parquet"], tmp_path / "bad.parquet")
+
+
+MATRIX_SCHEMA = pa.schema([("name", pa.string()), ("values", pa.list_(pa.float64())), ("extra", pa.list_(pa.string()))])
+
+
+@pytest.mark.parametrize("groups", [1, 3, 100])
+def test_a_matrix_column_reads_as_one_array_in_row_groups(tmp_path, groups):
+    values = np.arange(60, dtype=np.float64).reshape(20, 3)
+    frame = pd.DataFrame({"name": [f"v{k}" for k in range(20)], "values": list(values), "extra": [["x"]] * 20})
+    write_table(frame, tmp_path / "m.parquet", MATRIX_SCHEMA, {"seed": 1}, row_group_size=max(1, 20 // groups))
+    back, matrix, meta = read_matrix_table(tmp_path / "m.parquet", "values", schema=MATRIX_SCHEMA, skip=("extra",))
+    assert np.array_equal(matrix, values) and meta["seed"] == 1 and list(back.columns) == ["name", "values"]
+    assert all(np.shares_memory(row, matrix) for row in back["values"])  # the frame's rows are views of the array
+    assert list(back["name"]) == list(frame["name"])
+
+
+def test_a_ragged_matrix_column_reads_row_by_row(tmp_path):
+    frame = pd.DataFrame({"name": ["a", "b"], "values": [np.ones(3), np.ones(2)], "extra": [[], []]})
+    write_table(frame, tmp_path / "r.parquet", MATRIX_SCHEMA)
+    back, matrix, _ = read_matrix_table(tmp_path / "r.parquet", "values", schema=MATRIX_SCHEMA)
+    assert matrix is None and [len(v) for v in back["values"]] == [3, 2]
+    with pytest.raises(hd.HeatdataError, match="lacks column"):
+        read_matrix_table(tmp_path / "r.parquet", "values", schema=PREDICTION_SCHEMA)

@@ -129,6 +129,8 @@ rule surface:
         "../scripts/surface.py"
 
 
+# A library file and, beside it, its search index (name.faiss; heatdata.recognition.index), which heatdata recognize
+# reads; the index is not an output of its own, as a time-scaled kind has none (a library without one builds it).
 rule library:
     input:
         descriptors=f"{RESULTS}/descriptors.parquet",

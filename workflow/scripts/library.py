@@ -1,4 +1,5 @@
-"""A library file of one descriptor and library size, which `heatdata recognize` reads (rule library)."""
+"""A library file of one descriptor and library size, which `heatdata recognize` reads, and its search index beside it
+(name.faiss, for a kind with an index space) (rule library)."""
 
 import pandas as pd
 
@@ -6,7 +7,7 @@ from heatdata.descriptors import DescriptorSpec
 from heatdata.experiments.describe import load_fitted
 from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
-from heatdata.recognition.library import build_library, write_library
+from heatdata.recognition.library import build_library, write_library, write_library_index
 from heatdata.recognition.pose import read_surface
 
 setup_logging(path=snakemake.log[0])
@@ -27,3 +28,5 @@ library, metadata = build_library(
     surfaces={obj: read_surface(p) for obj, p in zip(snakemake.params.objects, snakemake.input.surfaces, strict=True)},
 )
 write_library(library, metadata, snakemake.output[0])
+if spec.impl.index_space is not None:
+    write_library_index(snakemake.output[0])

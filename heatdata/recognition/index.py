@@ -1,0 +1,255 @@
+"""A search index beside a library's exact search: a shortlist in milliseconds, re-ranked by the kind's own distance.
+
+The exact search of Alg. 3.1 compares a query with every library view. At 10,000 objects x 40 views that is 400,000
+distances per query, seconds in all. The index finds the library views nearest the query in a space where FAISS
+(Johnson, Douze & Jegou 2019, ``faiss-cpu``) searches fast, and the kind's own distance then re-ranks every library
+view of the objects it found. Each kind says which space (:attr:`heatdata.descriptors.Kind.index_space`):
+
+``"hellinger"``
+    The chi-square histograms (HGD, ESF, FPFH, VFH, SI-HKS). The map is the square root of each bin (the Hellinger
+    map), and the squared Euclidean distance between the maps is the squared Hellinger distance
+    ``H^2 = sum_k (sqrt(a_k) - sqrt(b_k))^2``. Per bin, ``(a - b)^2 / (a + b) = (sqrt(a) - sqrt(b))^2
+    (sqrt(a) + sqrt(b))^2 / (a + b)`` and the last factor lies in [1, 2], so ``H^2 / 2 <= chi^2 <= H^2``
+    (chi-square as :func:`heatdata.chi_square_matrix` defines it, with its 1/2): the nearest in the index are near
+    in chi-square, within a factor 2.
+``"l2"``
+    The Euclidean embeddings of a learned kind: the values themselves.
+``"l1"``
+    The boundary curves compared by the MHD (eq. 3.1): the L1 norm of Alg. 6.1's shortlist, an upper bound of the MHD.
+None
+    A time-scaled kind (the FT-PVHK): a query is described at each object's own time scale (Alg. 5.2), so there is no
+    one query vector to look up; such a library answers by the exact search.
+
+Below :data:`FLAT_ROWS` library views the index is a flat one (every view compared in the mapped space); above, an
+IVF-Flat index (Jegou, Douze & Schmid 2011: ``sqrt(N)`` k-means lists, :data:`PROBES` of them searched). A query's
+nearest views in the index (:data:`SHORTLIST_OBJECTS` times the library size, at least :data:`CANDIDATE_ROWS`) give
+up to :data:`SHORTLIST_OBJECTS` objects, in the order found, and every
+library view of those objects is compared by the exact distance. So the answer's objects, their nearest views and
+distances, and the confidence (the nearest object's distance and the nearest other object's) are exactly the exact
+search's whenever the exact search's nearest objects are on the shortlist. ``benchmarks/bench_scale.py`` measures how
+often, against the exact search, at 10^4 to 4 x 10^5 library views.
+
+The index is written beside the library file (``name.faiss`` beside ``name.parquet``) in FAISS's own binary format,
+which holds arrays and no code. A file beside a library is not trusted to belong to it: :func:`read_index` checks its
+size, dimensions, count and space, and that sampled vectors it holds are the library's own mapped rows, and a file
+that fails is rebuilt in memory with a warning.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from pathlib import Path
+
+import numpy as np
+
+from heatdata.errors import HeatdataError
+from heatdata.io.files import atomic
+from heatdata.typing import StrPath
+
+log = logging.getLogger(__name__)
+
+#: the spaces an index compares in, and FAISS's metric for each
+SPACES = ("hellinger", "l2", "l1")
+#: library views up to which the index is flat (exact in its space: a few ms per query at this size)
+FLAT_ROWS = 50_000
+#: inverted lists searched per query in an IVF index (of ``sqrt(N)``)
+PROBES = 24
+#: the fewest library views taken from the index per query
+CANDIDATE_ROWS = 256
+#: objects of the candidates whose every library view the exact distance re-ranks
+SHORTLIST_OBJECTS = 32
+#: vectors of an index file compared with the library's own mapped rows when it is read
+CHECKED_VECTORS = 64
+#: k-means training vectors per inverted list, and its iterations
+TRAINING_PER_LIST = 64
+TRAINING_ITERATIONS = 20
+#: what a library's index file is named by, beside the library file
+SUFFIX = ".faiss"
+
+
+def index_path(library: StrPath) -> Path:
+    """The index file of a library file: ``name.faiss`` beside ``name.parquet``.
+
+    Parameters
+    ----------
+    library : str or Path
+
+    Returns
+    -------
+    Path
+    """
+    return Path(library).with_suffix(SUFFIX)
+
+
+def mapped(values: np.ndarray, space: str) -> np.ndarray:
+    """Library or query values in the index's space, as the float32 rows FAISS takes.
+
+    Parameters
+    ----------
+    values : (N, M) float
+        Descriptor values (non-finite values count 0).
+    space : {"hellinger", "l2", "l1"}
+
+    Returns
+    -------
+    (N, M) float32, C-contiguous
+    """
+    if space not in SPACES:
+        raise HeatdataError(f"unknown index space {space!r} (use {', '.join(SPACES)})")
+    values = np.atleast_2d(np.asarray(values, dtype=np.float32))
+    if not np.isfinite(values).all():
+        values = np.nan_to_num(values, nan=0.0, posinf=0.0, neginf=0.0)
+    if space == "hellinger":
+        values = np.sqrt(np.maximum(values, 0.0))
+    return np.ascontiguousarray(values)
+
+
+def _metric(space: str) -> int:
+    import faiss
+
+    return faiss.METRIC_L1 if space == "l1" else faiss.METRIC_L2
+
+
+class SearchIndex:
+    """A FAISS index over a library's mapped views (:func:`build_index`, :func:`read_index`).
+
+    Parameters
+    ----------
+    index : faiss.Index
+        Its rows are the library views, in the library's order.
+    space : {"hellinger", "l2", "l1"}
+    """
+
+    def __init__(self, index, space: str):
+        self.index = index
+        self.space = space
+
+    def __len__(self) -> int:
+        return int(self.index.ntotal)
+
+    def __repr__(self) -> str:
+        return f"SearchIndex({self.description}, {len(self)} views, {self.space})"
+
+    @property
+    def description(self) -> str:
+        """``"flat"`` or ``"IVF-Flat, L lists, P probed"``."""
+        lists = getattr(self.index, "nlist", None)
+        return "flat" if lists is None else f"IVF-Flat, {lists} lists, {self.index.nprobe} probed"
+
+    def candidates(self, query: np.ndarray, count: int = CANDIDATE_ROWS) -> np.ndarray:
+        """The library views nearest ``query`` in the index's space, nearest first.
+
+        Parameters
+        ----------
+        query : (M,) float
+            One descriptor's values.
+        count : int
+
+        Returns
+        -------
+        (<= count,) int
+            Positions of library views.
+        """
+        _, rows = self.index.search(mapped(query, self.space), min(int(count), len(self)))
+        return rows[0][rows[0] >= 0]
+
+    def write(self, path: StrPath) -> None:
+        """Write the index in FAISS's binary format (whole, then renamed).
+
+        Parameters
+        ----------
+        path : str or Path
+        """
+        import faiss
+
+        with atomic(Path(path)) as temporary:
+            faiss.write_index(self.index, str(temporary))
+
+
+def build_index(values: np.ndarray, space: str, *, what: str = "library") -> SearchIndex:
+    """An index over library values: flat up to :data:`FLAT_ROWS` views, IVF-Flat above (seeded k-means).
+
+    Parameters
+    ----------
+    values : (N, M) float
+        The library views' values, in the library's order.
+    space : {"hellinger", "l2", "l1"}
+    what : str
+        The library, for the progress line.
+
+    Returns
+    -------
+    SearchIndex
+    """
+    import faiss
+
+    vectors = mapped(values, space)
+    count, dimension = vectors.shape
+    metric = _metric(space)
+    tic = time.perf_counter()
+    if count <= FLAT_ROWS:
+        index: faiss.Index = faiss.IndexFlat(dimension, metric)
+    else:
+        lists = round(np.sqrt(count))
+        log.info("%s: building an IVF-Flat index of %d views (%d lists) ...", what, count, lists)
+        quantizer = faiss.IndexFlat(dimension, metric)
+        ivf = faiss.IndexIVFFlat(quantizer, dimension, lists, metric)
+        ivf.cp.niter = TRAINING_ITERATIONS
+        ivf.cp.seed = 0
+        sample = np.random.default_rng(0).choice(count, min(count, TRAINING_PER_LIST * lists), replace=False)
+        ivf.train(vectors[np.sort(sample)])
+        ivf.nprobe = PROBES
+        index = ivf
+    index.add(vectors)
+    found = SearchIndex(index, space)
+    log.info("%s: %s index of %d views built in %.1f s", what, found.description, count, time.perf_counter() - tic)
+    return found
+
+
+def read_index(path: StrPath, values: np.ndarray, space: str) -> SearchIndex:
+    """Read an index file and check that it indexes ``values``.
+
+    Parameters
+    ----------
+    path : str or Path
+        A file :meth:`SearchIndex.write` wrote.
+    values : (N, M) float
+        The library views it must index, in order.
+    space : {"hellinger", "l2", "l1"}
+
+    Returns
+    -------
+    SearchIndex
+
+    Raises
+    ------
+    HeatdataError
+        Not a FAISS index, larger than an index of these views can be, or an index of other views (count,
+        dimensions, metric, or a sampled vector that differs from the library's mapped row).
+    """
+    import faiss
+
+    path = Path(path)
+    count, dimension = np.atleast_2d(values).shape
+    largest = 2 * (count * (dimension * 4 + 8) + 4 * count * dimension) + 2**20  # vectors, ids, centroids, headers
+    if path.stat().st_size > largest:
+        raise HeatdataError(f"{path}: {path.stat().st_size} bytes, more than an index of {count} views can hold")
+    try:
+        index = faiss.read_index(str(path))
+    except RuntimeError as exc:
+        raise HeatdataError(f"{path}: not a FAISS index ({str(exc).splitlines()[0][:200]})") from None
+    if (index.ntotal, index.d, index.metric_type) != (count, dimension, _metric(space)):
+        raise HeatdataError(
+            f"{path}: an index of {index.ntotal} views of {index.d} values, not of this library's {count} x {dimension}"
+        )
+    ivf = faiss.try_extract_index_ivf(index)
+    if ivf is not None:
+        ivf.make_direct_map()
+    sample = np.unique(np.linspace(0, count - 1, CHECKED_VECTORS).astype(np.int64))
+    held = np.stack([index.reconstruct(int(row)) for row in sample])
+    if not np.array_equal(held, mapped(np.atleast_2d(values)[sample], space)):
+        raise HeatdataError(f"{path}: an index of other views (built for another library, or an older one)")
+    if ivf is not None:
+        ivf.nprobe = PROBES
+    return SearchIndex(index, space)
