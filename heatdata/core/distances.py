@@ -366,6 +366,8 @@ def chi_square_matrix(queries: np.ndarray, library: np.ndarray, *, chunk_element
     queries : (Q, D) float
     library : (N, D) float
         Non-negative histograms.
+    chunk_elements : int
+        The most values a work array holds (queries x library rows x bins): memory stays bounded at any library size.
 
     Returns
     -------
@@ -380,10 +382,14 @@ def chi_square_matrix(queries: np.ndarray, library: np.ndarray, *, chunk_element
     if np.any(queries < 0) or np.any(library < 0):
         raise HeatdataError("chi-square distances need non-negative histograms")
     out = np.empty((len(queries), len(library)))
-    block = max(1, chunk_elements // max(1, len(library) * queries.shape[1]))
+    width = max(1, queries.shape[1])
+    block = max(1, chunk_elements // max(1, len(library) * width))  # queries at a time
+    rows = max(1, chunk_elements // (block * width))  # library views at a time: the work arrays stay chunk-sized
     for q0 in range(0, len(queries), block):
         a = queries[q0 : q0 + block, None, :]
-        total = a + library[None, :, :]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            out[q0 : q0 + block] = 0.5 * np.where(total > 0, (a - library[None]) ** 2 / total, 0.0).sum(axis=2)
+        for n0 in range(0, len(library), rows):
+            part = library[None, n0 : n0 + rows, :]
+            total = a + part
+            with np.errstate(divide="ignore", invalid="ignore"):
+                out[q0 : q0 + block, n0 : n0 + rows] = 0.5 * np.where(total > 0, (a - part) ** 2 / total, 0.0).sum(2)
     return out

@@ -142,6 +142,8 @@ CASES = {
     "a library size below the views per object": (_set("library_size", 2), "an object has 3 library views"),
     "objects other than the rows'": (_set("objects", ["cupcake", "plastic-cup"]), "its metadata names 2"),
     "objects of text": (_set("objects", "cupcake"), "objects: 'cupcake' is not of type 'array'"),
+    "an object of no name": (_set("objects", ["cupcake", ""]), "objects.1: not a name of 1 to 200 characters"),
+    "an object twice": (_set("objects", ["cupcake", "cupcake"]), "objects: has non-unique elements"),
     "a NaN in the confidence": (_confidence("intercept", float("nan")), "confidence.intercept: not a finite number"),
     "a threshold of 2": (_confidence("threshold", 2.0), "confidence.threshold: 2.0 is greater than the maximum"),
     "sizes of another object": (_set("sizes", {"sofa": [1.0, 1.0, 1.0]}), "sizes of objects outside the library"),
