@@ -25,13 +25,13 @@ MATCHES = 5
 
 
 def library_of(rows: pd.DataFrame, spec):
-    """A :class:`heatdata.Library` of ``rows`` (train views of one descriptor) with an index, without a file (its
-    spec is the kind's default: searching reads only the kind)."""
+    """A :class:`heatdata.Library` of ``rows`` (train views of one descriptor) with an index, without a file."""
     from heatdata.recognition.index import build_index
     from heatdata.recognition.library import Library
 
     metadata = {
-        "spec": {"kind": spec.kind, "options": dict(spec.options), "fitted": None, "name": spec.name},
+        "spec": {"kind": spec.kind, "options": dict(spec.options), "fitted": None, "name": spec.name},  # not fitted:
+        # the rows are described already
         "time_rule": "plausible",
         "library_size": int(rows.groupby("object").size().max()),
         "heatdata_version": "",
@@ -44,17 +44,20 @@ def library_of(rows: pd.DataFrame, spec):
 
 def agreement(run: Path) -> list[tuple[str, float, str]]:
     from heatdata.descriptors import DescriptorSpec, kind_of
-    from heatdata.io.tables import read_table
+    from heatdata.io.tables import read_metadata, read_table
     from heatdata.recognition.confidence import nearest_two
 
-    names = read_table(run / "descriptors.parquet", columns=["descriptor", "kind"])[0].drop_duplicates()
+    specs = {}
+    for entry in read_metadata(run / "descriptors.parquet")["descriptors"]:
+        spec = DescriptorSpec(**entry)
+        specs[spec.name] = spec
     figures = []
-    for name, kind in names.itertuples(index=False):
-        if kind_of(kind).index_space is None:
+    for name, spec in specs.items():
+        if kind_of(spec.kind).index_space is None:
             continue
         rows, _ = read_table(run / "descriptors.parquet", filters=[("descriptor", "==", name)])
         rows = rows[[bool(np.isfinite(v).all()) for v in rows["values"]]]
-        library = library_of(rows[rows["split"] == "train"], DescriptorSpec(kind))  # only its kind searches
+        library = library_of(rows[rows["split"] == "train"], spec)
         tests = rows[rows["split"] == "test"]
         same, fast, slow = 0, [], []
         for k in range(len(tests)):

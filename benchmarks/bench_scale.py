@@ -78,7 +78,7 @@ def distractor_library(run: Path, size: int, path: Path) -> tuple[int, int]:
 
 
 def high_water() -> float:
-    """This process's peak resident memory in GB (``VmHWM``: ``ru_maxrss`` would count the parent it was forked from)."""
+    """This process's peak resident memory in GB (``VmHWM``; ``ru_maxrss`` counts the parent it was forked from)."""
     status = Path("/proc/self/status").read_text()
     return int(next(line for line in status.splitlines() if line.startswith("VmHWM")).split()[1]) / 1e6
 
@@ -180,7 +180,8 @@ def main() -> None:
             print(label, figures, flush=True)
             rows.append((f"{label}: index built and written", built * 1e3, "ms"))
             for name, value in figures.items():
-                unit = "GB" if name.startswith("peak memory") else "share" if "recall" in name or "right" in name else "ms"
+                share = "recall" in name or "right" in name
+                unit = "GB" if name.startswith("peak memory") else "share" if share else "ms"
                 rows.append((f"{label}: {name}", value if unit != "ms" else value * 1e3, unit))
             path.unlink()
     write(rows)

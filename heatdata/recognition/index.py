@@ -49,7 +49,7 @@ from heatdata.typing import StrPath
 
 log = logging.getLogger(__name__)
 
-#: the spaces an index compares in, and FAISS's metric for each
+#: the spaces an index compares in (FAISS compares "l1" by its L1 metric, the others by L2)
 SPACES = ("hellinger", "l2", "l1")
 #: library views up to which the index is flat (exact in its space: a few ms per query at this size)
 FLAT_ROWS = 50_000
