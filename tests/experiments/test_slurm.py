@@ -132,8 +132,8 @@ def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
     )
     assert result.returncode == 0, (result.stdout + result.stderr)[-4000:]
     submitted = (result.stdout + result.stderr).count("has been submitted with SLURM jobid")
-    # every job but `all`, the per-object ones in the profile's job groups: catalog, one group of 2 render and
-    # 2 surface, one of 2 describe, collect, classify, library, evaluate and report_figures
-    assert submitted == 8
+    # every job but `all`: catalog, 2 render, 2 surface, 2 describe, collect, classify, library, evaluate and
+    # report_figures
+    assert submitted == 12
     predictions, _ = read_table(workdir / "results" / "evaluation" / "predictions.parquet")
     assert predictions["correct"].mean() > 0.8
