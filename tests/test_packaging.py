@@ -18,6 +18,7 @@ DISTRIBUTIONS = {
     "yaml": "pyyaml",
     "PIL": "pillow",
     "mpl_toolkits": "matplotlib",
+    "faiss": "faiss-cpu",
 }
 
 

@@ -142,9 +142,9 @@ def check_metadata(metadata: dict) -> None:
     """
     objects = metadata.get("objects")
     if isinstance(objects, list) and len(objects) > 1:  # 10,000 names: checked here by the schema's rule, 100x faster
-        bad = next((k for k, o in enumerate(objects) if not (isinstance(o, str) and 0 < len(o) <= MAX_NAME)), None)
-        if bad is not None:
-            raise LibraryError(f"objects.{bad}: not a name of 1 to {MAX_NAME} characters")
+        unnamed = next((k for k, o in enumerate(objects) if not (isinstance(o, str) and 0 < len(o) <= MAX_NAME)), None)
+        if unnamed is not None:
+            raise LibraryError(f"objects.{unnamed}: not a name of 1 to {MAX_NAME} characters")
         if len(set(objects)) != len(objects):
             raise LibraryError("objects: has non-unique elements")
         metadata = {**metadata, "objects": objects[:1]}

@@ -124,16 +124,19 @@ def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
             str(workdir),
             "--workflow-profile",
             str(ROOT / "profiles" / "slurm"),
-            "--slurm-no-account",
-        ],  # no accounting here
+            "--slurm-no-account",  # no accounting here
+            "--group-components",  # the profile's job groups, sized to this 2-core node: two one-core jobs each
+            "views=2",
+            "descriptors=2",
+        ],
         capture_output=True,
         text=True,
         timeout=900,
     )
     assert result.returncode == 0, (result.stdout + result.stderr)[-4000:]
     submitted = (result.stdout + result.stderr).count("has been submitted with SLURM jobid")
-    # every job but `all`: catalog, 2 render, 2 surface, 2 describe, collect, classify, library, evaluate and
-    # report_figures
-    assert submitted == 12
+    # every job but `all`, the per-object ones in the profile's job groups: catalog, two groups of the 2 render and
+    # 2 surface jobs, one of the 2 describe jobs, collect, classify, library, evaluate and report_figures
+    assert submitted == 9
     predictions, _ = read_table(workdir / "results" / "evaluation" / "predictions.parquet")
     assert predictions["correct"].mean() > 0.8
