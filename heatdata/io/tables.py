@@ -334,9 +334,14 @@ def _matrix(file: pq.ParquetFile, column: str) -> np.ndarray | None:
     import concurrent.futures
     import os
 
-    def lengths(group: int) -> tuple[int, int, int]:
+    leaves = [file.metadata.schema.column(k).path for k in range(file.metadata.num_columns)]
+    leaf = leaves.index(f"{column}.list.element") if f"{column}.list.element" in leaves else None
+    if leaf is None:
+        return None
+
+    def lengths(group: int) -> tuple[int, int]:
         stats = file.metadata.row_group(group)
-        return stats.num_rows, stats.column(file.schema_arrow.names.index(column)).num_values, group
+        return stats.num_rows, stats.column(leaf).num_values
 
     groups = [lengths(g) for g in range(file.num_row_groups)]
     rows = sum(g[0] for g in groups)

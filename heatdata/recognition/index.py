@@ -18,7 +18,8 @@ view of the objects it found. Each kind says which space (:attr:`heatdata.descri
     The boundary curves compared by the MHD (eq. 3.1): the L1 norm of Alg. 6.1's shortlist, an upper bound of the MHD.
 None
     A time-scaled kind (the FT-PVHK): a query is described at each object's own time scale (Alg. 5.2), so there is no
-    one query vector to look up; such a library answers by the exact search.
+    one query vector to look up; such a library answers by the exact search. So does a combined kind's, whose
+    distance sums its parts' scaled distances.
 
 Below :data:`FLAT_ROWS` library views the index is a flat one (every view compared in the mapped space); above, an
 IVF-Flat index (Jegou, Douze & Schmid 2011: ``sqrt(N)`` k-means lists, :data:`PROBES` of them searched). A query's

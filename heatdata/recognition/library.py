@@ -267,9 +267,24 @@ def _rows_of(values, keep: np.ndarray):
     return rows[kept]
 
 
-def write_library(rows: pd.DataFrame, metadata: dict, path: StrPath) -> None:
-    """Write a library file (Parquet; written whole, then renamed), its library views first."""
+def write_library(rows: pd.DataFrame, metadata: dict, path: StrPath, *, index: bool = False) -> None:
+    """Write a library file (Parquet; written whole, then renamed), its library views first.
+
+    Parameters
+    ----------
+    rows, metadata
+        As :func:`build_library` returns them.
+    path : str or Path
+        The ``.parquet`` to write.
+    index : bool
+        Also write its search index beside it (``name.faiss``; :mod:`heatdata.recognition.index`), for a kind with an
+        index space.
+    """
     rows = rows.iloc[np.argsort((rows["split"] != "train").to_numpy(), kind="stable")]
+    space = spec_of(metadata["spec"]).impl.index_space
+    if index and space is not None:
+        views = np.stack(rows.loc[rows["split"] == "train", "values"].to_numpy())
+        build_index(views, space, what=str(path)).write(index_path(path))
     write_table(rows, Path(path), DESCRIPTOR_SCHEMA, {LIBRARY_KEY: metadata}, row_group_size=ROW_GROUP)
 
 
@@ -903,7 +918,7 @@ def library_index(library: Library, path: StrPath) -> SearchIndex | None:
     Returns
     -------
     SearchIndex or None
-        None for a kind without an index space (a time-scaled kind): the exact search answers.
+        None for a kind without an index space (a time-scaled or combined kind): the exact search answers.
     """
     space = library.spec.impl.index_space
     if space is None:
@@ -935,14 +950,14 @@ def write_library_index(path: StrPath) -> Path:
     Raises
     ------
     LibraryError
-        Not a library file, or one whose kind answers by the exact search alone (a time-scaled kind).
+        Not a library file, or one whose kind answers by the exact search alone (a time-scaled or combined kind).
     """
     library = load_library(path, index=False)
     space = library.spec.impl.index_space
     if space is None:
         raise LibraryError(
-            f"{path}: {library.descriptor} describes a query at each object's time scale; its library answers by "
-            "the exact search and has no index"
+            f"{path}: a {library.spec.kind} library answers by the exact search and has no index (a time-scaled "
+            "kind describes a query at each object's time scale; a combined kind sums several distances)"
         )
     written = index_path(path)
     build_index(library._values, space, what=str(path)).write(written)

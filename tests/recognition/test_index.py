@@ -190,3 +190,21 @@ def test_an_index_that_does_not_fit_is_refused(library_file):
         library.use_index(ix.build_index(library._values[:-1], "hellinger"))
     with pytest.raises(LibraryError, match="does not fit"):
         library.use_index(ix.build_index(library._values, "l1"))
+
+
+def test_a_kind_without_an_index_space_answers_by_the_exact_search(library_file, monkeypatch):
+    monkeypatch.setattr(type(kind_of("hgd")), "index_space", None)  # as the FT-PVHK and a combined kind
+    assert load_library(library_file).index is None
+    with pytest.raises(LibraryError, match="a hgd library answers by the exact search and has no index"):
+        write_library_index(library_file)
+
+
+def test_a_library_written_with_its_index_reads_it_back(library_file, tmp_path, caplog):
+    library = load_library(library_file, index=False)
+    rows = pd.concat([library.views, library.independent], ignore_index=True)
+    path = tmp_path / "again.parquet"
+    write_library(rows, library.metadata, path, index=True)
+    with caplog.at_level(logging.INFO, logger="heatdata"):
+        again = load_library(path)
+    assert path.with_suffix(".faiss").exists() and "no index beside it" not in caplog.text
+    assert np.array_equal(again._values, library._values) and len(again.index) == len(library.views)

@@ -7,7 +7,7 @@ from heatdata.descriptors import DescriptorSpec
 from heatdata.experiments.describe import load_fitted
 from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
-from heatdata.recognition.library import build_library, write_library, write_library_index
+from heatdata.recognition.library import build_library, write_library
 from heatdata.recognition.pose import read_surface
 
 setup_logging(path=snakemake.log[0])
@@ -27,6 +27,4 @@ library, metadata = build_library(
     sizes=snakemake.params.sizes,
     surfaces={obj: read_surface(p) for obj, p in zip(snakemake.params.objects, snakemake.input.surfaces, strict=True)},
 )
-write_library(library, metadata, snakemake.output[0])
-if spec.impl.index_space is not None:
-    write_library_index(snakemake.output[0])
+write_library(library, metadata, snakemake.output[0], index=True)
