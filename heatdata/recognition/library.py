@@ -281,8 +281,8 @@ def write_library(rows: pd.DataFrame, metadata: dict, path: StrPath, *, index: b
         index space.
     """
     rows = rows.iloc[np.argsort((rows["split"] != "train").to_numpy(), kind="stable")]
-    space = spec_of(metadata["spec"]).impl.index_space
-    if index and space is not None:
+    space = spec_of(metadata["spec"]).impl.index_space if index else None
+    if space is not None:
         views = np.stack(rows.loc[rows["split"] == "train", "values"].to_numpy())
         build_index(views, space, what=str(path)).write(index_path(path))
     write_table(rows, Path(path), DESCRIPTOR_SCHEMA, {LIBRARY_KEY: metadata}, row_group_size=ROW_GROUP)
