@@ -9,7 +9,14 @@ from snakemake.utils import validate
 from heatdata.errors import ConfigError
 from heatdata.experiments.config import accept_aliases
 
-SCHEMA = yaml.safe_load(open(workflow.source_path("../schemas/config.schema.yaml")))
+
+def load_schema(path):
+    """A schema of workflow/schemas, read once (snakemake's validate reads its file at every call)."""
+    with open(workflow.source_path(path)) as file:
+        return yaml.safe_load(file)
+
+
+SCHEMA = load_schema("../schemas/config.schema.yaml")
 
 
 def typed(value, schema):
@@ -34,15 +41,20 @@ try:
 except ConfigError as exc:
     raise WorkflowError(f"config error: {exc}") from None
 config.update(typed(dict(config), SCHEMA))
-def schema_error(exc, where=""):
-    """A schema's WorkflowError as one line naming the key (``where``: what was validated, before it), or None."""
+
+
+def schema_message(error, where=""):
+    """A jsonschema error as one line naming the key (``where``: what was validated, before it)."""
+    key = ".".join(str(part) for part in error.absolute_path) or "the config"
+    return WorkflowError(f"config error: {where}{key}: {error.message}")
+
+
+def schema_error(exc):
+    """The one line of :func:`schema_message` for snakemake's validate's WorkflowError, or None."""
     cause = exc.__cause__ or exc.__context__
     while cause is not None and not isinstance(cause, jsonschema.ValidationError):
         cause = cause.__cause__ or cause.__context__
-    if cause is None:
-        return None
-    key = ".".join(str(part) for part in cause.absolute_path) or "the config"
-    return WorkflowError(f"config error: {where}{key}: {cause.message}")
+    return None if cause is None else schema_message(cause)
 
 
 try:
