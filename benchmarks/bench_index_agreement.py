@@ -7,6 +7,11 @@ the answer counts as identical when its five nearest objects, their nearest libr
 two distances the confidence reads (the nearest view's and the nearest other object's) are all equal. The figures
 are the share of identical answers and the median search time each way.
 
+The classify rule's predictions (:func:`heatdata.recognition.evaluate.evaluate_table`, libraries of 40 and 8 views per
+object) are compared too, the index forced on (``exact=False``; the rule searches through one above 5,000 library
+views): a prediction is identical when its nearest library view is, and its distance within a relative 1e-6 (the
+exhaustive MHD search sums in float32). The figures are the share of identical predictions and the time each way.
+
     .venv/bin/snakemake --cores 2                       # the default run: results/
     .venv/bin/python benchmarks/bench_index_agreement.py results results/chairs_learned
 """
@@ -22,6 +27,7 @@ import pandas as pd
 from record import write
 
 MATCHES = 5
+CLASSIFY_SIZES = [40, 8]
 
 
 def library_of(rows: pd.DataFrame, spec):
@@ -74,12 +80,37 @@ def agreement(run: Path) -> list[tuple[str, float, str]]:
         label = f"{run.name or run}: {name} ({len(library.objects)} objects, {len(library.views):,} views)"
         print(f"{label}: {same}/{len(tests)} identical", flush=True)
         figures += [
+            *classify_agreement(run, name, label),
             (f"{label}: identical answers", same / len(tests), "share"),
             (f"{label}: test views", len(tests), "views"),
             (f"{label}: search through the index, median", 1e3 * float(np.median(fast)), "ms"),
             (f"{label}: exact search, median", 1e3 * float(np.median(slow)), "ms"),
         ]
     return figures
+
+
+def classify_agreement(run: Path, name: str, label: str) -> list[tuple[str, float, str]]:
+    """The classify rule's predictions through the index against its exhaustive ones (module docstring)."""
+    from heatdata.recognition.evaluate import evaluate_table
+
+    answers, seconds = [], []
+    for exact in (False, True):
+        tic = time.perf_counter()
+        answers.append(evaluate_table(run / "descriptors.parquet", name, CLASSIFY_SIZES, exact=exact))
+        seconds.append(time.perf_counter() - tic)
+    near, exact = answers
+    same = (near["predicted_view_id"].to_numpy() == exact["predicted_view_id"].to_numpy()) & np.isclose(
+        near["distance"].to_numpy(), exact["distance"].to_numpy(), rtol=1e-6, atol=0
+    )  # the exhaustive MHD search sums in float32
+    failed = near["predicted_view_id"].to_numpy() == ""  # no prediction either way (a test view with NaN values)
+    share = float(np.mean(same | (failed & (exact["predicted_view_id"].to_numpy() == ""))))
+    print(f"{label}: classify {share:.4f} identical ({len(near)} predictions)", flush=True)
+    sizes = " and ".join(map(str, CLASSIFY_SIZES))
+    return [
+        (f"{label}: classify, libraries of {sizes} views: identical predictions", share, "share"),
+        (f"{label}: classify through the index", seconds[0], "s"),
+        (f"{label}: classify, exact", seconds[1], "s"),
+    ]
 
 
 def main() -> None:

@@ -14,11 +14,13 @@
 For each size the library file is written (``write_library``) with its index (``write_library_index``); then a
 fresh process loads it (timed, FAISS's import included) and measures: the recall@1 of the index against the exact
 search on real queries (the nearest library view the same, and its object the same), the search's latency through
-the index and exhaustively, ``recognize`` warm (describe, search and answer, no pose) through the index, the
-10,000 test views of a batch answered one by one through the index, and the process's peak memory: before the
-library loads (imports, and the rendered views read from their tables), through the index, and after its exact
-searches. The 1,680 real
-test views are cycled to make 10,000.
+the index and exhaustively, the 10,000 test views of a batch answered one by one through the index (the 1,680 real
+test views cycled), ``recognize`` warm (describe, search and answer, no pose) through the index, and the process's
+peak memory: after its imports and the test descriptors, once the library is loaded and searched through the index,
+and at the end (the rendered views read from their large tables, and the exact searches).
+
+A second fresh process runs the classify rule's work (:func:`heatdata.recognition.evaluate.evaluate_table`) on a
+descriptor table of the library's views and those 10,000 test views, and measures its time and peak memory.
 
     .venv/bin/snakemake --cores 2 --configfile config/experiments/household_learned.yaml \\
         results/household_learned/libraries/hgd_color=hue-saturation-40.parquet
@@ -91,36 +93,36 @@ def child(library_path: str, run: str, queries: int, views: int) -> None:
     from heatdata.views.frames import frame_to_views
 
     imported = time.perf_counter() - tic
-    paths = sorted((Path(run) / "views").glob("*.parquet"))
-    rendered = []
-    for path in paths[:: max(1, len(paths) // views)][:views]:  # read first: their tables are large, the views not
-        table, _ = read_table(path, filters=[("split", "==", "test")])
-        rendered.append(frame_to_views(table.head(1))[0])
-    del table
+    tests, _ = read_table(
+        Path(run) / "descriptors.parquet", filters=[("descriptor", "==", DESCRIPTOR), ("split", "==", "test")]
+    )
     before = high_water()
     tic = time.perf_counter()
     library = hd.load_library(library_path)
     loaded = time.perf_counter() - tic
-    tests, _ = read_table(
-        Path(run) / "descriptors.parquet", filters=[("descriptor", "==", DESCRIPTOR), ("split", "==", "test")]
-    )
     picked = tests.iloc[np.linspace(0, len(tests) - 1, queries).astype(int)]
     fast, nearest = [], []
     for k in range(len(picked)):
         tic = time.perf_counter()
         nearest.append(library.distances(picked.iloc[[k]]))
         fast.append(time.perf_counter() - tic)
+    tic = time.perf_counter()
+    for k in range(BATCH):
+        library.distances(tests.iloc[[k % len(tests)]])
+    batch = time.perf_counter() - tic
+    peak = high_water()
+    paths = sorted((Path(run) / "views").glob("*.parquet"))
+    rendered = []
+    for path in paths[:: max(1, len(paths) // views)][:views]:  # after the peak above: their tables are large
+        table, _ = read_table(path, filters=[("split", "==", "test")])
+        rendered.append(frame_to_views(table.head(1))[0])
+        del table
     library.recognize(rendered[0], pose=False)  # warm
     answers = []
     for view in rendered:
         tic = time.perf_counter()
         answer = library.recognize(view, pose=False)
         answers.append((time.perf_counter() - tic, answer.best.object == view.object_id))
-    tic = time.perf_counter()
-    for k in range(BATCH):
-        library.distances(tests.iloc[[k % len(tests)]])
-    batch = time.perf_counter() - tic
-    peak = high_water()
     same_view = same_object = 0
     slow = []
     for k, near in enumerate(nearest):
@@ -140,10 +142,46 @@ def child(library_path: str, run: str, queries: int, views: int) -> None:
         "recognize warm, median": float(np.median([t for t, _ in answers])),
         "recognize: right object": float(np.mean([ok for _, ok in answers])),
         "10,000 test views through the index": batch,
-        "peak memory, before the library": before,
-        "peak memory, through the index": peak,
-        "peak memory, with the exact searches too": high_water(),
+        "peak memory, before the library (imports, the test descriptors)": before,
+        "peak memory, loaded and searched through the index": peak,
+        "peak memory, with rendered views recognized and the exact searches": high_water(),
         "index": library.index.description if library.index is not None else "none",
+    }
+    print(json.dumps(figures))
+
+
+def classify_table(library_path: Path, run: Path, path: Path) -> int:
+    """Write a descriptor table of the library's views (``train``) and :data:`BATCH` test rows: the run's real test
+    views cycled, under numbered view names; returns how many test rows."""
+    import pandas as pd
+
+    from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_metadata, read_table, write_table
+
+    library, _ = read_table(library_path)
+    tests, _ = read_table(
+        run / "descriptors.parquet", filters=[("descriptor", "==", DESCRIPTOR), ("split", "==", "test")]
+    )
+    tests = tests.iloc[np.arange(BATCH) % len(tests)].reset_index(drop=True)
+    tests["view_id"] = [f"{view}#{k:05d}" for k, view in enumerate(tests["view_id"])]
+    rows = pd.concat([library[library["split"] == "train"], tests], ignore_index=True)
+    write_table(rows, path, DESCRIPTOR_SCHEMA, read_metadata(run / "descriptors.parquet"), row_group_size=16_384)
+    return len(tests)
+
+
+def classify_child(table: str) -> None:
+    """The classify rule's work on ``table`` (:func:`classify_table`) in this fresh process; prints JSON."""
+    from heatdata.recognition.evaluate import evaluate_table
+
+    before = high_water()
+    tic = time.perf_counter()
+    predictions = evaluate_table(table, DESCRIPTOR, [VIEWS])
+    seconds = time.perf_counter() - tic
+    real = ~predictions["object"].str.startswith("distractor")
+    figures = {
+        f"classify {len(predictions):,} test views": seconds,
+        "classify: right object": float(predictions.loc[real, "correct"].mean()),
+        "peak memory, classify (before it: imports)": high_water(),
+        "peak memory, imports": before,
     }
     print(json.dumps(figures))
 
@@ -155,9 +193,13 @@ def main() -> None:
     parser.add_argument("--queries", type=int, default=300, help="real test views searched both ways")
     parser.add_argument("--views", type=int, default=14, help="rendered test views recognized")
     parser.add_argument("--child", help=argparse.SUPPRESS)
+    parser.add_argument("--classify-child", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
         child(args.child, str(args.run), args.queries, args.views)
+        return
+    if args.classify_child:
+        classify_child(args.classify_child)
         return
     from heatdata.recognition.library import write_library_index
 
@@ -176,6 +218,14 @@ def main() -> None:
                 capture_output=True, text=True, check=True,
             )  # fmt: skip
             figures = json.loads(done.stdout.strip().splitlines()[-1])
+            table = Path(folder) / f"descriptors-{size}.parquet"
+            classify_table(path, args.run, table)
+            done = subprocess.run(
+                [sys.executable, __file__, str(args.run), "--classify-child", str(table)],
+                capture_output=True, text=True, check=True,
+            )  # fmt: skip
+            table.unlink()
+            figures.update(json.loads(done.stdout.strip().splitlines()[-1]))
             label = f"{views:,} views ({synthetic:,} synthetic), {figures.pop('index')}"
             print(label, figures, flush=True)
             rows.append((f"{label}: index built and written", built * 1e3, "ms"))

@@ -16,6 +16,7 @@ from heatdata.core.distances import SHORTLIST
 from heatdata.descriptors import kind_of
 from heatdata.errors import HeatdataError
 from heatdata.io.tables import iter_table
+from heatdata.recognition.index import SearchIndex, build_index, nearest_through_index, object_positions
 from heatdata.recognition.nearest import classify_candidates
 
 log = logging.getLogger(__name__)
@@ -29,6 +30,12 @@ CLASSIFY_COLUMNS = ("object", "label", "view_id", "split", "azimuth", "descripto
 TIME_SCALED_COLUMNS = ("time_object", "time", "t_global", "weights")
 
 
+#: library views above which :func:`classify` searches through an index by default. Below, the exhaustive search
+#: takes less than the index's per-query re-ranking (560 views: 0.6 s against 18 s for the PVHK's 3,360 test views,
+#: ``benchmarks/bench_index_agreement.py``); at 10,000 views of the HGD it takes 16 ms a query, the index 2 ms.
+INDEX_ROWS = 5_000
+
+
 #: which objects' time scales a time-scaled test view is compared at (:func:`classify`)
 TIME_RULES = ("plausible", "every")
 
@@ -40,6 +47,7 @@ def classify(
     library: str = "train",
     queries: str = "test",
     time_rule: str = "plausible",
+    exact: bool | None = None,
 ) -> pd.DataFrame:
     """Nearest-neighbour class of each query view among the library views, by the kind's distance.
 
@@ -54,6 +62,12 @@ def classify(
     own object's nearly always is - every object when none is; ``"every"`` every object.
     On the 58 chairs at 8 library views ``"plausible"`` gains 4.9 points (``scripts/ft_time_scales.py``).
 
+    Above :data:`INDEX_ROWS` library views, a kind with an index space searches through a search index of them
+    (:func:`heatdata.recognition.index.nearest_through_index`): the nearest view among every view of the
+    objects the index shortlists, which is the exhaustive search's whenever its object is shortlisted (on the
+    embedded objects' and the chairs' runs, for every test view: ``benchmarks/bench_index_agreement.py``).
+    Below, the exhaustive search is faster.
+
     Parameters
     ----------
     descriptors : DataFrame
@@ -64,6 +78,9 @@ def classify(
         Values of the ``split`` column.
     time_rule : {"plausible", "every"}
         For a time-scaled kind: which objects' time scales a query is compared at.
+    exact : bool or None
+        True: compare every library view; False: search through an index; None: through an index above
+        :data:`INDEX_ROWS` library views.
 
     Returns
     -------
@@ -77,19 +94,80 @@ def classify(
     lib, query = rows[rows["split"] == library], rows[rows["split"] == queries]
     if lib.empty or query.empty:
         raise HeatdataError(f"descriptor {descriptor!r}: no {library!r} or no {queries!r} rows to compare")
+    _kind_of_rows(rows, descriptor)
+    lib, query, unusable = _usable(lib, query, descriptor)
+    if kind_of(rows["kind"].iloc[0]).time_scaled:
+        _require_columns(descriptors, TIME_SCALED_COLUMNS, descriptor)
+    return _predictions(Reference.of(lib, descriptor, exact=exact), query, unusable, time_rule)
+
+
+class Reference:
+    """A library's views as :func:`classify` compares queries with them: their rows, their values stacked once, and
+    a search index when the kind has an index space (:mod:`heatdata.recognition.index`).
+
+    Parameters
+    ----------
+    rows : pandas.DataFrame
+        The library rows, without NaN values; their ``values`` column is dropped.
+    values : (N, M) float
+        The rows' values.
+    search : SearchIndex or None
+        An index of ``values``; None: the exhaustive search.
+    descriptor : str
+    """
+
+    def __init__(self, rows: pd.DataFrame, values: np.ndarray, search: SearchIndex | None, descriptor: str):
+        self.rows, self.values, self.search, self.descriptor = rows, values, search, descriptor
+        self.kind = kind_of(rows["kind"].iloc[0])
+        self.codes, _, self.positions = object_positions(rows["object"])
+        self.size = max(len(views) for views in self.positions)
+        #: (N, P) part weights of a time-scaled kind's rows (eq. 5.14), or None
+        self.weights = _stack(rows["weights"]) if "weights" in rows else None
+
+    @classmethod
+    def of(cls, lib: pd.DataFrame, descriptor: str, *, exact: bool | None = None) -> Reference:
+        """The reference of library rows without NaN values (:func:`nan_views`), indexed as ``exact`` says
+        (:func:`classify`)."""
+        values = np.stack(lib["values"].to_numpy())
+        space = kind_of(lib["kind"].iloc[0]).index_space
+        indexed = len(values) > INDEX_ROWS if exact is None else not exact
+        search = build_index(values, space, what=descriptor) if indexed and space is not None else None
+        return cls(lib.drop(columns="values"), values, search, descriptor)
+
+
+def _kind_of_rows(rows: pd.DataFrame, descriptor: str) -> None:
+    """Refuse rows of several lengths or kinds."""
     lengths = {len(v) for v in rows["values"]}
     if len(lengths) > 1:
         raise HeatdataError(f"descriptor {descriptor!r}: descriptors of different lengths {sorted(lengths)}")
     kinds = rows["kind"].unique()
     if len(kinds) != 1:
         raise HeatdataError(f"descriptor {descriptor!r}: rows of several kinds {sorted(kinds)}")
-    impl = kind_of(kinds[0])
-    lib, query, unusable = _usable(lib, query, descriptor)
-    if impl.time_scaled:
-        _require_columns(descriptors, TIME_SCALED_COLUMNS, descriptor)
-        query, index, distance = _fixed_time_neighbours(query, lib, descriptor, impl, time_rule)
+
+
+def _predictions(reference: Reference, query: pd.DataFrame, unusable: pd.DataFrame, time_rule: str) -> pd.DataFrame:
+    """:func:`classify`'s rows for usable ``query`` rows against ``reference`` (and no prediction for ``unusable``)."""
+    lib, descriptor, impl = reference.rows, reference.descriptor, reference.kind
+    for rows in (query, unusable):
+        if not rows.empty and (len(rows["values"].iloc[0]), rows["kind"].iloc[0]) != (
+            reference.values.shape[1],
+            lib["kind"].iloc[0],
+        ):
+            raise HeatdataError(
+                f"descriptor {descriptor!r}: test descriptors of {len(rows['values'].iloc[0])} values of "
+                f"{rows['kind'].iloc[0]}, library ones of {reference.values.shape[1]} of {lib['kind'].iloc[0]}"
+            )
+    if query.empty:
+        index, distance = np.zeros(0, np.int64), np.zeros(0)
+    elif impl.time_scaled:
+        query, index, distance = _fixed_time_neighbours(query, reference, time_rule)
+    elif reference.search is None:
+        index, distance = impl.nearest(np.stack(query["values"].to_numpy()), reference.values)
     else:
-        index, distance = impl.nearest(np.stack(query["values"].to_numpy()), np.stack(lib["values"].to_numpy()))
+        values = np.stack(query["values"].to_numpy())
+        index, distance = nearest_through_index(
+            impl, reference.search, values, reference.values, reference.codes, reference.positions, reference.size
+        )
     match = lib.iloc[index]
     predictions = pd.DataFrame(
         {
@@ -104,7 +182,7 @@ def classify(
             "predicted_azimuth": match["azimuth"].to_numpy(),
             "distance": distance,
             "correct": query["object"].to_numpy() == match["object"].to_numpy(),
-            "library_size": int(lib.groupby("object").size().max()),
+            "library_size": reference.size,
         }
     )
     if not unusable.empty:  # no prediction: counted as wrong
@@ -125,7 +203,7 @@ def classify(
                         "predicted_azimuth": np.nan,
                         "distance": np.nan,
                         "correct": False,
-                        "library_size": predictions["library_size"].iloc[0],
+                        "library_size": reference.size,
                     }
                 ),
             ],
@@ -182,7 +260,7 @@ def _stack(column: pd.Series) -> np.ndarray | None:
 
 
 def _fixed_time_neighbours(
-    query: pd.DataFrame, lib: pd.DataFrame, descriptor: str, impl, time_rule: str
+    query: pd.DataFrame, reference: Reference, time_rule: str
 ) -> tuple[pd.DataFrame, np.ndarray, np.ndarray]:
     """Alg. 5.2: per query view, the nearest library view over objects, each at its own time scale.
 
@@ -197,9 +275,10 @@ def _fixed_time_neighbours(
     if time_rule == "plausible":
         reachable = (query["time"] <= query["t_global"]).to_numpy()
         allowed = reachable | (np.bincount(view_of_row, reachable, len(views)) == 0)[view_of_row]
+    lib, descriptor, impl = reference.rows, reference.descriptor, reference.kind
     values = query["values"].to_numpy()  # (rows,) arrays, stacked object by object (memory)
     weights = None if query["weights"].isna().any() else query["weights"].to_numpy()
-    lib_values, lib_weights = np.stack(lib["values"].to_numpy()), _stack(lib["weights"])
+    lib_values, lib_weights = reference.values, reference.weights
     if (weights is None) != (lib_weights is None):
         raise HeatdataError(f"descriptor {descriptor!r}: part weights on the test or the library rows only")
     at_time = query.groupby("time_object").indices
@@ -234,7 +313,12 @@ def _fixed_time_neighbours(
 
 
 def evaluate_library_sizes(
-    descriptors: pd.DataFrame, descriptor: str, sizes: list[int], *, time_rule: str = "plausible"
+    descriptors: pd.DataFrame,
+    descriptor: str,
+    sizes: list[int],
+    *,
+    time_rule: str = "plausible",
+    exact: bool | None = None,
 ) -> pd.DataFrame:
     """Nearest-neighbour predictions of the test views for libraries of several sizes.
 
@@ -250,6 +334,8 @@ def evaluate_library_sizes(
         Library views per object (:func:`library_subset`).
     time_rule : {"plausible", "every"}
         As for :func:`classify`.
+    exact : bool
+        As for :func:`classify`.
 
     Returns
     -------
@@ -261,16 +347,22 @@ def evaluate_library_sizes(
     results = []
     for size in sizes:
         subset = pd.concat([library_subset(rows, size), tests])
-        results.append(classify(subset, descriptor, time_rule=time_rule).assign(library_size=size))
+        results.append(classify(subset, descriptor, time_rule=time_rule, exact=exact).assign(library_size=size))
     return pd.concat(results, ignore_index=True)
 
 
 def evaluate_table(
-    path: str | Path, descriptor: str, sizes: list[int], *, library_split: str = "train", time_rule: str = "plausible"
+    path: str | Path,
+    descriptor: str,
+    sizes: list[int],
+    *,
+    library_split: str = "train",
+    time_rule: str = "plausible",
+    exact: bool | None = None,
 ) -> pd.DataFrame:
     """:func:`evaluate_library_sizes` on a descriptor table on disk, reading its test rows a row group at a time.
 
-    Memory holds the library rows and one row group of test rows, not the whole table (a
+    Memory holds the library's values, its search index and one row group of test rows, not the whole table (a
     run's table has one row group per object, :func:`heatdata.io.tables.concat_tables`): the
     chairs' FT-PVHK has 406,000 test rows, each test view at every object's time scale
     (Alg. 5.2). A time-scaled test view whose rows are not all in one group waits for the
@@ -294,6 +386,8 @@ def evaluate_table(
         Where the library views are chosen.
     time_rule : {"plausible", "every"}
         As for :func:`classify`.
+    exact : bool
+        As for :func:`classify`.
 
     Returns
     -------
@@ -312,19 +406,22 @@ def evaluate_table(
     bad = nan_views(train)
     if bad:
         log.warning("%s: %d library views have NaN values (see their repairs) and are left out", descriptor, len(bad))
-    libraries = {
-        size: library[~library["view_id"].isin(bad)]
+    references = {
+        size: Reference.of(library[~library["view_id"].isin(bad)], descriptor, exact=exact)
         for size, library in ((size, library_subset(train, size)) for size in sizes)
     }
     time_scaled = kind_of(train["kind"].iloc[0]).time_scaled
     objects = train["object"].nunique()
+    del train, own_time  # the references hold what the search needs
     parts: dict[int, list[pd.DataFrame]] = {size: [] for size in sizes}
 
     def add(tests: pd.DataFrame) -> None:
-        for size, library in libraries.items():
-            parts[size].append(
-                classify(pd.concat([library, tests]), descriptor, time_rule=time_rule).assign(library_size=size)
-            )
+        _kind_of_rows(tests, descriptor)
+        unusable = tests["view_id"].isin(nan_views(tests))
+        if unusable.any():
+            log.warning("%s: %d test views have NaN values and count as wrong", descriptor, unusable.sum())
+        for size, reference in references.items():
+            parts[size].append(_predictions(reference, tests[~unusable], tests[unusable], time_rule))
 
     pending = None
     for group in iter_table(path, columns=columns, filters=[*rows, ("split", "==", "test")]):

@@ -43,7 +43,9 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
+from heatdata.descriptors.base import Kind
 from heatdata.errors import HeatdataError
 from heatdata.io.files import atomic
 from heatdata.typing import StrPath
@@ -138,22 +140,22 @@ class SearchIndex:
         lists = getattr(self.index, "nlist", None)
         return "flat" if lists is None else f"IVF-Flat, {lists} lists, {self.index.nprobe} probed"
 
-    def candidates(self, query: np.ndarray, count: int = CANDIDATE_ROWS) -> np.ndarray:
-        """The library views nearest ``query`` in the index's space, nearest first.
+    def candidates(self, queries: np.ndarray, count: int = CANDIDATE_ROWS) -> np.ndarray:
+        """The library views nearest each query in the index's space, nearest first (one FAISS search for all).
 
         Parameters
         ----------
-        query : (M,) float
-            One descriptor's values.
+        queries : (Q, M) or (M,) float
+            Descriptor values.
         count : int
 
         Returns
         -------
-        (<= count,) int
-            Positions of library views.
+        (Q, min(count, N)) int
+            Positions of library views; -1 where an IVF index's probed lists hold fewer.
         """
-        _, rows = self.index.search(mapped(query, self.space), min(int(count), len(self)))
-        return rows[0][rows[0] >= 0]
+        _, rows = self.index.search(mapped(queries, self.space), min(int(count), len(self)))
+        return rows
 
     def write(self, path: StrPath) -> None:
         """Write the index in FAISS's binary format (whole, then renamed).
@@ -166,6 +168,119 @@ class SearchIndex:
 
         with atomic(Path(path)) as temporary:
             faiss.write_index(self.index, str(temporary))
+
+
+def candidate_count(library_size: int) -> int:
+    """How many candidate views a query takes from the index: enough for :data:`SHORTLIST_OBJECTS` objects of
+    ``library_size`` views each, and at least :data:`CANDIDATE_ROWS`.
+
+    Parameters
+    ----------
+    library_size : int
+        Library views per object.
+
+    Returns
+    -------
+    int
+    """
+    return max(CANDIDATE_ROWS, SHORTLIST_OBJECTS * int(library_size))
+
+
+def object_positions(objects: np.ndarray | pd.Series) -> tuple[np.ndarray, list[str], list[np.ndarray]]:
+    """Each library view's object as a code, the objects by name, and each object's views.
+
+    Parameters
+    ----------
+    objects : (N,) str
+        The library views' objects, in the library's order.
+
+    Returns
+    -------
+    codes : (N,) int
+        Position of each view's object in ``names``.
+    names : list of str
+        The objects, sorted.
+    positions : list of (n_o,) int
+        The views of each object of ``names``, in the library's order.
+    """
+    codes, names = pd.factorize(np.asarray(objects), sort=True)
+    order = np.argsort(codes, kind="stable")
+    positions = np.split(order, np.flatnonzero(np.diff(codes[order])) + 1) if len(codes) else []
+    return codes, [str(name) for name in names], positions
+
+
+def shortlist(candidates: np.ndarray, codes: np.ndarray, positions: list[np.ndarray]) -> np.ndarray:
+    """Every library view of the first :data:`SHORTLIST_OBJECTS` objects one query's candidates name.
+
+    Parameters
+    ----------
+    candidates : (K,) int
+        One row of :meth:`SearchIndex.candidates` (-1: none).
+    codes, positions
+        As :func:`object_positions` gives them.
+
+    Returns
+    -------
+    (n,) int
+        Library views, in the library's order (so that the first of equal distances is the exact search's).
+    """
+    found = codes[candidates[candidates >= 0]]
+    _, first = np.unique(found, return_index=True)
+    objects = found[np.sort(first)][:SHORTLIST_OBJECTS]
+    return np.sort(np.concatenate([positions[code] for code in objects])) if len(objects) else np.zeros(0, np.int64)
+
+
+def nearest_through_index(
+    kind: Kind,
+    search: SearchIndex,
+    queries: np.ndarray,
+    library: np.ndarray,
+    codes: np.ndarray,
+    positions: list[np.ndarray],
+    library_size: int,
+    *,
+    chunk: int = 1024,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Each query's nearest library view by the kind's own distance, among the views of the objects the index
+    shortlists (:func:`shortlist`): the exact search's answer whenever the nearest view's object is on the list.
+
+    Memory is set by ``chunk`` queries' candidates, not by the library.
+
+    Parameters
+    ----------
+    kind : Kind
+        Whose :meth:`~heatdata.descriptors.Kind.distance_matrix` ranks the shortlist.
+    search : SearchIndex
+        An index of ``library``'s rows.
+    queries : (Q, M) float
+    library : (N, M) float
+    codes, positions
+        The library rows' objects, as :func:`object_positions` gives them.
+    library_size : int
+        Library views per object (:func:`candidate_count`).
+    chunk : int
+        Queries searched in FAISS at once.
+
+    Returns
+    -------
+    index : (Q,) int
+        Position of each query's nearest library row.
+    distance : (Q,) float
+    """
+    if len(search) != len(library):
+        raise HeatdataError(f"an index of {len(search)} views does not fit a library of {len(library)}")
+    count = candidate_count(library_size)
+    index, distance = np.zeros(len(queries), np.int64), np.full(len(queries), np.inf)
+    for start in range(0, len(queries), chunk):
+        block = queries[start : start + chunk]
+        for offset, candidates in enumerate(search.candidates(block, count)):
+            rows = shortlist(candidates, codes, positions)
+            if not len(rows):
+                continue
+            d = kind.distance_matrix(block[offset][None], library[rows])[0]
+            best = int(np.argmin(d))
+            index[start + offset], distance[start + offset] = rows[best], d[best]
+    return index, distance
 
 
 def build_index(values: np.ndarray, space: str, *, what: str = "library") -> SearchIndex:

@@ -40,12 +40,13 @@ from heatdata.recognition.confidence import (
 )
 from heatdata.recognition.evaluate import TIME_RULES, library_subset, nan_views, own_time_scale
 from heatdata.recognition.index import (
-    CANDIDATE_ROWS,
-    SHORTLIST_OBJECTS,
     SearchIndex,
     build_index,
+    candidate_count,
     index_path,
+    object_positions,
     read_index,
+    shortlist,
 )
 from heatdata.recognition.library_check import check_library, shortened, spec_of
 from heatdata.recognition.pose import STARTS, Pose, Surface, depth_image, estimate_pose
@@ -329,13 +330,11 @@ class Library:
         self.independent = rows[~train].reset_index(drop=True)
         if self.views.empty:
             raise LibraryError(f"{self.path}: the library holds no library view")
-        codes, objects = pd.factorize(self.views["object"], sort=True)
-        self.objects, self._codes = [str(obj) for obj in objects], codes
+        self._codes, self.objects, self._positions = object_positions(self.views["object"])
         self._values = np.stack(self.views["values"].to_numpy()) if values is None else _rows_of(values, train)
         weights = self.views["weights"]
         self._weights = None if weights.isna().any() else np.stack(weights.to_numpy())
-        self._by_object = self.views.groupby("object").indices
-        self._positions = [self._by_object[obj] for obj in self.objects]
+        self._by_object = dict(zip(self.objects, self._positions))
         #: the search index beside the exact search (:mod:`heatdata.recognition.index`); None: exact search only
         self.index: SearchIndex | None = None
         self._similarity: pd.DataFrame | None = None
@@ -437,12 +436,8 @@ class Library:
             values = np.stack(query["values"].to_numpy())[:1]
             if exact or self.index is None:
                 return impl.distance_matrix(values, self._values)[0]
-            codes = self._codes[
-                self.index.candidates(values[0], max(CANDIDATE_ROWS, SHORTLIST_OBJECTS * self.library_size))
-            ]
-            _, first = np.unique(codes, return_index=True)
-            shortlist = codes[np.sort(first)][:SHORTLIST_OBJECTS]
-            positions = np.concatenate([self._positions[code] for code in shortlist])
+            candidates = self.index.candidates(values, candidate_count(self.library_size))[0]
+            positions = shortlist(candidates, self._codes, self._positions)
             distance = np.full(len(self.views), np.inf)
             distance[positions] = impl.distance_matrix(values, self._values[positions])[0]
             return distance

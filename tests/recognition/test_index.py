@@ -18,6 +18,7 @@ from heatdata.errors import HeatdataError, LibraryError
 from heatdata.experiments.views import render_views, view_plan
 from heatdata.recognition import index as ix
 from heatdata.recognition.confidence import nearest_two
+from heatdata.recognition.evaluate import classify
 from heatdata.recognition.library import (
     Library,
     build_library,
@@ -106,6 +107,51 @@ def test_answers_through_the_index_are_the_exact_searchs(objects):
         assert nearest_two(near[None], library._codes)[1:] == nearest_two(exact[None], library._codes)[1:]
 
 
+def test_object_positions_and_the_shortlist_keep_the_librarys_order():
+    codes, names, positions = ix.object_positions(np.array(["b", "a", "b", "c", "a"]))
+    assert names == ["a", "b", "c"] and codes.tolist() == [1, 0, 1, 2, 0]
+    assert [p.tolist() for p in positions] == [[1, 4], [0, 2], [3]]
+    # candidates name b, then a; -1 is no candidate: every view of b and a, in the library's order
+    assert ix.shortlist(np.array([2, 4, -1, 0]), codes, positions).tolist() == [0, 1, 2, 4]
+    assert ix.shortlist(np.array([-1, -1]), codes, positions).size == 0
+    assert ix.candidate_count(1) == ix.CANDIDATE_ROWS and ix.candidate_count(40) == 40 * ix.SHORTLIST_OBJECTS
+
+
+@pytest.mark.parametrize("objects", [14, 58])
+def test_the_nearest_views_through_the_index_are_the_exhaustive_searchs(objects):
+    values, owners = histograms(objects, 40)
+    queries, _ = histograms(objects, 40, noise=1)
+    codes, _, positions = ix.object_positions(owners)
+    search = ix.build_index(values, "hellinger")
+    hgd = kind_of("hgd")
+    index, distance = ix.nearest_through_index(hgd, search, queries, values, codes, positions, 40, chunk=100)
+    exact = hgd.nearest(queries, values)
+    assert np.array_equal(index, exact.index) and np.allclose(distance, exact.distance, rtol=1e-12)
+
+
+def test_classify_through_the_index_predicts_what_the_exhaustive_search_does(caplog):
+    values, owners = histograms(58, 40)
+    queries, query_owners = histograms(58, 40, noise=1)
+    rows = pd.concat(
+        [
+            pd.DataFrame({"object": [f"object-{o:03d}" for o in own], "split": split, "values": list(v)})
+            for own, split, v in ((owners, "train", values), (query_owners[::5], "test", queries[::5]))
+        ],
+        ignore_index=True,
+    ).assign(label="thing", azimuth=0.0, descriptor="hgd", kind="hgd")
+    rows["view_id"] = [f"{o}/{s}/{k}" for k, (o, s) in enumerate(zip(rows["object"], rows["split"], strict=True))]
+    with caplog.at_level(logging.INFO, logger="heatdata.recognition.index"):
+        near = classify(rows, "hgd", exact=False)
+    assert "flat index of 2320 views" in caplog.text
+    exact = classify(rows, "hgd", exact=True)
+    assert near["predicted_view_id"].tolist() == exact["predicted_view_id"].tolist()
+    assert np.allclose(near["distance"], exact["distance"], rtol=1e-12)
+    caplog.clear()
+    with caplog.at_level(logging.INFO, logger="heatdata.recognition.index"):
+        classify(rows, "hgd")  # 2,320 library views: below INDEX_ROWS, the exhaustive search
+    assert "index" not in caplog.text
+
+
 def test_an_ivf_index_finds_what_the_flat_one_finds(monkeypatch):
     values, owners = histograms(60, 40)
     flat = ix.build_index(values, "hellinger", what="test")
@@ -114,9 +160,10 @@ def test_an_ivf_index_finds_what_the_flat_one_finds(monkeypatch):
     ivf = ix.build_index(values, "hellinger", what="test")
     assert "IVF-Flat" in ivf.description and flat.description == "flat" and len(ivf) == len(values)
     queries, _ = histograms(60, 40, noise=2)
-    same = [owners[ivf.candidates(q, 1)[0]] == owners[flat.candidates(q, 1)[0]] for q in queries[::7]]
-    assert np.mean(same) >= 0.95
-    assert ivf.candidates(values[17], 5)[0] == 17  # a library view is its own nearest
+    found, truth = ivf.candidates(queries[::7], 1)[:, 0], flat.candidates(queries[::7], 1)[:, 0]
+    assert found.shape == (len(queries[::7]),)
+    assert np.mean(owners[found] == owners[truth]) >= 0.95
+    assert ivf.candidates(values[17], 5)[0, 0] == 17  # a library view is its own nearest
 
 
 def test_an_index_file_reads_back_and_refuses_another_librarys(tmp_path, monkeypatch):
