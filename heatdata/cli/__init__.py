@@ -278,7 +278,14 @@ def cmd_import_sh3f(args: argparse.Namespace) -> None:
     """Extract a Sweet Home 3D furniture library into a catalogue folder."""
     from heatdata.io.sh3f import import_sh3f
 
-    table = import_sh3f(args.sh3f, args.out, name_pattern=args.names, label=args.label, exclude_pattern=args.exclude)
+    table = import_sh3f(
+        args.sh3f,
+        args.out,
+        name_pattern=args.names,
+        label=args.label,
+        exclude_pattern=args.exclude,
+        classes=args.classes,
+    )
     print(f"{len(table)} models in {Path(args.out) / 'catalog.csv'}")
 
 
@@ -465,7 +472,13 @@ def build_parser() -> argparse.ArgumentParser:
     imp.add_argument("sh3f", type=Path)
     imp.add_argument("out", type=Path)
     imp.add_argument("--names", help="regular expression on the furniture names")
-    imp.add_argument("--label", help="class for every imported model (default: its name)")
+    imp.add_argument("--label", help="class for every imported model (default: as --classes says)")
+    imp.add_argument(
+        "--classes",
+        choices=("name", "category"),
+        default="name",
+        help="without --label, each model's class: its furniture name (default) or its catalogue category",
+    )
     imp.add_argument("--exclude", help="regular expression of furniture names to leave out")
     imp.set_defaults(func=cmd_import_sh3f)
     return parser

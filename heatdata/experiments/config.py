@@ -128,6 +128,7 @@ def run_catalog(config: dict[str, Any]) -> pd.DataFrame:
                 name_pattern=sh3f["names"] or None,
                 label=sh3f["label"] or None,
                 exclude_pattern=sh3f["exclude"] or None,
+                classes=sh3f.get("classes", "name"),
             )
         elif config["models_dir"]:
             table = catalog_from_folder(config["models_dir"], scale=config["models_scale"])

@@ -22,6 +22,10 @@ from heatdata.log import progress
 log = logging.getLogger(__name__)
 
 
+#: what an imported object's class can be without a label: its furniture name or its catalogue category
+CLASSES = ("name", "category")
+
+
 def parse_properties(text: str) -> dict[str, str]:
     """Parse a Java ``.properties`` text (``key=value`` lines, ``\\uXXXX`` escapes)."""
     result: dict[str, str] = {}
@@ -113,14 +117,19 @@ def sh3f_catalog(
     label: str | None = None,
     exclude_pattern: str | None = None,
     allow_empty: bool = False,
+    classes: str = "name",
 ) -> pd.DataFrame:
     """Catalogue rows of a Sweet Home 3D library's furniture, without extracting anything.
 
     ``file`` is the model's path inside the archive (and inside a folder it is extracted
     to with :func:`extract_sh3f_model`). Object ids are ``<library>-<index>-<model>``.
     ``name_pattern`` keeps and ``exclude_pattern`` drops furniture by name (case-insensitive
-    regular expressions). No match is an error unless ``allow_empty``.
+    regular expressions). No match is an error unless ``allow_empty``. An object's class is
+    ``label`` when given, else (``classes``) its lower-cased furniture name or its catalogue
+    category ("living room", "kitchen", ...).
     """
+    if classes not in CLASSES:
+        raise ModelError(f"classes {classes!r}: use {' or '.join(CLASSES)}")
     sh3f_path = Path(sh3f_path)
     entries = sh3f_entries(sh3f_path)
     for what, pattern in (("names", name_pattern), ("exclude", exclude_pattern)):
@@ -138,7 +147,7 @@ def sh3f_catalog(
     rows = [
         {
             "object": f"{library}-{entry.index:03d}-{Path(entry.model).stem}",
-            "label": label or entry.name.lower(),
+            "label": label or (entry.category if classes == "category" else entry.name).lower(),
             "file": entry.model,
             "width": entry.width,
             "height": entry.height,
@@ -169,6 +178,7 @@ def sh3f_catalogs(
     name_pattern: str | None = None,
     label: str | None = None,
     exclude_pattern: str | None = None,
+    classes: str = "name",
 ) -> pd.DataFrame:
     """:func:`sh3f_catalog` of several libraries, with each row's library in an ``archive`` column.
 
@@ -176,7 +186,12 @@ def sh3f_catalogs(
     """
     tables = [
         sh3f_catalog(
-            path, name_pattern=name_pattern, label=label, exclude_pattern=exclude_pattern, allow_empty=True
+            path,
+            name_pattern=name_pattern,
+            label=label,
+            exclude_pattern=exclude_pattern,
+            allow_empty=True,
+            classes=classes,
         ).assign(archive=str(path))
         for path in sh3f_paths
     ]
@@ -349,6 +364,7 @@ def import_sh3f(
     name_pattern: str | None = None,
     label: str | None = None,
     exclude_pattern: str | None = None,
+    classes: str = "name",
 ) -> pd.DataFrame:
     """Extract models of a Sweet Home 3D furniture library into a catalogue folder.
 
@@ -365,6 +381,8 @@ def import_sh3f(
         Class for every imported object; by default the lower-cased furniture name.
     exclude_pattern : str, optional
         Case-insensitive regular expression of furniture names to leave out (e.g. ``"bench"``).
+    classes : {"name", "category"}
+        Without ``label``, each object's class: its furniture name or its catalogue category.
 
     Returns
     -------
@@ -373,7 +391,9 @@ def import_sh3f(
     """
     out_dir = check_folder(out_dir, inputs=[sh3f_path])
     catalog_path = check_output(out_dir / "catalog.csv", inputs=[sh3f_path], what="the catalogue")
-    table = sh3f_catalog(sh3f_path, name_pattern=name_pattern, label=label, exclude_pattern=exclude_pattern)
+    table = sh3f_catalog(
+        sh3f_path, name_pattern=name_pattern, label=label, exclude_pattern=exclude_pattern, classes=classes
+    )
     old = _existing_catalog(catalog_path)
     for model in progress(table["file"], desc="extracting", unit="model"):
         extract_sh3f_model(sh3f_path, model, out_dir)

@@ -10,7 +10,7 @@ from conftest import make_sh3f
 
 import heatdata as hd
 from heatdata.io.catalog import catalog_from_folder, catalog_sizes, color_twins
-from heatdata.io.sh3f import extract_sh3f_model, parse_properties, sh3f_entries
+from heatdata.io.sh3f import extract_sh3f_model, parse_properties, sh3f_catalog, sh3f_entries
 
 SH3F_DIR = Path("/usr/share/sweethome3d/furniture")
 
@@ -38,6 +38,17 @@ def test_import_and_load(tmp_path):
     assert np.allclose(chair.extents, [0.4, 0.0, 0.4])  # the rotation laid the quad in the xz-plane
     again = hd.import_sh3f(make_sh3f(tmp_path), out, name_pattern="mug")  # appends without duplicates
     assert len(hd.read_catalog(out / "catalog.csv")) == 2 and len(again) == 2
+
+
+def test_an_objects_class_is_its_label_its_name_or_its_category(tmp_path):
+    path = make_sh3f(tmp_path)
+    entries = sh3f_entries(path)
+    assert sh3f_catalog(path)["label"].tolist() == ["coffee mug", "café chair"]
+    by_category = sh3f_catalog(path, classes="category")["label"].tolist()
+    assert by_category == [c.lower() for c in entries["category"]]
+    assert sh3f_catalog(path, classes="category", label="thing")["label"].tolist() == ["thing", "thing"]
+    with pytest.raises(hd.ModelError, match="classes 'room': use name or category"):
+        sh3f_catalog(path, classes="room")
 
 
 def test_entries_leading_outside_the_library_are_left_out(tmp_path, caplog):
