@@ -125,6 +125,10 @@ def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
             "--workflow-profile",
             str(ROOT / "profiles" / "slurm"),
             "--slurm-no-account",  # no accounting here
+            # the first status check a second after a submission, not the profile's 5 (the checks then back off by
+            # 10 s while nothing finishes): this DAG's 8 levels of 10-second jobs each wait for one
+            "--slurm-init-seconds-before-status-checks",
+            "1",
             "--group-components",  # the profile's job groups, sized to this 2-core node: two one-core jobs each
             "views=2",
             "descriptors=2",
