@@ -10,7 +10,7 @@ rule capture_views:
         f"{RESULTS}/captures/views/{{object}}.parquet",
     params:
         captures=lambda wildcards: CAPTURES[wildcards.object],
-        label=lambda wildcards: CATALOG.loc[wildcards.object, "label"],
+        label=lambda wildcards: CATALOG.at[wildcards.object, "label"],
         settings=config["captures"],
         version=VERSION,
     wildcard_constraints:

@@ -21,11 +21,11 @@ rule catalog:
 
 rule extract_model:
     input:
-        lambda wildcards: CATALOG.loc[wildcards.object, "archive"],
+        lambda wildcards: CATALOG.at[wildcards.object, "archive"],
     output:
         directory(f"{RESULTS}/models/{{object}}"),
     params:
-        model=lambda wildcards: CATALOG.loc[wildcards.object, "file"],
+        model=lambda wildcards: CATALOG.at[wildcards.object, "file"],
         version=VERSION,
     log:
         f"{RESULTS}/logs/extract_model/{{object}}.log",
