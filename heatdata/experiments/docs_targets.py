@@ -714,6 +714,20 @@ def targets(objects: Sequence[str], results: str) -> dict[str, Target]:
                 script("scene_ablation", "results/scenes_run", "--scenes", "30", "--out", csv("scenes_ablation")),
             ],
         ),
+        "docs_library_growth": (  # precision against the number of objects, 200 Sweet Home 3D models
+            "results/furniture",
+            [f"{E}/furniture.yaml"],
+            ["results/furniture/descriptors.parquet"],
+            [csv("library_growth"), png("library_growth")],
+            [
+                script(
+                    "library_growth",
+                    "results/furniture",
+                    *("--objects", "14", "58", "200", "--draws", "5"),
+                    *("--out", csv("library_growth"), "--figure", png("library_growth")),
+                )
+            ],
+        ),
         "docs_complex_steps": (  # draws the two published step tables (docs_chairs_12's and docs_main's)
             None,
             [],

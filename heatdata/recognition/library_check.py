@@ -193,7 +193,7 @@ def check_rows(rows: pd.DataFrame, metadata: dict, values: np.ndarray | None = N
     if lengths != {length}:
         raise LibraryError(f"rows of {sorted(lengths)} values; its probe has {length}")
     given = rows["weights"][rows["weights"].notna()]
-    weights = {len(w) for w in given if not (isinstance(w, float) and math.isnan(w))}
+    weights = {len(w) for w in given}
     if weights - {length}:
         raise LibraryError(f"rows of {sorted(weights)} weights for {length} values")
     train = rows[rows["split"] == "train"]
