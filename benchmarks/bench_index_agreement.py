@@ -9,7 +9,7 @@ are the share of identical answers and the median search time each way.
 
 The classify rule's predictions (:func:`heatdata.recognition.evaluate.evaluate_table`, libraries of 40 and 8 views per
 object) are compared too, the index forced on (``exact=False``; the rule searches through one above 5,000 library
-views): a prediction is identical when its nearest library view is, and its distance within a relative 1e-6 (the
+views): a prediction is identical when its nearest library view is, and its distance within a relative 1e-4 (the
 exhaustive MHD search sums in float32). The figures are the share of identical predictions and the time each way.
 
     .venv/bin/snakemake --cores 2                       # the default run: results/
@@ -100,7 +100,7 @@ def classify_agreement(run: Path, name: str, label: str) -> list[tuple[str, floa
         seconds.append(time.perf_counter() - tic)
     near, exact = answers
     same = (near["predicted_view_id"].to_numpy() == exact["predicted_view_id"].to_numpy()) & np.isclose(
-        near["distance"].to_numpy(), exact["distance"].to_numpy(), rtol=1e-6, atol=0
+        near["distance"].to_numpy(), exact["distance"].to_numpy(), rtol=1e-4, atol=0
     )  # the exhaustive MHD search sums in float32
     failed = near["predicted_view_id"].to_numpy() == ""  # no prediction either way (a test view with NaN values)
     share = float(np.mean(same | (failed & (exact["predicted_view_id"].to_numpy() == ""))))
