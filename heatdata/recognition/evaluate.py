@@ -94,7 +94,7 @@ def classify(
     lib, query = rows[rows["split"] == library], rows[rows["split"] == queries]
     if lib.empty or query.empty:
         raise HeatdataError(f"descriptor {descriptor!r}: no {library!r} or no {queries!r} rows to compare")
-    _kind_of_rows(rows, descriptor)
+    _one_kind_and_length(rows, descriptor)
     lib, query, unusable = _usable(lib, query, descriptor)
     if kind_of(rows["kind"].iloc[0]).time_scaled:
         _require_columns(descriptors, TIME_SCALED_COLUMNS, descriptor)
@@ -108,7 +108,7 @@ class Reference:
     Parameters
     ----------
     rows : pandas.DataFrame
-        The library rows, without NaN values; their ``values`` column is dropped.
+        The library rows (none with NaN values), without their ``values`` column.
     values : (N, M) float
         The rows' values.
     search : SearchIndex or None
@@ -135,7 +135,7 @@ class Reference:
         return cls(lib.drop(columns="values"), values, search, descriptor)
 
 
-def _kind_of_rows(rows: pd.DataFrame, descriptor: str) -> None:
+def _one_kind_and_length(rows: pd.DataFrame, descriptor: str) -> None:
     """Refuse rows of several lengths or kinds."""
     lengths = {len(v) for v in rows["values"]}
     if len(lengths) > 1:
@@ -334,7 +334,7 @@ def evaluate_library_sizes(
         Library views per object (:func:`library_subset`).
     time_rule : {"plausible", "every"}
         As for :func:`classify`.
-    exact : bool
+    exact : bool or None
         As for :func:`classify`.
 
     Returns
@@ -386,7 +386,7 @@ def evaluate_table(
         Where the library views are chosen.
     time_rule : {"plausible", "every"}
         As for :func:`classify`.
-    exact : bool
+    exact : bool or None
         As for :func:`classify`.
 
     Returns
@@ -416,7 +416,7 @@ def evaluate_table(
     parts: dict[int, list[pd.DataFrame]] = {size: [] for size in sizes}
 
     def add(tests: pd.DataFrame) -> None:
-        _kind_of_rows(tests, descriptor)
+        _one_kind_and_length(tests, descriptor)
         unusable = tests["view_id"].isin(nan_views(tests))
         if unusable.any():
             log.warning("%s: %d test views have NaN values and count as wrong", descriptor, unusable.sum())

@@ -242,7 +242,8 @@ def nearest_through_index(
     chunk: int = 1024,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Each query's nearest library view by the kind's own distance, among the views of the objects the index
-    shortlists (:func:`shortlist`): the exact search's answer whenever the nearest view's object is on the list.
+    shortlists (:func:`shortlist`; every view when it shortlists none): the exact search's answer whenever the
+    nearest view's object is on the list.
 
     Memory is set by ``chunk`` queries' candidates, not by the library.
 
@@ -275,8 +276,8 @@ def nearest_through_index(
         block = queries[start : start + chunk]
         for offset, candidates in enumerate(search.candidates(block, count)):
             rows = shortlist(candidates, codes, positions)
-            if not len(rows):
-                continue
+            if not len(rows):  # an IVF index's probed lists held nothing: every view
+                rows = np.arange(len(library))
             d = kind.distance_matrix(block[offset][None], library[rows])[0]
             best = int(np.argmin(d))
             index[start + offset], distance[start + offset] = rows[best], d[best]

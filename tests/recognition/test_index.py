@@ -129,6 +129,15 @@ def test_the_nearest_views_through_the_index_are_the_exhaustive_searchs(objects)
     assert np.array_equal(index, exact.index) and np.allclose(distance, exact.distance, rtol=1e-12)
 
 
+def test_a_query_the_index_finds_nothing_for_is_compared_with_every_view():
+    values, owners = histograms(6, 10)
+    codes, _, positions = ix.object_positions(owners)
+    search = ix.build_index(values, "hellinger")
+    search.candidates = lambda queries, count: np.full((len(queries), count), -1)  # empty probed lists
+    index, distance = ix.nearest_through_index(kind_of("hgd"), search, values[[7, 33]], values, codes, positions, 10)
+    assert index.tolist() == [7, 33] and np.allclose(distance, 0)
+
+
 def test_classify_through_the_index_predicts_what_the_exhaustive_search_does(caplog):
     values, owners = histograms(58, 40)
     queries, query_owners = histograms(58, 40, noise=1)

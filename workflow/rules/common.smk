@@ -24,7 +24,7 @@ try:
     CATALOG = run_catalog(config)
     check_results(config, CATALOG)  # every output lies under results: none may overwrite an input
     # every row, before any job, by one validator: snakemake's validate reads the schema file again for each row
-    # (27 s of YAML parsing for 1,000 objects: benchmarks/bench_dag.py)
+    # (27 of 97 profiled seconds of planning 1,000 objects: benchmarks/bench_dag.py)
     catalog_rows = jsonschema.Draft202012Validator(load_schema("../schemas/catalog.schema.yaml"))
     for row in CATALOG.drop(columns="path").to_dict("records"):
         error = next(catalog_rows.iter_errors(row), None)
@@ -53,7 +53,7 @@ LIBRARIES = [f"{RESULTS}/libraries/{name}-{size}.parquet" for name in SPEC_FILES
 
 
 # every object's catalogue row as JSON, made once: a params value, so editing one row reruns what uses that object
-# (CATALOG.loc in each job's params took 1.7 s of planning 1,000 objects)
+# (CATALOG.loc in each job's params took 1.7 of 67 profiled seconds of planning 1,000 objects)
 CATALOG_ROWS = {
     obj: json.dumps(row, sort_keys=True, default=str) for obj, row in CATALOG.to_dict("index").items()
 }
