@@ -399,6 +399,52 @@ def iter_table(
         raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
 
 
+def iter_matrix_table(
+    path: str | Path, matrix: str, *, columns: list[str] | None = None, filters: list | None = None
+) -> Iterator[tuple[pd.DataFrame, np.ndarray]]:
+    """:func:`iter_table` for a large table whose list column ``matrix`` holds rows of equal length: each row group
+    as a frame without that column and the column as one (rows, M) float64 array, without a Python object per row.
+
+    Parameters
+    ----------
+    path : str or Path
+        A table heatdata wrote.
+    matrix : str
+        A column of ``list<double>``, among ``columns``.
+    columns : list of str, optional
+        The columns to read (default all).
+    filters : list of tuple, optional
+        pyarrow's row filters, as in :func:`read_table`.
+
+    Yields
+    ------
+    frame : pandas.DataFrame
+        The group's rows kept, without ``matrix``.
+    values : (rows, M) float64
+
+    Raises
+    ------
+    HeatdataError
+        Not a readable table, or a group whose ``matrix`` rows differ in length or hold a null.
+    """
+    file = _open(path)
+    try:
+        for table in _row_groups(file, columns, filters or []):
+            if not table.num_rows:
+                continue
+            column = table.column(matrix)
+            extent = pc.min_max(pc.list_value_length(column))
+            width = extent["min"].as_py()
+            if column.null_count or width != extent["max"].as_py():
+                raise HeatdataError(f"{path}: rows of {matrix!r} of different lengths, or empty, in one row group")
+            values = pc.list_flatten(column).to_numpy().astype(np.float64, copy=False)
+            yield table.drop_columns([matrix]).to_pandas(), values.reshape(table.num_rows, width)
+    except HeatdataError:
+        raise
+    except Exception as exc:
+        raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
+
+
 def read_metadata(path: str | Path) -> dict:
     """The run metadata of a heatdata table (as :func:`read_table` returns it), without reading its rows.
 

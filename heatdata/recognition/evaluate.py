@@ -15,7 +15,7 @@ import pandas as pd
 from heatdata.core.distances import SHORTLIST
 from heatdata.descriptors import kind_of
 from heatdata.errors import HeatdataError
-from heatdata.io.tables import iter_table
+from heatdata.io.tables import iter_matrix_table, iter_table
 from heatdata.recognition.index import SearchIndex, build_index, nearest_through_index, object_positions
 from heatdata.recognition.nearest import classify_candidates
 
@@ -98,12 +98,13 @@ def classify(
     lib, query, unusable = _usable(lib, query, descriptor)
     if kind_of(rows["kind"].iloc[0]).time_scaled:
         _require_columns(descriptors, TIME_SCALED_COLUMNS, descriptor)
-    return _predictions(Reference.of(lib, descriptor, exact=exact), query, unusable, time_rule)
+    reference = Reference(lib.drop(columns="values"), np.stack(lib["values"].to_numpy()), descriptor, exact=exact)
+    return _predictions(reference, query, unusable, time_rule)
 
 
 class Reference:
     """A library's views as :func:`classify` compares queries with them: their rows, their values stacked once, and
-    a search index when the kind has an index space (:mod:`heatdata.recognition.index`).
+    a search index when the kind has an index space (:mod:`heatdata.recognition.index`) and ``exact`` asks for one.
 
     Parameters
     ----------
@@ -111,33 +112,29 @@ class Reference:
         The library rows (none with NaN values), without their ``values`` column.
     values : (N, M) float
         The rows' values.
-    search : SearchIndex or None
-        An index of ``values``; None: the exhaustive search.
     descriptor : str
+    exact : bool or None
+        As for :func:`classify`.
     """
 
-    def __init__(self, rows: pd.DataFrame, values: np.ndarray, search: SearchIndex | None, descriptor: str):
-        self.rows, self.values, self.search, self.descriptor = rows, values, search, descriptor
+    def __init__(self, rows: pd.DataFrame, values: np.ndarray, descriptor: str, *, exact: bool | None = None):
+        self.rows, self.values, self.descriptor = rows, values, descriptor
         self.kind = kind_of(rows["kind"].iloc[0])
+        indexed = len(values) > INDEX_ROWS if exact is None else not exact
+        space = self.kind.index_space
+        #: an index of ``values``; None: the exhaustive search
+        self.search: SearchIndex | None = (
+            build_index(values, space, what=descriptor) if indexed and space is not None else None
+        )
         self.codes, _, self.positions = object_positions(rows["object"])
         self.size = max(len(views) for views in self.positions)
         #: (N, P) part weights of a time-scaled kind's rows (eq. 5.14), or None
         self.weights = _stack(rows["weights"]) if "weights" in rows else None
 
-    @classmethod
-    def of(cls, lib: pd.DataFrame, descriptor: str, *, exact: bool | None = None) -> Reference:
-        """The reference of library rows without NaN values (:func:`nan_views`), indexed as ``exact`` says
-        (:func:`classify`)."""
-        values = np.stack(lib["values"].to_numpy())
-        space = kind_of(lib["kind"].iloc[0]).index_space
-        indexed = len(values) > INDEX_ROWS if exact is None else not exact
-        search = build_index(values, space, what=descriptor) if indexed and space is not None else None
-        return cls(lib.drop(columns="values"), values, search, descriptor)
 
-
-def _one_kind_and_length(rows: pd.DataFrame, descriptor: str) -> None:
-    """Refuse rows of several lengths or kinds."""
-    lengths = {len(v) for v in rows["values"]}
+def _one_kind_and_length(rows: pd.DataFrame, descriptor: str, lengths: set[int] | None = None) -> None:
+    """Refuse rows of several lengths (theirs, or ``lengths``) or kinds."""
+    lengths = {len(v) for v in rows["values"]} if lengths is None else lengths
     if len(lengths) > 1:
         raise HeatdataError(f"descriptor {descriptor!r}: descriptors of different lengths {sorted(lengths)}")
     kinds = rows["kind"].unique()
@@ -362,7 +359,8 @@ def evaluate_table(
 ) -> pd.DataFrame:
     """:func:`evaluate_library_sizes` on a descriptor table on disk, reading its test rows a row group at a time.
 
-    Memory holds the library's values, its search index and one row group of test rows, not the whole table (a
+    Memory holds the library's values (read as one array, :func:`heatdata.io.tables.iter_matrix_table`), its search
+    index and one row group of test rows, not the whole table (a
     run's table has one row group per object, :func:`heatdata.io.tables.concat_tables`): the
     chairs' FT-PVHK has 406,000 test rows, each test view at every object's time scale
     (Alg. 5.2). A time-scaled test view whose rows are not all in one group waits for the
@@ -396,23 +394,35 @@ def evaluate_table(
     """
     columns = [*CLASSIFY_COLUMNS, *TIME_SCALED_COLUMNS]
     rows = [("descriptor", "==", descriptor)]
-    own_time = [
-        own_time_scale(group)
-        for group in iter_table(path, columns=columns, filters=[*rows, ("split", "==", library_split)])
-    ]
-    if not own_time:
+    frames, blocks = [], []
+    for group, values in iter_matrix_table(
+        path, "values", columns=columns, filters=[*rows, ("split", "==", library_split)]
+    ):
+        kept = own_time_scale(group)
+        frames.append(kept)
+        blocks.append(values[kept.index.to_numpy()])
+    if not frames:
         raise HeatdataError(f"{path}: no library ({library_split!r}) rows of descriptor {descriptor!r}")
-    train = pd.concat(own_time, ignore_index=True).assign(split="train")
-    bad = nan_views(train)
+    train = pd.concat(frames, ignore_index=True).assign(split="train")
+    _one_kind_and_length(train, descriptor, {block.shape[1] for block in blocks})
+    values = np.concatenate(blocks)
+    del frames, blocks
+    bad = set(train.loc[~np.isfinite(values).all(axis=1), "view_id"])
     if bad:
         log.warning("%s: %d library views have NaN values (see their repairs) and are left out", descriptor, len(bad))
-    references = {
-        size: Reference.of(library[~library["view_id"].isin(bad)], descriptor, exact=exact)
-        for size, library in ((size, library_subset(train, size)) for size in sizes)
-    }
+    libraries = {}
+    for size in sizes:
+        library = library_subset(train, size)
+        library = library[~library["view_id"].isin(bad)]
+        libraries[size] = (library, values[library.index.to_numpy()])
     time_scaled = kind_of(train["kind"].iloc[0]).time_scaled
     objects = train["object"].nunique()
-    del train, own_time  # the references hold what the search needs
+    del train, values  # each library size holds its own rows, before the indexes are built
+    references = {
+        size: Reference(library.reset_index(drop=True), chosen, descriptor, exact=exact)
+        for size, (library, chosen) in libraries.items()
+    }
+    del libraries
     parts: dict[int, list[pd.DataFrame]] = {size: [] for size in sizes}
 
     def add(tests: pd.DataFrame) -> None:
@@ -544,11 +554,17 @@ def library_subset(descriptors: pd.DataFrame, size: int, split: str = "train") -
     library = descriptors[descriptors["split"] == split]
     if library.empty:
         raise HeatdataError(f"no {split} views to choose a library from")
-    chosen = []
-    for obj, views in library.groupby("object")["azimuth"]:
-        angles = np.sort(views.unique())
-        if size > len(angles):
-            raise HeatdataError(f"library size {size} is larger than the {len(angles)} {split} views of {obj!r}")
-        keep = angles[np.floor(np.arange(size) * len(angles) / size).astype(int)]
-        chosen.append(library[(library["object"] == obj) & library["azimuth"].isin(keep)])
-    return pd.concat(chosen)
+    views = library[["object", "azimuth"]]
+    angles = views.drop_duplicates().sort_values(["object", "azimuth"])
+    counts = angles.groupby("object").size()
+    few = counts[counts < size]
+    if len(few):
+        raise HeatdataError(f"library size {size} is larger than the {few.iloc[0]} {split} views of {few.index[0]!r}")
+    # an object's n angles, sorted: those of rank floor(k n / size), k = 0 .. size - 1; rank r is one when the
+    # least k with k n / size >= r (ceil(r size / n)) is below size and lands on r
+    rank = angles.groupby("object").cumcount().to_numpy()
+    n = angles["object"].map(counts).to_numpy()
+    least = -(-rank * size // n)
+    keep = angles[(least < size) & (least * n // size == rank)]
+    chosen = library[pd.MultiIndex.from_frame(views).isin(pd.MultiIndex.from_frame(keep))]
+    return chosen.sort_values("object", kind="stable")

@@ -100,12 +100,12 @@ def mapped(values: np.ndarray, space: str) -> np.ndarray:
     """
     if space not in SPACES:
         raise HeatdataError(f"unknown index space {space!r} (use {', '.join(SPACES)})")
-    values = np.atleast_2d(np.asarray(values, dtype=np.float32))
+    values = np.array(np.atleast_2d(values), dtype=np.float32, order="C")  # one copy, mapped in place
     if not np.isfinite(values).all():
-        values = np.nan_to_num(values, nan=0.0, posinf=0.0, neginf=0.0)
+        np.nan_to_num(values, copy=False, nan=0.0, posinf=0.0, neginf=0.0)
     if space == "hellinger":
-        values = np.sqrt(np.maximum(values, 0.0))
-    return np.ascontiguousarray(values)
+        np.sqrt(np.maximum(values, 0.0, out=values), out=values)
+    return values
 
 
 def _metric(space: str) -> int:

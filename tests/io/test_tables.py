@@ -6,7 +6,7 @@ import pyarrow as pa
 import pytest
 
 import heatdata as hd
-from heatdata.io.tables import PREDICTION_SCHEMA, read_matrix_table, read_table, write_table
+from heatdata.io.tables import PREDICTION_SCHEMA, iter_matrix_table, read_matrix_table, read_table, write_table
 
 
 def prediction_rows():
@@ -110,3 +110,19 @@ def test_a_ragged_matrix_column_reads_row_by_row(tmp_path):
     assert matrix is None and [len(v) for v in back["values"]] == [3, 2]
     with pytest.raises(hd.HeatdataError, match="lacks column"):
         read_matrix_table(tmp_path / "r.parquet", "values", schema=PREDICTION_SCHEMA)
+
+
+def test_a_matrix_column_iterates_as_one_array_a_row_group_at_a_time(tmp_path):
+    values = np.arange(60, dtype=np.float64).reshape(20, 3)
+    frame = pd.DataFrame({"name": [f"v{k}" for k in range(20)], "values": list(values), "extra": [["x"]] * 20})
+    write_table(frame, tmp_path / "m.parquet", MATRIX_SCHEMA, row_group_size=7)
+    odd = [("name", "in", [f"v{k}" for k in range(1, 20, 2)])]
+    parts = list(iter_matrix_table(tmp_path / "m.parquet", "values", columns=["name", "values"], filters=odd))
+    assert [len(rows) for rows, _ in parts] == [3, 4, 3]  # groups of 7, 7 and 6 rows, every other one kept
+    assert all(list(rows.columns) == ["name"] for rows, _ in parts)
+    assert np.array_equal(np.concatenate([matrix for _, matrix in parts]), values[1::2])
+    assert [name for rows, _ in parts for name in rows["name"]] == [f"v{k}" for k in range(1, 20, 2)]
+    ragged = pd.DataFrame({"name": ["a", "b"], "values": [np.ones(3), np.ones(2)], "extra": [[], []]})
+    write_table(ragged, tmp_path / "r.parquet", MATRIX_SCHEMA)
+    with pytest.raises(hd.HeatdataError, match="different lengths"):
+        list(iter_matrix_table(tmp_path / "r.parquet", "values"))
