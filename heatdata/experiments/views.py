@@ -17,7 +17,7 @@ import pandas as pd
 
 from heatdata.errors import HeatdataError
 from heatdata.io.models import Model
-from heatdata.views.render import render_view
+from heatdata.views.render import camera_distance, render_view
 from heatdata.views.view import View, kinect_intrinsics
 
 log = logging.getLogger(__name__)
@@ -114,21 +114,22 @@ def render_object_views(row: dict, views: dict) -> pd.DataFrame:
     """Workflow step: the planned views of one catalogue object as a :data:`VIEW_SCHEMA` frame.
 
     ``views`` holds ``train, test, elevation, distance, noise, seed`` and optionally
-    ``sensor``, ``image_scale`` and ``components`` (config ``views``).
+    ``sensor``, ``image_scale`` and ``components`` (config ``views``); a ``distance`` of ``"fit"`` is set by the
+    object's size (:func:`heatdata.views.render.camera_distance`).
     """
     from heatdata.io.catalog import load_catalog_model
     from heatdata.views.frames import views_to_frame
 
     model = load_catalog_model(row)
+    intrinsics = kinect_intrinsics(views.get("image_scale", 1.0))
     plan = view_plan(
         [model.name],
         views["train"],
         views["test"],
         elevation=views["elevation"],
-        distance=views["distance"],
+        distance=camera_distance(model, views["distance"], intrinsics),
         seed=views["seed"],
     )
-    intrinsics = kinect_intrinsics(views.get("image_scale", 1.0))
     return views_to_frame(
         render_views(
             model,
@@ -170,12 +171,13 @@ def render_offaxis_views(row: dict, views: dict, count: int) -> pd.DataFrame:
     from heatdata.views.frames import views_to_frame
 
     model = load_catalog_model(row)
-    plan = view_plan([model.name], 1, views["test"], elevation=views["elevation"], distance=views["distance"],
+    intrinsics = kinect_intrinsics(views.get("image_scale", 1.0))
+    distance = camera_distance(model, views["distance"], intrinsics)
+    plan = view_plan([model.name], 1, views["test"], elevation=views["elevation"], distance=distance,
                      seed=views["seed"])  # fmt: skip
     plan = plan[plan["split"] == "test"]
     plan = plan.iloc[np.unique(np.linspace(0, len(plan) - 1, min(count, len(plan))).round().astype(int))]
-    intrinsics = kinect_intrinsics(views.get("image_scale", 1.0))
-    radius = intrinsics["fx"] * 0.5 * float(np.linalg.norm(model.extents)) / views["distance"] + 4.0
+    radius = intrinsics["fx"] * 0.5 * float(np.linalg.norm(model.extents)) / distance + 4.0
     room = np.array([intrinsics["width"], intrinsics["height"]]) / 2.0 - radius
     offsets = np.array(
         [np.random.default_rng(seed).uniform(-1.0, 1.0, 2) * np.maximum(room, 0.0) for seed in plan["seed"]]

@@ -141,12 +141,14 @@ def summary_sections(
     Rendered by :func:`markdown` (``summary.md``) and :func:`html_page` (the report).
     """
     views = config["views"]
+    fitted = views["distance"] == "fit"
+    distance = "a distance set by each object's size" if fitted else f"distance {views['distance']} m"
     facts = [
         f"heatdata {__version__}; {counts['object'].nunique()} objects in {catalog['label'].nunique()} classes, "
         f"{counts['view_id'].nunique()} views (mean {counts.drop_duplicates('view_id')['n_vertices'].mean():.0f} "
         "vertices).",
         f"Views per object: {views['train']} library and {views['test']} test, at elevation {views['elevation']} deg "
-        f"and distance {views['distance']} m; Kinect depth noise {'on' if views['noise'] else 'off'} "
+        f"and {distance}; Kinect depth noise {'on' if views['noise'] else 'off'} "
         f"(seed {views['seed']}); image scale {views.get('image_scale', 1.0)}.",
         "Object precision: the share of test views whose nearest library view is of the same object; class "
         "precision: of the same class.",

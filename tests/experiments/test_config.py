@@ -204,3 +204,11 @@ def test_the_checks_import_no_plotting_and_no_stitching():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_the_camera_distance_is_metres_or_fit():
+    assert tiny(views={"distance": "fit"})["views"]["distance"] == "fit"
+    assert tiny(views={"distance": 2.5})["views"]["distance"] == 2.5
+    for wrong in ("far", 0, -1.0):
+        with pytest.raises(Exception, match=r"(?s)is not valid under any.*\['views'\]\['properties'\]\['distance'\]"):
+            tiny(views={"distance": wrong})

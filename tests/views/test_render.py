@@ -109,6 +109,29 @@ def test_a_tiny_object_gives_a_clear_error(tmp_path):
         hd.render_view(hd.load_model(path), 0.0, 0.0, 1.0)
 
 
+@pytest.mark.parametrize("side", [0.004, 0.2, 20.0])
+def test_the_fitted_distance_frames_a_grain_a_box_and_a_house_alike(tmp_path, side):
+    from heatdata.views.render import FIT_SHARE, camera_distance
+    from heatdata.views.view import kinect_intrinsics
+
+    path = tmp_path / "box.ply"
+    colored_box((side, side, side)).export(path)
+    box = hd.load_model(path)
+    half = kinect_intrinsics(0.5)
+    distance = camera_distance(box, "fit", half)
+    # the bounding sphere (radius side sqrt(3) / 2) spans FIT_SHARE of the 240 rows: tan(asin(r / d)) fy = 0.6 x 120
+    assert np.tan(np.arcsin(side * np.sqrt(3) / 2 / distance)) * half["fy"] == pytest.approx(FIT_SHARE * 120)
+    view = hd.render_view(box, 0.0, 0.0, distance, noise=False, intrinsics=half)
+    # the front face (half side s / 2, at d - s / 2) spans the same pixels at every size
+    face = side * 290 / (distance - side / 2)  # pixels, about 94 at every size
+    assert np.abs(view.pixels[:, 0] - 159.5).max() == pytest.approx(face / 2, abs=1)
+    assert view.n_vertices == pytest.approx(face**2, rel=0.03)
+    assert camera_distance(box, 2.5) == 2.5
+    for wrong in ("near", 0.0, -1.0):
+        with pytest.raises(hd.RenderError, match="'fit'"):
+            camera_distance(box, wrong)
+
+
 def test_half_scale_image_has_a_quarter_of_the_vertices(cube):
     from heatdata.views.view import kinect_intrinsics
 

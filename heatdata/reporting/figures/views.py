@@ -67,7 +67,7 @@ def draw_example_views(
     path: str | Path,
     *,
     elevation: float = 30.0,
-    distance: float = 1.0,
+    distance: float | str = 1.0,
     noise: bool = True,
     seed: int = 0,
     count: int = 8,
@@ -77,25 +77,28 @@ def draw_example_views(
 ) -> None:
     """Render up to ``count`` catalogue objects at azimuth 30 deg and draw the temperature of a PVHK.
 
+    ``distance``: metres, or ``"fit"`` (:func:`heatdata.views.render.camera_distance`).
     ``source`` is the PVHK's source rule (the report passes its primary descriptor's). With
     ``derivative_path``, also draw the global derivative of the same views (Fig. 5.7) on the
     component holding the source.
     """
     from heatdata.descriptors import global_derivative, heat_kernel, pvhk
     from heatdata.io.catalog import load_catalog_model
-    from heatdata.views.render import render_view
+    from heatdata.views.render import camera_distance, render_view
     from heatdata.views.view import kinect_intrinsics
 
+    intrinsics = kinect_intrinsics(image_scale)
     views, temps, sources, titles, components, derivatives, local_sources = [], [], [], [], [], [], []
     for _, row in catalog.head(count).iterrows():
+        model = load_catalog_model(row)
         view = render_view(
-            load_catalog_model(row),
+            model,
             30.0,
             elevation,
-            distance,
+            camera_distance(model, distance, intrinsics),
             noise=noise,
             seed=seed,
-            intrinsics=kinect_intrinsics(image_scale),
+            intrinsics=intrinsics,
         )
         d = pvhk(view, 64, source)
         views.append(view)
