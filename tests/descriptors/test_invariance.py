@@ -29,7 +29,7 @@ OPTIONS = {  # every kind, with the options that make it cheap (or that it needs
     "c-pvhk": {"color_map": "c3"},
     "pvst": {"source": "interior", "samples": 32},
     "esf": {"triplets": 4000},
-    "si-hks": {"words": 16},
+    "si-hks": {"words": 16, "modes": 30},
     "combined": {"parts": [{"kind": "hgd"}, {"kind": "pvhk"}]},
 }
 
