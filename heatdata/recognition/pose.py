@@ -28,9 +28,9 @@ import base64
 import json
 import logging
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import open3d as o3d
 from scipy.ndimage import minimum_filter
 from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist
@@ -39,6 +39,9 @@ from heatdata.core.geometry import rotation_between, turn_about_up
 from heatdata.errors import LibraryError
 from heatdata.io.files import atomic, require_file
 from heatdata.typing import StrPath
+
+if TYPE_CHECKING:
+    import open3d as o3d
 
 log = logging.getLogger(__name__)
 
@@ -215,6 +218,8 @@ def sample_surface(vertices: np.ndarray, faces: np.ndarray, count: int = SURFACE
     -------
     Surface
     """
+    import open3d as o3d
+
     mesh = o3d.geometry.TriangleMesh(
         o3d.utility.Vector3dVector(np.array(vertices, dtype=np.float64)),  # a copy: open3d refuses read-only arrays
         o3d.utility.Vector3iVector(np.asarray(faces, dtype=np.int32)),
@@ -441,6 +446,8 @@ def initial_pose(
 def _cloud(points: np.ndarray, normals: np.ndarray | None = None) -> o3d.geometry.PointCloud:
     """An open3d cloud of copies of ``points`` (and ``normals``): open3d refuses a read-only array (one read from
     Parquet)."""
+    import open3d as o3d
+
     cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(np.array(points, dtype=np.float64)))
     if normals is not None:
         cloud.normals = o3d.utility.Vector3dVector(np.array(normals, dtype=np.float64))
@@ -472,6 +479,8 @@ def refine(points: np.ndarray, surface: Surface, initial: np.ndarray, tol: float
     fitness, rmse : float
         ICP's at ``tol``.
     """
+    import open3d as o3d
+
     registration = o3d.pipelines.registration
     source, target = _cloud(points), _cloud(surface.points, surface.normals)
     criteria = registration.ICPConvergenceCriteria(max_iteration=ICP_ITERATIONS)
