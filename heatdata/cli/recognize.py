@@ -45,7 +45,7 @@ def _read_frame(frame: dict, args: argparse.Namespace):
         from heatdata.views.view import View
 
         return View.load(frame["depth"])
-    from heatdata.views.depth import read_frame
+    from heatdata.views.clouds import read_frame
 
     return read_frame(
         frame["depth"],
@@ -66,7 +66,8 @@ def _scene(frame: dict, args: argparse.Namespace, library):
     into the objects on its support plane, or into the one object it holds; a saved view is one object as it is.
     """
     from heatdata.reporting.figures.scenes import frame_image
-    from heatdata.views.depth import CLOUD_SUFFIXES, read_depth_frame, read_image
+    from heatdata.views.clouds import CLOUD_SUFFIXES
+    from heatdata.views.depth import read_depth_frame, read_image
     from heatdata.views.segment import SegmentSettings, segment_points, segment_view
 
     settings = SegmentSettings(max_depth_jump=args.max_depth_jump)

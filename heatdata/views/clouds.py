@@ -1,4 +1,5 @@
-"""Organized point clouds (PCD, range PLY) to views, with the intrinsics fitted to their grid."""
+"""Organized point clouds (PCD, range PLY) to views, with the intrinsics fitted to their grid; and :func:`read_frame`, which
+reads a sensor's frame of either kind: an organized cloud or a depth image."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from heatdata.errors import ViewError
 from heatdata.io.files import require_file
 from heatdata.io.models import checked_faces
 from heatdata.typing import StrPath
-from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view
+from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view, read_depth
 from heatdata.views.view import MAX_IMAGE_PIXELS, View
 
 
@@ -261,3 +262,54 @@ def _read_range_ply(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
         colors = np.full((*shape, 3), 0.5)
         colors.reshape(-1, 3)[cells] = np.asarray(visual.vertex_colors, np.float64)[:, :3] / 255.0
     return points, colors
+
+
+CLOUD_SUFFIXES = (".pcd", ".ply")
+
+
+def read_frame(
+    path: StrPath,
+    intrinsics_path: StrPath | None = None,
+    rgb_path: StrPath | None = None,
+    mask_path: StrPath | None = None,
+    *,
+    depth_range: tuple[float, float] | None = None,
+    scale: float = 1.0,
+    max_depth_jump: float = MAX_DEPTH_JUMP,
+) -> View:
+    """The view of a sensor's frame: a depth image (:func:`heatdata.views.depth.read_depth`) or an organized cloud
+    (:func:`read_organized_cloud`), told apart by the file's suffix.
+
+    Parameters
+    ----------
+    path : str or Path
+        A 16-bit PNG (millimetres) or float ``.npy`` (metres), or a ``.pcd`` or range-map ``.ply``.
+    intrinsics_path, rgb_path, mask_path : str or Path, optional
+        A depth image's intrinsics (needed), colour image and mask; a cloud carries its own grid and colours.
+    depth_range : (near, far) metres, optional
+        A depth image's segmentation when there is no mask.
+    scale : float
+        A cloud's units to metres.
+    max_depth_jump : float
+        See :func:`heatdata.views.depth.grid_faces`.
+
+    Returns
+    -------
+    View
+        The view in the camera's frame.
+    """
+    if Path(path).suffix.lower() in CLOUD_SUFFIXES:
+        if intrinsics_path or rgb_path or mask_path or depth_range:
+            raise ViewError(
+                f"{path}: an organized cloud carries its own grid and colours; --intrinsics, "
+                "--rgb, --mask and --depth-range are for depth images"
+            )
+        return read_organized_cloud(path, scale=scale, max_depth_jump=max_depth_jump)
+    return read_depth(
+        path,
+        intrinsics_path,
+        rgb_path or None,
+        mask_path or None,
+        depth_range=depth_range,
+        max_depth_jump=max_depth_jump,
+    )

@@ -392,59 +392,6 @@ def read_depth_image(path: StrPath) -> np.ndarray:
     )
 
 
-CLOUD_SUFFIXES = (".pcd", ".ply")
-
-
-def read_frame(
-    path: StrPath,
-    intrinsics_path: StrPath | None = None,
-    rgb_path: StrPath | None = None,
-    mask_path: StrPath | None = None,
-    *,
-    depth_range: tuple[float, float] | None = None,
-    scale: float = 1.0,
-    max_depth_jump: float = MAX_DEPTH_JUMP,
-) -> View:
-    """The view of a sensor's frame: a depth image (:func:`read_depth`) or an organized cloud
-    (:func:`heatdata.views.clouds.read_organized_cloud`), told apart by the file's suffix.
-
-    Parameters
-    ----------
-    path : str or Path
-        A 16-bit PNG (millimetres) or float ``.npy`` (metres), or a ``.pcd`` or range-map ``.ply``.
-    intrinsics_path, rgb_path, mask_path : str or Path, optional
-        A depth image's intrinsics (needed), colour image and mask; a cloud carries its own grid and colours.
-    depth_range : (near, far) metres, optional
-        A depth image's segmentation when there is no mask.
-    scale : float
-        A cloud's units to metres.
-    max_depth_jump : float
-        See :func:`grid_faces`.
-
-    Returns
-    -------
-    View
-        The view in the camera's frame.
-    """
-    if Path(path).suffix.lower() in CLOUD_SUFFIXES:
-        if intrinsics_path or rgb_path or mask_path or depth_range:
-            raise ViewError(
-                f"{path}: an organized cloud carries its own grid and colours; --intrinsics, "
-                "--rgb, --mask and --depth-range are for depth images"
-            )
-        from heatdata.views.clouds import read_organized_cloud  # it imports this module
-
-        return read_organized_cloud(path, scale=scale, max_depth_jump=max_depth_jump)
-    return read_depth(
-        path,
-        intrinsics_path,
-        rgb_path or None,
-        mask_path or None,
-        depth_range=depth_range,
-        max_depth_jump=max_depth_jump,
-    )
-
-
 DEPTH_MODES = ("I;16", "I;16B", "I;16L", "I")
 
 
