@@ -1,5 +1,5 @@
-"""Organized point clouds (PCD, range PLY) to views, with the intrinsics fitted to their grid; and :func:`read_frame`, which
-reads a sensor's frame of either kind: an organized cloud or a depth image."""
+"""Organized point clouds (PCD, range PLY) to views, with the intrinsics fitted to their grid; and
+:func:`read_frame`, which reads a sensor's frame of either kind: an organized cloud or a depth image."""
 
 from __future__ import annotations
 
