@@ -108,6 +108,7 @@ def test_render_describe_classify(demo_run, tmp_path, capsys):
     assert main(["kinds"]) == 0
     listed = capsys.readouterr().out
     assert all(f"{kind}:" in listed for kind in hd.DESCRIPTORS) and "triplets (default 20000)" in listed
+    assert listed.count("available here") == len(hd.DESCRIPTORS)  # each kind says whether it can run here
     assert main(["classify", str(out / "descriptors.parquet"), "--descriptor", "pvhk/polar/center/64"]) == 0
     printed = capsys.readouterr().out
     assert "precision of 12 test views (every train view" in printed
@@ -250,3 +251,13 @@ def test_the_command_spares_open3d_its_web_viewer_and_still_segments():
         capture_output=True, text=True, check=False,
     )  # fmt: skip
     assert viewer.returncode != 0 and "not loaded in the heatdata command" in viewer.stderr
+
+
+def test_every_command_takes_verbose_after_it_and_render_takes_o():
+    from heatdata.cli import build_parser
+
+    parser = build_parser()
+    assert parser.parse_args(["kinds", "-v"]).verbose and parser.parse_args(["-v", "kinds"]).verbose
+    assert not parser.parse_args(["kinds"]).verbose
+    assert parser.parse_args(["recognize", "frame.png", "--library", "l.parquet", "--verbose"]).verbose
+    assert str(parser.parse_args(["render", "m.obj", "-o", "v.npz"]).out) == "v.npz"

@@ -269,7 +269,7 @@ def cmd_kinds(args: argparse.Namespace) -> None:
     """List every descriptor kind, whether this machine can compute it, and its options."""
     for name, kind in KINDS.items():
         reason = DESCRIPTORS[name]
-        print(f"{name}: {kind.summary}" + ("" if reason is None else f"\n  UNAVAILABLE here: {reason}"))
+        print(f"{name}: {kind.summary}\n  " + ("available here" if reason is None else f"UNAVAILABLE here: {reason}"))
         for option in kind.options:
             print(f"  {option.name} (default {option.default!r}): {option.help}")
 
@@ -304,7 +304,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     render = sub.add_parser("render", help="render one partial view of a model", description=cmd_render.__doc__)
     render.add_argument("model", type=Path, help="OBJ, PLY, STL, OFF or GLB file")
-    render.add_argument("--out", type=Path, required=True, help="output .npz view (its folder is created)")
+    render.add_argument("-o", "--out", type=Path, required=True, help="output .npz view (its folder is created)")
     render.add_argument(
         "--azimuth", type=number(), default=0.0, help="camera azimuth about the model's +y axis, degrees (default 0)"
     )
@@ -469,8 +469,8 @@ def build_parser() -> argparse.ArgumentParser:
         description=f"{cmd_import_sh3f.__doc__} E.g. after 'apt-get install sweethome3d-furniture': "
         "heatdata import-sh3f /usr/share/sweethome3d/furniture/Scopia.sh3f models/ --names chair",
     )
-    imp.add_argument("sh3f", type=Path)
-    imp.add_argument("out", type=Path)
+    imp.add_argument("sh3f", type=Path, help="a Sweet Home 3D furniture library (.sh3f)")
+    imp.add_argument("out", type=Path, help="the catalogue folder: catalog.csv and one folder per model")
     imp.add_argument("--names", help="regular expression on the furniture names")
     imp.add_argument("--label", help="class for every imported model (default: as --classes says)")
     imp.add_argument(
@@ -481,6 +481,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     imp.add_argument("--exclude", help="regular expression of furniture names to leave out")
     imp.set_defaults(func=cmd_import_sh3f)
+    for command in sub.choices.values():  # -v after the command too: heatdata recognize ... -v
+        command.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS, help="debug logging")
     return parser
 
 
