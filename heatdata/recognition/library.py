@@ -54,7 +54,7 @@ from heatdata.typing import StrPath
 from heatdata.version import __version__
 from heatdata.views.depth import view_from_depth
 from heatdata.views.segment import Segment, Segmentation, SegmentSettings, segment_frame
-from heatdata.views.view import View
+from heatdata.views.view import View, has_colour
 
 log = logging.getLogger(__name__)
 
@@ -492,7 +492,7 @@ class Library:
         -------
         Recognition
         """
-        notes = self._colour_note(bool(np.ptp(view.colors) > 0), view.name)
+        notes = self._colour_note(has_colour(view.colors), view.name)
         if pose and not self.surfaces:
             notes.append(self.no_surfaces())
         answer = self._nearest(view, k, threshold, pose=pose, exact=exact)
@@ -834,7 +834,7 @@ class Library:
             belief.expect_unknown(min(prior, 1.0 - 1e-9))
         steps = []
         for frame, view in enumerate(views):
-            self._colour_note(bool(np.ptp(view.colors) > 0), view.name)
+            self._colour_note(has_colour(view.colors), view.name)
             move = float(gaps[frame - 1]) if frame else 0.0
             query = self.describe(view)
             belief.step([np.asarray(query["values"].iloc[0], dtype=np.float64)], move)

@@ -49,7 +49,7 @@ from heatdata.views.depth import (
     grid_faces,
     grid_view,
 )
-from heatdata.views.view import MIN_VERTICES, View, check_intrinsics
+from heatdata.views.view import MIN_VERTICES, View, check_intrinsics, has_colour
 
 log = logging.getLogger(__name__)
 
@@ -343,7 +343,7 @@ def segment_view(view: View, note: str) -> Segmentation:
         centroid=view.vertices.mean(axis=0),
         extent=_diameter(view.vertices),
     )
-    return Segmentation(None, [segment], [note], coloured=bool(np.ptp(view.colors) > 0))
+    return Segmentation(None, [segment], [note], coloured=has_colour(view.colors))
 
 
 def _basis(normal: np.ndarray) -> np.ndarray:

@@ -41,6 +41,16 @@ log = logging.getLogger(__name__)
 MIN_VERTICES = 30
 ZERO_AREA = 1e-10  # faces below this fraction of the median face area (twice the area) are degenerate
 INTRINSIC_KEYS = ("fx", "fy", "cx", "cy", "width", "height")
+#: the grey a view's vertices get when no colour was given (a depth frame without its colour image)
+NO_COLOUR = 0.5
+
+
+def has_colour(colors: np.ndarray) -> bool:
+    """Whether a view's ``colors`` (n, 3) were given: not every vertex the grey :data:`NO_COLOUR` a view without
+    colour gets. A uniformly coloured object has colour; only an exact grey everywhere reads as none."""
+    return bool(np.any(np.asarray(colors) != NO_COLOUR))
+
+
 VIEW_ARRAYS = ("vertices", "faces", "colors", "pose", "angle", "intrinsics", "ids", "repairs")  # of a saved view
 #: larger depth, colour and mask images and organized clouds are refused unread: a 1920 x 1080 depth PNG made into a
 #: view and written as .npz and .ply peaks at 1.73 GB (a flat frame, every pixel a vertex; docs/guide/cli.md)
@@ -262,7 +272,7 @@ class View:
         if not np.all(np.isfinite(vertices)):
             bad = int((~np.isfinite(vertices)).any(axis=1).sum())
             raise ViewError(f"{name}: {bad} vertices have NaN or infinite coordinates")
-        colors = np.full((len(vertices), 3), 0.5) if colors is None else np.asarray(colors, dtype=np.float64)
+        colors = np.full((len(vertices), 3), NO_COLOUR) if colors is None else np.asarray(colors, dtype=np.float64)
         if colors.shape != vertices.shape:
             raise ViewError(f"{name}: colors must be (n, 3) RGB for the {len(vertices)} vertices, got {colors.shape}")
         if not np.all(np.isfinite(colors)):

@@ -167,6 +167,8 @@ def test_a_colour_library_warns_of_a_frame_without_colour(models, tmp_path, capl
     library = hd.load_library(tmp_path / "c.parquet")
     view = hd.render_view(models["beer-mug"], azimuth=20.0, elevation=30.0, seed=1)
     assert not any("no colour" in r for r in library.recognize(view).repairs)
+    white = dataclasses.replace(view, colors=np.ones_like(view.colors))  # a white cup has colour: it is white
+    assert not any("no colour" in r for r in library.recognize(white).repairs)
     grey = dataclasses.replace(view, colors=np.full_like(view.colors, 0.5))
     assert any("has no colour" in r and "--rgb" in r for r in library.recognize(grey).repairs)
     assert "has no colour" in caplog.text
