@@ -261,3 +261,19 @@ def test_every_command_takes_verbose_after_it_and_render_takes_o():
     assert not parser.parse_args(["kinds"]).verbose
     assert parser.parse_args(["recognize", "frame.png", "--library", "l.parquet", "--verbose"]).verbose
     assert str(parser.parse_args(["render", "m.obj", "-o", "v.npz"]).out) == "v.npz"
+
+
+def test_recognize_reads_the_main_jobs_library_by_default_and_lists_those_there_when_it_is_missing(
+    tmp_path, monkeypatch, caplog
+):
+    monkeypatch.chdir(tmp_path)
+    assert main(["recognize", "frame.png"]) == 1
+    assert (
+        "results/libraries/hgd_color=hue-saturation-40.parquet: no --library given, and the main job's library of the "
+        "default descriptor is not there; build the libraries with snakemake --cores 2" in caplog.text
+    )
+    (tmp_path / "results" / "libraries").mkdir(parents=True)
+    (tmp_path / "results" / "libraries" / "esf-8.parquet").write_bytes(b"")
+    caplog.clear()
+    assert main(["recognize", "frame.png", "--library", "results/libraries/esf-40.parquet"]) == 1
+    assert "esf-40.parquet: no such library; results/libraries holds esf-8.parquet" in caplog.text

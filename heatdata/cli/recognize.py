@@ -190,7 +190,7 @@ def cmd_recognize(args: argparse.Namespace) -> None:
     library view."""
     from heatdata.recognition.library import load_library
 
-    require_file(args.library, "library")
+    args.library = _library_file(args.library)
     frames = _frames(args)
     if len(frames) > 1 and args.moves is None:
         raise HeatdataError(f"{len(frames)} frames: give --moves, the degrees the sensor turned between them")
@@ -237,6 +237,25 @@ def cmd_recognize(args: argparse.Namespace) -> None:
     say(f"{'converged on' if last.converged else 'not converged; most probable:'} {said} after {len(steps)} frames")
 
 
+#: the library ``recognize`` reads when none is named: the main job's, of the default descriptor (the workflow's
+#: ``primary_descriptor``) at its largest library size, 40 views an object
+DEFAULT_LIBRARY = Path("libraries") / "hgd_color=hue-saturation-40.parquet"
+
+
+def _library_file(given: Path | None) -> Path:
+    """The library ``recognize`` reads: ``given``, or the main job's of the default descriptor; when it is not there,
+    an error that lists the libraries beside it, or says how to build them."""
+    path = Path("results") / DEFAULT_LIBRARY if given is None else given
+    if path.is_file():
+        return path
+    what = "no --library given, and the main job's library of the default descriptor is not there"
+    what = what if given is None else "no such library"
+    found = sorted(p.name for p in path.parent.glob("*.parquet")) if path.parent.is_dir() else []
+    if found:
+        raise HeatdataError(f"{path}: {what}; {path.parent} holds {', '.join(found)}")
+    raise HeatdataError(f"{path}: {what}; build the libraries with snakemake --cores 2 (the main job)")
+
+
 def add_recognize(sub) -> None:
     """The ``recognize`` command's arguments, on the ``heatdata`` parser's subcommands ``sub``."""
     rec = sub.add_parser(
@@ -252,7 +271,11 @@ def add_recognize(sub) -> None:
         nargs="+",
         help="depth image (.png 16-bit mm, .npy m), organized cloud (.pcd, .ply), view (.npz), or a folder of them",
     )
-    rec.add_argument("--library", type=Path, required=True, help="a library file (results/libraries/*.parquet)")
+    rec.add_argument(
+        "--library",
+        type=Path,
+        help=f"a library file (default results/{DEFAULT_LIBRARY}: the main job's, of the default descriptor)",
+    )
     frame_arguments(rec)
     rec.add_argument(
         "-k", type=number(1, high=1000, whole=True), default=5, help="nearest objects to keep per object (default 5)"
