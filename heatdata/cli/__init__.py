@@ -91,17 +91,25 @@ def cmd_view_from_depth(args: argparse.Namespace) -> None:
         max_depth_jump=args.max_depth_jump,
     )
     view.write(outs)
-    print(
-        dump_json(
-            {
-                "views": [str(p) for p in outs],
-                "vertices": view.n_vertices,
-                "faces": len(view.faces),
-                "boundary": len(view.boundary),
-                "repairs": view.repairs,
-            }
+    if args.json:
+        print(
+            dump_json(
+                {
+                    "views": [str(p) for p in outs],
+                    "vertices": view.n_vertices,
+                    "faces": len(view.faces),
+                    "boundary": len(view.boundary),
+                    "repairs": view.repairs,
+                }
+            )
         )
+        return
+    print(
+        f"{', '.join(map(str, outs))}: {view.n_vertices:,} vertices, {len(view.faces):,} faces, "
+        f"{len(view.boundary):,} on the outer boundary"
     )
+    for repair in view.repairs:
+        print(f"  {repair}")
 
 
 def cmd_stitch(args: argparse.Namespace) -> None:
@@ -342,6 +350,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="output .npz view and/or .ply mesh with colours (repeatable)",
     )
     frame_arguments(depth)
+    depth.add_argument("--json", action="store_true", help="print JSON for programs")
     depth.set_defaults(func=cmd_view_from_depth)
 
     join = sub.add_parser(

@@ -2,6 +2,7 @@
 and every kind of bad input."""
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -188,12 +189,17 @@ def test_the_command_writes_a_view_and_a_ply(rendered, tmp_path, capsys, caplog)
                 str(tmp_path / "v.npz"),
                 "-o",
                 str(tmp_path / "v.ply"),
+                "--json",
             ]
         )
         == 0
     )
     printed = json.loads(capsys.readouterr().out)
     assert printed["vertices"] == hd.View.load(tmp_path / "v.npz").n_vertices
+    argv = ["view-from-depth", str(tmp_path / "mug.png"), "--intrinsics", str(tmp_path / "mug.json"), "-o"]
+    assert main([*argv, str(tmp_path / "w.npz")]) == 0  # without --json: a line a person reads
+    assert re.match(rf"\S+w\.npz: {printed['vertices']:,} vertices, [\d,]+ faces, [\d,]+ on the outer boundary",
+                    capsys.readouterr().out)  # fmt: skip
     assert (tmp_path / "v.ply").stat().st_size > 10_000
     assert main(["view-from-depth", str(tmp_path / "mug.png"), "-o", str(tmp_path / "v.npz")]) == 1
     assert "needs --intrinsics" in caplog.text
