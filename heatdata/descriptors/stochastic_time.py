@@ -8,6 +8,7 @@ sum of exponentials in t, bracketed on a log grid and bisected.
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import logging
 from collections.abc import Mapping
@@ -26,7 +27,7 @@ from heatdata.descriptors.base import (
 )
 from heatdata.descriptors.boundary import sample_boundary
 from heatdata.descriptors.compute import describe
-from heatdata.descriptors.heat import BOUNDARY_OPTIONS, BoundaryKind
+from heatdata.descriptors.heat import SAMPLES, SAMPLING, SOURCE, BoundaryKind
 from heatdata.descriptors.work import ViewWork
 from heatdata.errors import ViewError
 from heatdata.views.view import View
@@ -136,7 +137,10 @@ class PVST(BoundaryKind):
     name = "pvst"
     summary = "Partial View Stochastic Time: first time each boundary point reaches T_a (Alg. 5.3)"
     options = (
-        *BOUNDARY_OPTIONS,
+        SAMPLES,
+        # the PVST needs a source off the outer boundary (Lemma 1): the interior rule finds one on every view
+        dataclasses.replace(SOURCE, default="interior"),
+        SAMPLING,
         Option(
             "threshold",
             PVST_THRESHOLD,
@@ -209,7 +213,7 @@ def pvst(
     view: View,
     samples: int | None = 64,
     threshold: float = PVST_THRESHOLD,
-    source: str | int = "closest",
+    source: str | int = "interior",
     *,
     sampling: str = "arclength",
     t_final: float | None = None,
@@ -239,8 +243,9 @@ def pvst(
         M; None: one value per boundary vertex.
     threshold : float
         T_a in (0, 1).
-    source : {"closest", "center", "interior"} or int
-        Must not be on the outer boundary (Lemma 1): a :class:`ViewError` otherwise.
+    source : {"interior", "closest", "center"} or int
+        Must not be on the outer boundary (Lemma 1): a :class:`ViewError` otherwise. The default, ``"interior"``,
+        is off it on every view; the image centre or the closest point can fall on the outline.
     sampling : {"arclength", "polar"}
     t_final : float, optional
         End of the search window, default ``10 / lambda_2``. Boundary points that do not

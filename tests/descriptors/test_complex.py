@@ -243,3 +243,15 @@ def test_empty_or_bad_times_and_tiny_thresholds_are_clear_errors(square):
         hd.DescriptorSpec("pvst", threshold=1e-9)
     d = hd.pvst(square, 16, threshold=0.01, source="center")
     assert np.all(np.isfinite(d.values)) and d.repairs == ()
+
+
+def test_the_pvst_s_default_source_is_off_the_outline_where_the_image_centre_is_on_it():
+    mask = np.zeros((21, 21), bool)
+    mask[:, :7] = mask[14:, :] = True  # an L: the image centre falls outside it, the nearest vertex on its outline
+    view = lattice_view(mask)
+    with pytest.raises(hd.ViewError, match="interior source"):
+        hd.describe(view, [hd.DescriptorSpec("pvst", 16, "center")])
+    spec = hd.DescriptorSpec("pvst", 16)
+    assert spec.source == "interior" and hd.pvst(view, 16).source == hd.describe(view, [spec])[0].source
+    assert np.isfinite(hd.describe(view, [spec])[0].values).all()
+    assert hd.DescriptorSpec("pvhk").source == "closest"  # the other kinds keep theirs
