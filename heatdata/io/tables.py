@@ -356,10 +356,7 @@ def _matrix(file: pq.ParquetFile, column: str) -> np.ndarray | None:
 
     def fill(group: int) -> bool:
         part = file.read_row_group(group, columns=[column]).column(0)
-        if part.null_count or len(part) == 0:
-            return False
-        counts = pc.min_max(pc.list_value_length(part))
-        if counts["min"].as_py() != width or counts["max"].as_py() != width:
+        if _common_width(part) != width:
             return False
         at = starts[group]
         for chunk in part.chunks:
@@ -370,6 +367,15 @@ def _matrix(file: pq.ParquetFile, column: str) -> np.ndarray | None:
     with concurrent.futures.ThreadPoolExecutor(max_workers=min(4, os.cpu_count() or 1)) as pool:
         filled = list(pool.map(fill, range(len(groups))))
     return out if all(filled) else None
+
+
+def _common_width(column: pa.ChunkedArray) -> int | None:
+    """The length every row of a list column has; None when their lengths differ, one is null, or it has no row."""
+    if column.null_count or len(column) == 0:
+        return None
+    extent = pc.min_max(pc.list_value_length(column))
+    width = extent["min"].as_py()
+    return width if width == extent["max"].as_py() else None
 
 
 def iter_table(
@@ -433,9 +439,8 @@ def iter_matrix_table(
             if not table.num_rows:
                 continue
             column = table.column(matrix)
-            extent = pc.min_max(pc.list_value_length(column))
-            width = extent["min"].as_py()
-            if column.null_count or width != extent["max"].as_py():
+            width = _common_width(column)
+            if width is None:
                 raise HeatdataError(f"{path}: rows of {matrix!r} of different lengths, or empty, in one row group")
             values = pc.list_flatten(column).to_numpy().astype(np.float64, copy=False)
             yield table.drop_columns([matrix]).to_pandas(), values.reshape(table.num_rows, width)
