@@ -488,7 +488,7 @@ def build_parser() -> argparse.ArgumentParser:
         default="name",
         help="without --label, each model's class: its furniture name (default) or its catalogue category",
     )
-    imp.add_argument("--exclude", help="regular expression of furniture names to leave out")
+    imp.add_argument("--exclude", help="regular expression of furniture names or object ids to leave out")
     imp.set_defaults(func=cmd_import_sh3f)
     for command in sub.choices.values():  # -v after the command too: heatdata recognize ... -v
         command.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS, help="debug logging")

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import codecs
 import csv
 import logging
 import posixpath
@@ -42,7 +41,8 @@ def parse_properties(text: str) -> dict[str, str]:
             continue
         match = re.match(r"((?:[^=:\\\s]|\\.)+)\s*[=:]?\s*(.*)", line)
         if match:
-            key, value = (codecs.decode(s, "unicode_escape") for s in match.groups())
+            # the text is Latin-1 (or pure ASCII), so its characters map back to the bytes the escapes decode from
+            key, value = (s.encode("latin-1", "backslashreplace").decode("unicode_escape") for s in match.groups())
             result[key] = value
     return result
 
@@ -123,8 +123,8 @@ def sh3f_catalog(
 
     ``file`` is the model's path inside the archive (and inside a folder it is extracted
     to with :func:`extract_sh3f_model`). Object ids are ``<library>-<index>-<model>``.
-    ``name_pattern`` keeps and ``exclude_pattern`` drops furniture by name (case-insensitive
-    regular expressions). No match is an error unless ``allow_empty``. An object's class is
+    ``name_pattern`` keeps furniture by name and ``exclude_pattern`` drops it by name or by
+    object id (case-insensitive regular expressions). No match is an error unless ``allow_empty``. An object's class is
     ``label`` when given, else (``classes``) its lower-cased furniture name or its catalogue
     category ("living room", "kitchen", ...).
     """
@@ -139,14 +139,17 @@ def sh3f_catalog(
             raise ModelError(f"{what} {pattern!r} is not a regular expression: {exc}") from None
     if name_pattern:
         entries = entries[entries["name"].str.contains(name_pattern, case=False, regex=True)]
+    library = sh3f_path.stem
+    objects = [f"{library}-{index:03d}-{Path(model).stem}" for index, model in zip(entries["index"], entries["model"])]
+    entries = entries.assign(object=objects)
     if exclude_pattern:
-        entries = entries[~entries["name"].str.contains(exclude_pattern, case=False, regex=True)]
+        dropped = [entries[column].str.contains(exclude_pattern, case=False, regex=True) for column in ("name", "object")]
+        entries = entries[~(dropped[0] | dropped[1])]
     if entries.empty and not allow_empty:
         raise ModelError(f"{sh3f_path}: {_nothing_matches(name_pattern, exclude_pattern)}")
-    library = sh3f_path.stem
     rows = [
         {
-            "object": f"{library}-{entry.index:03d}-{Path(entry.model).stem}",
+            "object": entry.object,
             "label": label or (entry.category if classes == "category" else entry.name).lower(),
             "file": entry.model,
             "width": entry.width,
@@ -380,7 +383,8 @@ def import_sh3f(
     label : str, optional
         Class for every imported object; by default the lower-cased furniture name.
     exclude_pattern : str, optional
-        Case-insensitive regular expression of furniture names to leave out (e.g. ``"bench"``).
+        Case-insensitive regular expression of furniture names or object ids to leave out
+        (e.g. ``"bench"``, ``"^Scopia-336-"``).
     classes : {"name", "category"}
         Without ``label``, each object's class: its furniture name or its catalogue category.
 

@@ -18,6 +18,10 @@ SH3F_DIR = Path("/usr/share/sweethome3d/furniture")
 def test_parse_properties_handles_escapes_and_continuations():
     text = "a=1\nb = two words\n! note\nc=caf\\u00e9\nd=first \\\n   second\n"
     assert parse_properties(text) == {"a": "1", "b": "two words", "c": "café", "d": "first second"}
+    # a file in Latin-1 with raw non-ASCII bytes (Sweet Home 3D's "Parking slot 90°"), decoded as Latin-1
+    assert parse_properties("name#1=Parking slot 90\xb0 \\u00e9\n".encode("latin-1").decode("latin-1")) == {
+        "name#1": "Parking slot 90° é"
+    }
 
 
 def test_sh3f_entries_in_metres(tmp_path):
@@ -157,6 +161,9 @@ def test_several_libraries_with_names_kept_and_left_out(tmp_path):
     assert table["name"].tolist() == ["Coffee mug", "Coffee mug"]
     assert table["archive"].tolist() == [str(first), str(second)]
     assert sh3f_catalog(first, name_pattern="piano", allow_empty=True).empty
+    one = sh3f_catalog(first)
+    kept = sh3f_catalog(first, exclude_pattern=f"^{one['object'].iloc[0]}$")  # by object id, not by name
+    assert kept["object"].tolist() == one["object"].tolist()[1:]
     with pytest.raises(hd.ModelError, match="no furniture matches 'mug' without 'mug'"):
         sh3f_catalogs([first, second], name_pattern="mug", exclude_pattern="mug")
 
