@@ -21,6 +21,11 @@ class ViewError(HeatdataError):
     """A partial view cannot be described (too small, no boundary, NaN coordinates)."""
 
 
+class SpecError(HeatdataError, ValueError):
+    """A descriptor spec is wrong: an unknown kind, an option out of range, a fit of other shapes, or a fitted kind
+    used unfitted. The caller's mistake, never a view's: batch code does not turn it into a NaN row."""
+
+
 class SpectrumError(HeatdataError):
     """The Laplace-Beltrami spectrum could not be computed to the requested accuracy."""
 

@@ -195,7 +195,7 @@ def test_sample_and_particle_counts_are_bounded(tmp_path, capsys):
 
     with pytest.raises(hd.HeatdataError, match="particles must be a whole number in"):
         ParticleFilter(pd.DataFrame(), pd.DataFrame(), particles=10**9)
-    with pytest.raises(hd.ViewError, match="option samples must be in 2..4096"):
+    with pytest.raises(hd.SpecError, match="option samples must be in 2..4096"):
         hd.DescriptorSpec("pvhk", samples=10**9)
 
 

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from heatdata.core.distances import Nearest
-from heatdata.errors import HeatdataError, ViewError
+from heatdata.errors import HeatdataError, SpecError, ViewError
 
 log = logging.getLogger(__name__)
 
@@ -76,7 +76,7 @@ class Option:
     """One option of a kind: its default, a check that returns the value to keep, and help text.
 
     ``check(value)`` raises :class:`ValueError` or :class:`TypeError` with what is wrong;
-    the spec turns that into a :class:`heatdata.ViewError` naming the kind and option.
+    the spec turns that into a :class:`heatdata.SpecError` naming the kind and option.
     A default of None is kept as None without a check.
     """
 
@@ -230,12 +230,12 @@ class Kind:
 
     def fit(self, spec: DescriptorSpec, views: list) -> dict[str, np.ndarray]:
         """What the kind learns from library ``views``, as named arrays (only if :attr:`fitted`)."""
-        raise HeatdataError(f"{article(self.name)} {self.name} is not fitted")
+        raise SpecError(f"{article(self.name)} {self.name} is not fitted")
 
     def fitted_shapes(self, spec: DescriptorSpec) -> dict[str, tuple[int, ...]]:
         """The names and shapes of what :meth:`fit` learns for ``spec`` (only if :attr:`fitted`): a fit of other
         names or shapes (a damaged library file) is refused when a spec is made with it."""
-        raise HeatdataError(f"{article(self.name)} {self.name} is not fitted")
+        raise SpecError(f"{article(self.name)} {self.name} is not fitted")
 
     def foreign_fit(self, spec: DescriptorSpec, objects: list[str]) -> str | None:
         """Why what ``spec`` learned does not belong to a library of ``objects`` (weights trained on other objects),
@@ -246,7 +246,7 @@ class Kind:
         self, view, sources: np.ndarray, spec: DescriptorSpec, *, times=None, modes: int = 32
     ) -> list[Descriptor]:
         """One descriptor per source vertex (only if :attr:`multi_source`)."""
-        raise ViewError(
+        raise SpecError(
             f"{article(self.name)} {self.name} has no heat source: candidate descriptors (ch. 6) "
             "need one of "
             f"{', '.join(k for k, v in KINDS.items() if v.multi_source)}"
@@ -274,7 +274,7 @@ def kind_of(name: str) -> Kind:
     try:
         return KINDS[name]
     except (KeyError, TypeError):
-        raise ViewError(f"unknown descriptor kind {name!r} (use one of {', '.join(KINDS)})") from None
+        raise SpecError(f"unknown descriptor kind {name!r} (use one of {', '.join(KINDS)})") from None
 
 
 def available() -> dict[str, str | None]:
@@ -316,16 +316,16 @@ class DescriptorSpec:
         impl = kind_of(kind)
         names = [o.name for o in impl.options]
         if len(args) > len(names):
-            raise ViewError(
+            raise SpecError(
                 f"{article(kind)} {kind} takes at most {len(names)} options ({', '.join(names)}), got {len(args)}"
             )
         for name, value in zip(names, args, strict=False):
             if name in given:
-                raise ViewError(f"{kind}: option {name} given twice")
+                raise SpecError(f"{kind}: option {name} given twice")
             given[name] = value
         unknown = sorted(k for k, v in given.items() if k not in names and v is not None)
         if unknown:
-            raise ViewError(
+            raise SpecError(
                 f"{article(kind)} {kind} takes no {', '.join(unknown)} (its options: {', '.join(names) or 'none'})"
             )
         options = {}
@@ -336,7 +336,7 @@ class DescriptorSpec:
             try:
                 options[option.name] = None if value is None and option.default is None else option.check(value)
             except (TypeError, ValueError) as exc:
-                raise ViewError(f"{kind}: option {option.name} {exc}") from None
+                raise SpecError(f"{kind}: option {option.name} {exc}") from None
         object.__setattr__(self, "kind", kind)
         object.__setattr__(self, "options", impl.validate(options))
         object.__setattr__(self, "fitted", None if fitted is None else _checked_fit(kind, impl, self, fitted))
@@ -430,18 +430,18 @@ def file_name(descriptor: str) -> str:
 def _checked_fit(kind: str, impl: Kind, spec: DescriptorSpec, fitted: Mapping) -> dict[str, np.ndarray]:
     """``fitted`` as finite float arrays of the names and shapes :meth:`Kind.fitted_shapes` gives for ``spec``."""
     if not impl.fitted:
-        raise ViewError(f"{article(kind)} {kind} is not fitted, but a fit was given")
+        raise SpecError(f"{article(kind)} {kind} is not fitted, but a fit was given")
     shapes = impl.fitted_shapes(spec)
     if set(fitted) != set(shapes):
-        raise ViewError(f"{kind}: a fit of {sorted(fitted)}, not {sorted(shapes)}")
+        raise SpecError(f"{kind}: a fit of {sorted(fitted)}, not {sorted(shapes)}")
     checked = {}
     for name, shape in shapes.items():
         try:
             value = np.asarray(fitted[name], dtype=np.float64)
         except (TypeError, ValueError):
-            raise ViewError(f"{kind}: the fitted {name} is not an array of numbers") from None
+            raise SpecError(f"{kind}: the fitted {name} is not an array of numbers") from None
         if value.shape != shape or not np.all(np.isfinite(value)):
-            raise ViewError(f"{kind}: the fitted {name} is {value.shape}, not finite {shape}")
+            raise SpecError(f"{kind}: the fitted {name} is {value.shape}, not finite {shape}")
         checked[name] = value
     return checked
 

@@ -42,7 +42,7 @@ from heatdata.descriptors.base import (
     one_of,
     register,
 )
-from heatdata.errors import HeatdataError, ViewError
+from heatdata.errors import HeatdataError, SpecError, ViewError
 
 log = logging.getLogger(__name__)
 
@@ -127,7 +127,7 @@ class Combined(Kind):
 
     def validate(self, options: dict) -> dict:
         if options["parts"] is None:
-            raise ViewError("combined: option parts is needed (two or more descriptors)")
+            raise SpecError("combined: option parts is needed (two or more descriptors)")
         return options
 
     def label(self, options: Mapping) -> str:
@@ -187,7 +187,7 @@ class Combined(Kind):
 
     def compute(self, work, spec: DescriptorSpec, **context) -> list[Descriptor]:
         if spec.fitted is None:
-            raise ViewError(
+            raise SpecError(
                 f"{work.view.name}: {article(self.name)} {self.name} must be fitted on library views "
                 "first (spec = heatdata.fit_spec(spec, library_views))"
             )

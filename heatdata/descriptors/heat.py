@@ -43,7 +43,7 @@ from heatdata.descriptors.work import (
     checked_times,
     heat_operator,
 )
-from heatdata.errors import ViewError
+from heatdata.errors import SpecError, ViewError
 from heatdata.views.view import View
 
 log = logging.getLogger(__name__)
@@ -251,7 +251,7 @@ class ColorPVHK(HeatKind):
 
     def validate(self, options: dict) -> dict:
         if options["color_map"] is None:
-            raise ViewError("a c-pvhk needs a color_map (c1, c2, c3, c4, hue, sat-hue or a function)")
+            raise SpecError("a c-pvhk needs a color_map (c1, c2, c3, c4, hue, sat-hue or a function)")
         return options
 
     def label(self, options: Mapping) -> str:

@@ -43,7 +43,7 @@ from heatdata.descriptors.base import (
 )
 from heatdata.descriptors.boundary import source_vertex
 from heatdata.descriptors.histograms import HistogramKind
-from heatdata.errors import ViewError
+from heatdata.errors import SpecError, ViewError
 
 #: bins of Euclidean / geodesic distance: another component or far round, round a gap, bent, straight
 RATIO_EDGES = np.array([0.0, 0.5, 0.8, 0.95, 1.0])
@@ -137,7 +137,7 @@ class HGD(HistogramKind):
 
     def validate(self, options: dict) -> dict:
         if options["near"] >= options["far"]:
-            raise ViewError(f"hgd: near ({options['near']:g} m) must be below far ({options['far']:g} m)")
+            raise SpecError(f"hgd: near ({options['near']:g} m) must be below far ({options['far']:g} m)")
         return options
 
     def unavailable(self) -> str | None:

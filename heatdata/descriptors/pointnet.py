@@ -30,7 +30,7 @@ import numpy as np
 from scipy.spatial.distance import cdist
 
 from heatdata.descriptors.base import Descriptor, DescriptorSpec, Kind, Option, integer, one_of, register
-from heatdata.errors import ViewError
+from heatdata.errors import SpecError, ViewError
 
 log = logging.getLogger(__name__)
 
@@ -121,7 +121,7 @@ class PointNet(Kind):
 
     def compute(self, work, spec: DescriptorSpec, **context) -> list[Descriptor]:
         if spec.fitted is None:
-            raise ViewError(
+            raise SpecError(
                 "a pointnet must be trained on library views first (spec = heatdata.fit_spec(spec, library_views))"
             )
         view = work.view

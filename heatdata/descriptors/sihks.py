@@ -25,7 +25,7 @@ from heatdata.core.spectrum import eigen_spectrum
 from heatdata.descriptors.base import DescriptorSpec, Option, integer, register
 from heatdata.descriptors.histograms import HistogramKind
 from heatdata.descriptors.work import ViewWork
-from heatdata.errors import ViewError
+from heatdata.errors import SpecError, ViewError
 
 log = logging.getLogger(__name__)
 
@@ -91,7 +91,7 @@ class SIHKS(HistogramKind):
         from scipy.spatial import cKDTree
 
         if spec.fitted is None:
-            raise ViewError(
+            raise SpecError(
                 f"{work.view.name}: an si-hks must be fitted on library views first "
                 "(spec = heatdata.fit_spec(spec, library_views))"
             )

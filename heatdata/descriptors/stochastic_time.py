@@ -29,7 +29,7 @@ from heatdata.descriptors.boundary import sample_boundary
 from heatdata.descriptors.compute import describe
 from heatdata.descriptors.heat import SAMPLES, SAMPLING, SOURCE, BoundaryKind
 from heatdata.descriptors.work import ViewWork
-from heatdata.errors import ViewError
+from heatdata.errors import SpecError, ViewError
 from heatdata.views.view import View
 
 log = logging.getLogger(__name__)
@@ -161,9 +161,9 @@ class PVST(BoundaryKind):
     def validate(self, options: dict) -> dict:
         threshold = options["threshold"]
         if threshold >= 1.0:
-            raise ViewError(f"pvst: option threshold is a fraction of the equilibrium in (0, 1), got {threshold}")
+            raise SpecError(f"pvst: option threshold is a fraction of the equilibrium in (0, 1), got {threshold}")
         if threshold < MIN_THRESHOLD:
-            raise ViewError(
+            raise SpecError(
                 f"pvst: option threshold must be at least {MIN_THRESHOLD:g}: the heat models are "
                 f"converged to {PVST_TOL:g} of the equilibrium, too coarse to place a crossing of "
                 f"{threshold:g}"

@@ -22,7 +22,7 @@ from heatdata.core.spectrum import (
     laplacian,
 )
 from heatdata.descriptors.boundary import color_rates, source_vertex
-from heatdata.errors import SpectrumError, ViewError
+from heatdata.errors import SpecError, SpectrumError, ViewError
 from heatdata.views.view import View
 
 log = logging.getLogger(__name__)
@@ -43,7 +43,7 @@ def heat_operator(view: View, rates: np.ndarray | None = None) -> HeatOperator:
 def checked_times(times, what: str) -> tuple:
     """Diffusion times as a tuple of positive finite floats; a clear error, naming ``what``, for none or a bad list."""
     if times is None:
-        raise ViewError(f"{what} needs times= (the object's time scale, Alg. 5.1)")
+        raise SpecError(f"{what} needs times= (the object's time scale, Alg. 5.1)")
     values = np.atleast_1d(np.asarray(times, dtype=np.float64)) if np.size(times) else np.array([])
     if values.ndim != 1 or len(values) == 0 or not np.all(np.isfinite(values)) or np.any(values <= 0):
         raise ViewError(f"{what}: times must be one or more positive finite times, got {list(np.ravel(times))}")

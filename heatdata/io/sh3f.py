@@ -143,8 +143,8 @@ def sh3f_catalog(
     objects = [f"{library}-{index:03d}-{Path(model).stem}" for index, model in zip(entries["index"], entries["model"])]
     entries = entries.assign(object=objects)
     if exclude_pattern:
-        dropped = [entries[column].str.contains(exclude_pattern, case=False, regex=True) for column in ("name", "object")]
-        entries = entries[~(dropped[0] | dropped[1])]
+        names, ids = (entries[c].str.contains(exclude_pattern, case=False, regex=True) for c in ("name", "object"))
+        entries = entries[~(names | ids)]
     if entries.empty and not allow_empty:
         raise ModelError(f"{sh3f_path}: {_nothing_matches(name_pattern, exclude_pattern)}")
     rows = [

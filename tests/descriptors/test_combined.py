@@ -64,15 +64,15 @@ def test_descriptors_of_another_fit_or_parts_are_not_compared():
 
 
 def test_bad_parts_are_config_errors():
-    with pytest.raises(hd.ViewError, match="parts is needed"):
+    with pytest.raises(hd.SpecError, match="parts is needed"):
         hd.DescriptorSpec("combined")
-    with pytest.raises(hd.ViewError, match="two or more parts"):
+    with pytest.raises(hd.SpecError, match="two or more parts"):
         hd.DescriptorSpec("combined", parts=[{"kind": "hgd"}])
-    with pytest.raises(hd.ViewError, match="si-hks cannot be a part"):
+    with pytest.raises(hd.SpecError, match="si-hks cannot be a part"):
         hd.DescriptorSpec("combined", parts=[{"kind": "hgd"}, {"kind": "si-hks"}])
-    with pytest.raises(hd.ViewError, match="same part twice"):
+    with pytest.raises(hd.SpecError, match="same part twice"):
         hd.DescriptorSpec("combined", parts=[{"kind": "hgd"}, {"kind": "hgd"}])
-    with pytest.raises(hd.ViewError, match="must be fitted"):
+    with pytest.raises(hd.SpecError, match="must be fitted"):
         hd.describe(library()[0], [hd.DescriptorSpec("combined", parts=PARTS)])
 
 

@@ -147,7 +147,7 @@ def test_pvst_on_a_log_time_axis_is_a_tenth_of_the_decades_and_keeps_their_ratio
         hd.DescriptorSpec("pvst", 64, "interior", "polar", time_axis="log").name
         == "pvst/polar/interior/64/T0.75/log-time"
     )
-    with pytest.raises(hd.ViewError, match="time_axis"):
+    with pytest.raises(hd.SpecError, match="time_axis"):
         hd.DescriptorSpec("pvst", time_axis="ln")
 
 
@@ -223,11 +223,11 @@ def test_pvst_source_on_the_boundary_is_an_error(square):
 
 def test_specs_check_kinds_and_thresholds(square):
     assert hd.DescriptorSpec("pvst", 64, "center", "polar").name == "pvst/polar/center/64/T0.75"
-    with pytest.raises(hd.ViewError, match="threshold"):
+    with pytest.raises(hd.SpecError, match="threshold"):
         hd.DescriptorSpec("pvst", threshold=1.5)
-    with pytest.raises(hd.ViewError, match="no threshold"):
+    with pytest.raises(hd.SpecError, match="no threshold"):
         hd.DescriptorSpec("pvhk", threshold=0.5)
-    with pytest.raises(hd.ViewError, match="times="):
+    with pytest.raises(hd.SpecError, match="times="):
         hd.describe(square, [hd.DescriptorSpec("ft-pvhk")])
 
 
@@ -239,7 +239,7 @@ def test_empty_or_bad_times_and_tiny_thresholds_are_clear_errors(square):
             hd.describe(square, [hd.DescriptorSpec("ft-pvhk")], times=times)
     with pytest.raises(hd.ViewError, match="positive finite times"):
         hd.candidate_descriptors(square, [220], hd.DescriptorSpec("ft-pvhk"), times=[])
-    with pytest.raises(hd.ViewError, match="at least 0.01"):  # 1e-9 gave a false "does not reach T"
+    with pytest.raises(hd.SpecError, match="at least 0.01"):  # 1e-9 gave a false "does not reach T"
         hd.DescriptorSpec("pvst", threshold=1e-9)
     d = hd.pvst(square, 16, threshold=0.01, source="center")
     assert np.all(np.isfinite(d.values)) and d.repairs == ()

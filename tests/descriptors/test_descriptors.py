@@ -128,7 +128,7 @@ def test_color_changes_the_descriptor():
 
 
 def test_bad_color_maps(square):
-    with pytest.raises(hd.ViewError, match="colour map"):
+    with pytest.raises(hd.SpecError, match="colour map"):
         hd.c_pvhk(square, 64, "c9")
     with pytest.raises(hd.ViewError, match="positive"):
         hd.c_pvhk(square, 64, lambda rgb: -np.ones(len(rgb)))
@@ -163,11 +163,11 @@ def test_describe_shares_work_and_matches_single_calls(mug):
 
 
 def test_descriptor_spec_validation():
-    with pytest.raises(hd.ViewError, match="kind"):
+    with pytest.raises(hd.SpecError, match="kind"):
         hd.DescriptorSpec("shot")
-    with pytest.raises(hd.ViewError, match="color_map"):
+    with pytest.raises(hd.SpecError, match="color_map"):
         hd.DescriptorSpec("c-pvhk")
-    with pytest.raises(hd.ViewError, match="sampling"):
+    with pytest.raises(hd.SpecError, match="sampling"):
         hd.DescriptorSpec(sampling="random")
 
 

@@ -50,7 +50,7 @@ def test_too_small_or_flat_views_are_errors():
     line = np.column_stack([np.linspace(0, 0.1, 100), np.zeros(100), np.ones(100)])
     with pytest.raises(hd.ViewError, match="too small or flat"):
         esf_histogram(line, name="line")
-    with pytest.raises(hd.ViewError, match="triplets"):
+    with pytest.raises(hd.SpecError, match="triplets"):
         hd.DescriptorSpec("esf", triplets=10)
 
 

@@ -27,7 +27,7 @@ def test_bent_surface_spreads_the_histogram():
 
 
 def test_fpfh_options_and_small_views():
-    with pytest.raises(hd.ViewError, match="radius"):
+    with pytest.raises(hd.SpecError, match="radius"):
         hd.DescriptorSpec("fpfh", radius=-1)
     with pytest.raises(hd.ViewError, match="too few"):
         hd.describe(square_view(6), [hd.DescriptorSpec("fpfh")])

@@ -65,9 +65,9 @@ def test_farthest_points_spread_and_stop_at_the_point_count():
 
 
 def test_bad_options_and_small_views_are_errors():
-    with pytest.raises(hd.ViewError, match="near .* must be below far"):
+    with pytest.raises(hd.SpecError, match="near .* must be below far"):
         hd.DescriptorSpec("hgd", near=1.0, far=0.5)
-    with pytest.raises(hd.ViewError, match="sources"):
+    with pytest.raises(hd.SpecError, match="sources"):
         hd.DescriptorSpec("hgd", sources=0)
     with pytest.raises(hd.ViewError, match="too few for an hgd"):
         hd.describe(square_view(6), [hd.DescriptorSpec("hgd")])

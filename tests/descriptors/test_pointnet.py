@@ -62,7 +62,7 @@ def test_a_view_is_its_canonical_points_centred_with_colours_less_a_half():
 
 
 def test_it_must_be_trained_first_and_on_two_objects_at_least():
-    with pytest.raises(hd.ViewError, match="trained on library views first"):
+    with pytest.raises(hd.SpecError, match="trained on library views first"):
         hd.describe(square_view(11), [SPEC])
     with pytest.raises(hd.ViewError, match="views of 2 objects or more"):
         hd.fit_spec(SPEC, [square_view(11), square_view(13)])

@@ -63,17 +63,17 @@ def test_each_kind_describes_a_view_through_describe(kind, mug):
 
 
 def test_spec_errors_name_the_kind_and_option():
-    with pytest.raises(hd.ViewError, match="unknown descriptor kind 'shot'.*esf"):
+    with pytest.raises(hd.SpecError, match="unknown descriptor kind 'shot'.*esf"):
         hd.DescriptorSpec("shot")
-    with pytest.raises(hd.ViewError, match="an esf takes no samples"):
+    with pytest.raises(hd.SpecError, match="an esf takes no samples"):
         hd.DescriptorSpec("esf", samples=64)
-    with pytest.raises(hd.ViewError, match="pvhk: option samples must be a whole number"):
+    with pytest.raises(hd.SpecError, match="pvhk: option samples must be a whole number"):
         hd.DescriptorSpec("pvhk", samples=2.5)
-    with pytest.raises(hd.ViewError, match="at most 3 options"):
+    with pytest.raises(hd.SpecError, match="at most 3 options"):
         hd.DescriptorSpec("pvhk", 64, "center", "polar", "c3")
-    with pytest.raises(hd.ViewError, match="given twice"):
+    with pytest.raises(hd.SpecError, match="given twice"):
         hd.DescriptorSpec("pvhk", 64, samples=32)
-    with pytest.raises(hd.ViewError, match="option source"):
+    with pytest.raises(hd.SpecError, match="option source"):
         hd.DescriptorSpec("pvhk", source="middle")
     with pytest.raises(AttributeError, match="immutable"):
         hd.DescriptorSpec().samples = 3
@@ -99,7 +99,7 @@ def test_distance_is_the_kinds_own_and_refuses_mixed_kinds():
 
 
 def test_histogram_kinds_have_no_heat_source():
-    with pytest.raises(hd.ViewError, match="no heat source"):
+    with pytest.raises(hd.SpecError, match="no heat source"):
         hd.candidate_descriptors(square_view(21), [200], hd.DescriptorSpec("esf"))
     assert {k for k, v in KINDS.items() if v.multi_source} == {"pvhk", "c-pvhk", "ft-pvhk", "pvst"}
     assert {k for k, v in KINDS.items() if v.fitted} == {"si-hks", "combined", "pointnet"} and kind_of(

@@ -23,7 +23,7 @@ def test_signatures_are_scale_invariant():
 def test_fit_then_describe(mug):
     views = [hd.render_view(mug, az, 30.0, 1.0, seed=k) for k, az in enumerate((0.0, 90.0, 180.0))]
     spec = hd.DescriptorSpec("si-hks", words=8, modes=30, fit_vertices=100)
-    with pytest.raises(hd.ViewError, match="fitted on library views first"):
+    with pytest.raises(hd.SpecError, match="fitted on library views first"):
         hd.describe(views[0], [spec])
     fitted = hd.fit_spec(spec, views)
     assert fitted == spec and fitted.name == "si-hks/words=8/modes=30/fit_vertices=100"
@@ -32,11 +32,11 @@ def test_fit_then_describe(mug):
     assert np.array_equal(fitted.fitted["words"], again.fitted["words"])  # seeded
     d = hd.describe(views[1], [fitted])[0]
     assert d.values.shape == (8,) and d.values.sum() == pytest.approx(1.0) and d.lambda2 > 0
-    with pytest.raises(hd.ViewError, match=r"the fitted words is \(8, 6\), not finite \(4, 6\)"):
+    with pytest.raises(hd.SpecError, match=r"the fitted words is \(8, 6\), not finite \(4, 6\)"):
         hd.DescriptorSpec("si-hks", words=4, modes=30).with_fitted(fitted.fitted)
-    with pytest.raises(hd.ViewError, match="the fitted mean"):
+    with pytest.raises(hd.SpecError, match="the fitted mean"):
         spec.with_fitted({**fitted.fitted, "mean": np.full(6, np.nan)})
-    with pytest.raises(hd.ViewError, match="a fit of"):
+    with pytest.raises(hd.SpecError, match="a fit of"):
         spec.with_fitted({"words": fitted.fitted["words"]})
     with pytest.raises(hd.ViewError, match="at least one library view"):
         hd.fit_spec(spec, [])

@@ -108,7 +108,7 @@ def test_candidate_pvsts_share_the_view_work_and_match_one_at_a_time(square, mon
 
 
 def test_candidate_descriptors_refuse_what_they_cannot_do(square):
-    with pytest.raises(hd.ViewError, match="needs times="):
+    with pytest.raises(hd.SpecError, match="needs times="):
         hd.candidate_descriptors(square, [220], hd.DescriptorSpec(kind="ft-pvhk"))
     with pytest.raises(hd.ViewError, match="vertex indices"):
         hd.candidate_descriptors(square, [square.n_vertices], hd.DescriptorSpec())
