@@ -26,6 +26,14 @@ from heatdata.io.tables import read_ablation
 #: the confusion figures' paths under ``figures/confusion/`` (rule evaluate's report patterns)
 CONFUSION_PATTERN = "{descriptor}/{level}_{size}_views.png"
 
+
+def confusion_labels(sizes: list[int]):
+    """The report's labels of a confusion figure (rule evaluate), as a function of its path's wildcards: the library
+    size zero-padded to the widest of ``sizes``, because the report sorts labels as text (12, 40, 5, 8 otherwise)."""
+    width = len(str(max(sizes)))
+    return lambda wildcards: {"matrix": wildcards.level, "library views": wildcards.size.zfill(width)}
+
+
 #: config keys spelled another way until 0.1.0 (dotted: a key inside a section), and their one spelling now
 ALIASES = {
     "colour_twins": "color_twins",

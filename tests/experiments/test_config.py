@@ -4,6 +4,7 @@ import subprocess
 import sys
 import warnings
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 import yaml
@@ -212,3 +213,13 @@ def test_the_camera_distance_is_metres_or_fit():
     for wrong in ("far", 0, -1.0):
         with pytest.raises(Exception, match=r"(?s)is not valid under any.*\['views'\]\['properties'\]\['distance'\]"):
             tiny(views={"distance": wrong})
+
+
+def test_the_report_sorts_confusion_figures_by_library_size_as_numbers():
+    labels = checks.confusion_labels([40, 12, 8, 5])
+    sizes = [labels(SimpleNamespace(level="objects", size=s))["library views"] for s in ("40", "12", "8", "5")]
+    assert sorted(sizes) == ["05", "08", "12", "40"]  # the report sorts labels as text: "12" < "40" < "5" < "8"
+    assert checks.confusion_labels([8, 4])(SimpleNamespace(level="classes", size="8")) == {
+        "matrix": "classes",
+        "library views": "8",
+    }

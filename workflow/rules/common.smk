@@ -10,8 +10,8 @@ import heatdata
 from heatdata.descriptors import file_name
 from heatdata.errors import ConfigError
 from heatdata.experiments.config import (CONFUSION_PATTERN, check_numbers, check_results, check_stages,
-                                         descriptor_specs, multiview_descriptor, run_captures, run_catalog,
-                                         run_scenes, stitched_objects)
+                                         confusion_labels, descriptor_specs, multiview_descriptor, run_captures,
+                                         run_catalog, run_scenes, stitched_objects)
 from heatdata.io.catalog import catalog_sizes
 from snakemake.exceptions import WorkflowError
 

@@ -63,7 +63,7 @@ rule report_figures:
                                category="Precision"),
         confusion=report(directory(f"{RESULTS}/figures/confusion"), patterns=[CONFUSION_PATTERN],
                          caption="../report/confusion.rst", category="Confusion matrices",
-                         subcategory="{descriptor}", labels={"matrix": "{level}", "library views": "{size}"}),
+                         subcategory="{descriptor}", labels=confusion_labels(config["library_sizes"])),
         view_angles=report(f"{RESULTS}/figures/view_angles.png", caption="../report/view_angles.rst",
                            category="Confusion matrices", subcategory="view angles"),
         misclassified=report(f"{RESULTS}/figures/misclassified.png", caption="../report/misclassified.rst",
