@@ -99,6 +99,10 @@ def test_render_describe_classify(demo_run, tmp_path, capsys):
     assert main(["describe", view, "--kind", "pvst", "--source", "center", "--threshold", "0.5"]) == 0
     assert json.loads(capsys.readouterr().out)["descriptor"] == "pvst/arclength/center/64/T0.5"
     assert main(["describe", view, "--kind", "ft-pvhk"]) == 1  # no --time: a clear error
+    assert main(["describe", view]) == 0  # no kind or boundary option: the default descriptor, HGD with colour
+    assert json.loads(capsys.readouterr().out)["descriptor"] == "hgd/color=hue-saturation"
+    assert main(["describe", view, "--threshold", "0.5"]) == 0  # a threshold is a PVST's
+    assert json.loads(capsys.readouterr().out)["descriptor"] == "pvst/arclength/interior/64/T0.5"
     assert main(["describe", view, "--kind", "esf", "--option", "triplets=2000"]) == 0
     esf = json.loads(capsys.readouterr().out)
     assert esf["descriptor"] == "esf/triplets=2000" and len(esf["values"]) == 640 and esf["source"] == -1

@@ -26,12 +26,14 @@ from heatdata.cli.demo import add_demo
 from heatdata.cli.recognize import add_index, add_recognize
 from heatdata.descriptors import (
     COLOR_KIND,
+    DEFAULT_DESCRIPTOR,
     DEFAULT_KIND,
     DESCRIPTORS,
     KINDS,
     DescriptorSpec,
     describe,
 )
+from heatdata.descriptors.base import article
 from heatdata.errors import HeatdataError, Terminated
 from heatdata.io.files import check_output, require_file
 from heatdata.io.tables import (
@@ -172,18 +174,32 @@ def cmd_stitch(args: argparse.Namespace) -> None:
     print(dump_json(summary))
 
 
+def _implied_kind(args: argparse.Namespace) -> str:
+    """The kind ``describe``'s options ask for when ``--kind`` is not given: the default descriptor's unless a
+    colour map, a PVST threshold or a boundary option names a heat kind."""
+    if args.color_map:
+        return COLOR_KIND
+    if args.threshold is not None:
+        return "pvst"
+    if args.samples is not None or args.source is not None or args.sampling is not None:
+        return DEFAULT_KIND
+    return DEFAULT_DESCRIPTOR.kind
+
+
 def cmd_describe(args: argparse.Namespace) -> None:
     """Describe a saved view; print the descriptor as JSON."""
     from heatdata.views.view import View
 
     view = View.load(args.view)
-    kind = args.kind or (COLOR_KIND if args.color_map else DEFAULT_KIND)
     given = {
         "source": int(args.source) if args.source and args.source.isdigit() else args.source,
         "sampling": args.sampling,
         "color_map": args.color_map,
         "threshold": args.threshold,
     }
+    kind = args.kind or _implied_kind(args)
+    if kind == DEFAULT_DESCRIPTOR.kind and not args.kind:
+        given.update(DEFAULT_DESCRIPTOR.options)
     if args.samples is not None:
         given["samples"] = None if args.samples == 0 else args.samples
     for item in args.option:
@@ -193,7 +209,9 @@ def cmd_describe(args: argparse.Namespace) -> None:
         given[key] = _option_value(value)
     spec = DescriptorSpec(kind, **given)
     if args.time is not None and not spec.impl.time_scaled:
-        raise HeatdataError(f"--time is the fixed time of a time-scaled kind (ft-pvhk); a {spec.kind} takes none")
+        raise HeatdataError(
+            f"--time is the fixed time of a time-scaled kind (ft-pvhk); {article(spec.kind)} {spec.kind} takes none"
+        )
     if spec.impl.fitted:
         raise HeatdataError(
             f"{args.view}: {spec.kind} is learned on library views first (heatdata.fit_spec, or the "
@@ -429,8 +447,9 @@ def build_parser() -> argparse.ArgumentParser:
     desc.add_argument(
         "--kind",
         choices=list(KINDS),
-        help=f"default {DEFAULT_KIND}, or {COLOR_KIND} with "
-        "--color-map; 'heatdata kinds' lists every kind and its options",
+        help=f"default: the default descriptor ({DEFAULT_DESCRIPTOR.name}); a {DEFAULT_KIND} with --samples, "
+        f"--source or --sampling, a {COLOR_KIND} with --color-map, a pvst with --threshold; 'heatdata kinds' lists "
+        "every kind and its options",
     )
     desc.add_argument(
         "--option",

@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 
 from heatdata.cli.arguments import dump_json, frame_arguments, number
+from heatdata.descriptors import DEFAULT_DESCRIPTOR, file_name
 from heatdata.errors import HeatdataError
 from heatdata.io.files import check_output, require_file
 from heatdata.log import printable
@@ -239,7 +240,7 @@ def cmd_recognize(args: argparse.Namespace) -> None:
 
 #: the library ``recognize`` reads when none is named: the main job's, of the default descriptor (the workflow's
 #: ``primary_descriptor``) at its largest library size, 40 views an object
-DEFAULT_LIBRARY = Path("libraries") / "hgd_color=hue-saturation-40.parquet"
+DEFAULT_LIBRARY = Path("libraries") / f"{file_name(DEFAULT_DESCRIPTOR.name)}-40.parquet"
 
 
 def _library_file(given: Path | None) -> Path:
@@ -262,8 +263,7 @@ def add_recognize(sub) -> None:
         "recognize",
         help="the objects a depth frame (or a sequence) is nearest in a built library (thesis ch. 3-5)",
         description=cmd_recognize.__doc__,
-        epilog="E.g. heatdata recognize depth.png --intrinsics camera.json "
-        "--library results/libraries/hgd_color=hue-saturation-40.parquet",
+        epilog=f"E.g. heatdata recognize depth.png --intrinsics camera.json --library results/{DEFAULT_LIBRARY}",
     )
     rec.add_argument(
         "frames",
@@ -339,7 +339,7 @@ def add_index(sub) -> None:
         "index",
         help="write a library's search index beside it (name.faiss)",
         description=cmd_index.__doc__,
-        epilog="E.g. heatdata index results/libraries/hgd_color=hue-saturation-40.parquet",
+        epilog=f"E.g. heatdata index results/{DEFAULT_LIBRARY}",
     )
     index.add_argument("library", type=Path, help="a library file (results/libraries/*.parquet)")
     index.set_defaults(func=cmd_index)

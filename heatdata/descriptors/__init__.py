@@ -58,6 +58,11 @@ for _module in pkgutil.iter_modules(__path__):  # every kind registers itself; t
 #: every kind heatdata knows: None if this machine can compute it, else the reason
 DESCRIPTORS = available()
 
+#: the default descriptor, the main job's primary one (config/config.yaml): the HGD with hue-saturation colour. What
+#: ``heatdata describe`` computes when no kind or boundary option is given, and whose library ``heatdata recognize``
+#: reads when none is named
+DEFAULT_DESCRIPTOR = DescriptorSpec("hgd", color="hue-saturation")
+
 __all__ = [
     "CANDIDATES_RULE",
     "COLOR_KIND",

@@ -48,7 +48,7 @@ from heatdata.views.view import View
 
 log = logging.getLogger(__name__)
 
-DEFAULT_KIND = "pvhk"  # what heatdata describes when no kind is named
+DEFAULT_KIND = "pvhk"  # what a boundary option without a kind asks for (the CLI's --samples, --source, --sampling)
 COLOR_KIND = "c-pvhk"  # what a colour map without a kind asks for (the CLI's --color-map)
 MIN_MAIN_SHARE = 0.25  # below this share of boundary samples on the main part, part weights are unit
 TRUNCATION = 1e-7  # exp(-lambda_k t) of the first mode left out of the multi-source expansion

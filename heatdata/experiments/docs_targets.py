@@ -9,6 +9,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import NamedTuple
 
+from heatdata.descriptors import DEFAULT_DESCRIPTOR, file_name
+
 E = "config/experiments"
 
 
@@ -63,7 +65,7 @@ OPEN_SET = [
     "hgd_color=hue-saturation",
 ]
 #: the library file the poses are measured with: the default descriptor's, 40 views an object
-DEFAULT_LIBRARY = "hgd_color=hue-saturation-40.parquet"
+DEFAULT_LIBRARY = f"{file_name(DEFAULT_DESCRIPTOR.name)}-40.parquet"
 RUMP = "results/rump_proxy"  # the proxy's intermediate tables (scripts/rump_proxy.py reads no run)
 
 
