@@ -137,14 +137,15 @@ def sh3f_catalog(
             re.compile(pattern or "")
         except re.error as exc:
             raise ModelError(f"{what} {pattern!r} is not a regular expression: {exc}") from None
-    if name_pattern:
-        entries = entries[entries["name"].str.contains(name_pattern, case=False, regex=True)]
     library = sh3f_path.stem
-    objects = [f"{library}-{index:03d}-{Path(model).stem}" for index, model in zip(entries["index"], entries["model"])]
-    entries = entries.assign(object=objects)
-    if exclude_pattern:
-        names, ids = (entries[c].str.contains(exclude_pattern, case=False, regex=True) for c in ("name", "object"))
-        entries = entries[~(names | ids)]
+    if not entries.empty:
+        ids = [f"{library}-{index:03d}-{Path(model).stem}" for index, model in zip(entries["index"], entries["model"])]
+        entries = entries.assign(object=ids)
+        if name_pattern:
+            entries = entries[entries["name"].str.contains(name_pattern, case=False, regex=True)]
+        if exclude_pattern:
+            dropped = [entries[c].str.contains(exclude_pattern, case=False, regex=True) for c in ("name", "object")]
+            entries = entries[~(dropped[0] | dropped[1])]
     if entries.empty and not allow_empty:
         raise ModelError(f"{sh3f_path}: {_nothing_matches(name_pattern, exclude_pattern)}")
     rows = [
