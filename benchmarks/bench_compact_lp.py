@@ -56,7 +56,7 @@ def candidate_table(config: dict, folder: Path) -> pd.DataFrame:
         tables.append(
             candidate_view_table(
                 frame,
-                DescriptorSpec(**compact["descriptor"]),
+                DescriptorSpec.from_dict(compact["descriptor"]),
                 library_count=compact["library_candidates"],
                 test_count=0,
             )

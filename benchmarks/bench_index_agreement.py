@@ -55,7 +55,7 @@ def agreement(run: Path) -> list[tuple[str, float, str]]:
 
     specs = {}
     for entry in read_metadata(run / "descriptors.parquet")["descriptors"]:
-        spec = DescriptorSpec(**entry)
+        spec = DescriptorSpec.from_dict(entry)
         specs[spec.name] = spec
     figures = []
     for name, spec in specs.items():

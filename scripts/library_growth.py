@@ -131,7 +131,7 @@ def main() -> None:
     parser.add_argument("--figure", type=Path, help="the figure to write (.png)")
     args = parser.parse_args()
     table = args.run / "descriptors.parquet"
-    names = [DescriptorSpec(**entry).name for entry in read_metadata(table)["descriptors"]]
+    names = [DescriptorSpec.from_dict(entry).name for entry in read_metadata(table)["descriptors"]]
     start = time.perf_counter()
     descriptors, _ = read_table(table, columns=[*CLASSIFY_COLUMNS, "time_object", "weights"])
     draws = growth(descriptors, names, args.objects, args.views, args.draws)

@@ -406,6 +406,44 @@ class DescriptorSpec:
         """
         return DescriptorSpec(self.kind, fitted=fitted, **self.options)
 
+    def to_dict(self) -> dict[str, Any]:
+        """The spec as plain data, the form a config's ``descriptors`` entry takes, for a file or a process.
+
+        Returns
+        -------
+        dict
+            ``{"kind": ..., option: value, ...}`` with every option (a combined kind's parts as such dicts), and
+            ``"fitted": {name: nested lists}`` when the kind learned something. :meth:`from_dict` of it is an equal
+            spec with the same fit.
+        """
+        data = {"kind": self.kind, **_plain(self.options)}
+        if self.fitted is not None:
+            data["fitted"] = {name: np.asarray(value).tolist() for name, value in self.fitted.items()}
+        return data
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> DescriptorSpec:
+        """The spec of :meth:`to_dict`'s data or of a config's ``descriptors`` entry (options left out take their
+        defaults; ``fitted`` is optional).
+
+        Parameters
+        ----------
+        data : mapping
+            ``kind`` (default ``pvhk``), the options by name, and optionally ``fitted``.
+
+        Returns
+        -------
+        DescriptorSpec
+
+        Raises
+        ------
+        SpecError
+            Not a mapping, or an unknown kind, option or value.
+        """
+        if not isinstance(data, Mapping):
+            raise SpecError(f"a descriptor is a mapping of kind and options, got {data!r}")
+        return cls(**{str(key): value for key, value in data.items()})
+
     def _key(self):
         return self.kind, tuple(
             (k, v if isinstance(v, (str, int, float, tuple, type(None))) else id(v)) for k, v in self.options.items()
@@ -444,6 +482,19 @@ def _checked_fit(kind: str, impl: Kind, spec: DescriptorSpec, fitted: Mapping) -
             raise SpecError(f"{kind}: the fitted {name} is {value.shape}, not finite {shape}")
         checked[name] = value
     return checked
+
+
+def _plain(value: Any) -> Any:
+    """An option's value as plain data: a spec (a combined kind's part) as its :meth:`DescriptorSpec.to_dict`."""
+    if isinstance(value, DescriptorSpec):
+        return value.to_dict()
+    if isinstance(value, dict):
+        return {name: _plain(v) for name, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
 
 
 def _rebuild(kind: str, options: dict, fitted) -> DescriptorSpec:

@@ -257,7 +257,7 @@ def checked_spec(d: dict[str, Any], where: str) -> DescriptorSpec:
     DescriptorSpec
     """
     try:
-        spec = DescriptorSpec(**d)
+        spec = DescriptorSpec.from_dict(d)
     except (HeatdataError, TypeError) as exc:
         raise ConfigError(f"{where}: {exc}") from None
     if DESCRIPTORS[spec.kind] is not None:

@@ -107,22 +107,12 @@ def probe_values(spec: DescriptorSpec) -> np.ndarray:
     return np.asarray(describe(probe_view(), [spec], times=times)[0].values, dtype=np.float64)
 
 
-def _plain(value):
-    """An option's value as JSON: a spec (a combined kind's part) as the config's ``{kind, options...}``."""
-    if isinstance(value, DescriptorSpec):
-        return {"kind": value.kind, **_plain(value.options)}
-    if isinstance(value, dict):
-        return {name: _plain(v) for name, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
-
-
 def _spec_metadata(spec: DescriptorSpec) -> dict:
-    fitted = None if spec.fitted is None else {k: np.asarray(v).tolist() for k, v in spec.fitted.items()}
-    return {"kind": spec.kind, "options": _plain(spec.options), "fitted": fitted, "name": spec.name}
+    """A library file's ``spec``: :meth:`DescriptorSpec.to_dict` with the options under their own key, and the name
+    (the layout every library file has, read back by :func:`heatdata.recognition.library_check.spec_of`)."""
+    options = spec.to_dict()
+    kind, fitted = options.pop("kind"), options.pop("fitted", None)
+    return {"kind": kind, "options": options, "fitted": fitted, "name": spec.name}
 
 
 def uses_colour(spec: DescriptorSpec) -> bool:

@@ -236,7 +236,7 @@ def spec_of(meta: dict) -> DescriptorSpec:
         An unknown kind, bad options or fit, or a spec whose name is not the stored one.
     """
     try:
-        spec = DescriptorSpec(meta["kind"], fitted=meta.get("fitted"), **meta["options"])
+        spec = DescriptorSpec.from_dict({**meta["options"], "kind": meta["kind"], "fitted": meta.get("fitted")})
     except (HeatdataError, TypeError, ValueError) as exc:
         raise LibraryError(f"spec: {shortened(str(exc))}") from None
     if spec.name != meta["name"]:

@@ -73,7 +73,7 @@ def draw_report(
     frames = [read_table(p, filters=[("view_id", "in", sorted(needed))])[0] for p in view_paths] if needed else []
     views = {v.view_id: v for frame in frames if len(frame) for v in frame_to_views(frame)}
     plot_misclassified(largest, primary_rows, views, output.misclassified, primary)
-    specs = [DescriptorSpec(**d) for d in config["descriptors"]]
+    specs = [DescriptorSpec.from_dict(d) for d in config["descriptors"]]
     source = next(s.get("source") for s in specs if s.name == primary)
     source = source if isinstance(source, str) else "closest"
     views_config = config["views"]

@@ -115,3 +115,29 @@ def test_config_schema_leaves_kinds_to_the_registry():
         schema["properties"]["compact"]["properties"]["descriptor"]["properties"]["kind"],
     ):
         assert kind == {"type": "string", "description": kind["description"]}
+
+
+NEEDED = {"c-pvhk": {"color_map": "c3"}, "combined": {"parts": [{"kind": "hgd"}, {"kind": "pvhk", "samples": 32}]}}
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_a_spec_crosses_a_file_as_plain_data_and_comes_back_equal(kind):
+    import json
+
+    spec = hd.DescriptorSpec(kind, **NEEDED.get(kind, {}))
+    data = json.loads(json.dumps(spec.to_dict()))  # plain data: what a config, a table's metadata or a process holds
+    again = hd.DescriptorSpec.from_dict(data)
+    assert again == spec and again.name == spec.name and again.to_dict() == data and again.fitted is None
+    assert data["kind"] == kind and "fitted" not in data
+
+
+def test_a_fitted_spec_crosses_with_its_fit():
+    spec = hd.DescriptorSpec("si-hks", words=2, frequencies=1)
+    fitted = spec.with_fitted({"words": [[0.0], [1.0]], "mean": [0.5], "scale": [2.0]})
+    data = fitted.to_dict()
+    assert data["fitted"] == {"words": [[0.0], [1.0]], "mean": [0.5], "scale": [2.0]}
+    again = hd.DescriptorSpec.from_dict(data)
+    assert again == fitted and np.array_equal(again.fitted["words"], [[0.0], [1.0]])
+    assert hd.DescriptorSpec.from_dict({"kind": "esf", "triplets": 2000}).name == "esf/triplets=2000"  # a config entry
+    with pytest.raises(hd.SpecError, match="a mapping of kind and options"):
+        hd.DescriptorSpec.from_dict(["esf"])

@@ -13,7 +13,7 @@ views, meta = read_table(snakemake.input[0])
 with threadpool_limits(snakemake.threads):
     table = candidate_view_table(
         views,
-        DescriptorSpec(**compact["descriptor"]),
+        DescriptorSpec.from_dict(compact["descriptor"]),
         library_count=compact["library_candidates"],
         test_count=compact["test_candidates"],
     )

@@ -12,7 +12,7 @@ from heatdata.reporting.figures.recognition import plot_isomaps
 
 setup_logging(path=snakemake.log[0])
 comparison = snakemake.params.comparison
-specs = load_fitted([DescriptorSpec(**d) for d in snakemake.params.descriptors], snakemake.params.fitted)
+specs = load_fitted([DescriptorSpec.from_dict(d) for d in snakemake.params.descriptors], snakemake.params.fitted)
 library, _ = read_table(
     snakemake.input.descriptors,
     columns=["descriptor", "kind", "object", "split", "azimuth", "values"],

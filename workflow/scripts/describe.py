@@ -10,7 +10,7 @@ from heatdata.log import setup_logging
 
 setup_logging(path=snakemake.log[0])
 views, meta = read_table(snakemake.input.views)
-specs = [DescriptorSpec(**d) for d in snakemake.params.descriptors]
+specs = [DescriptorSpec.from_dict(d) for d in snakemake.params.descriptors]
 specs = load_fitted(specs, snakemake.params.fitted)
 scales = pd.concat([pd.read_csv(p) for p in snakemake.input.time_scales]) if snakemake.input.time_scales else None
 with threadpool_limits(snakemake.threads):

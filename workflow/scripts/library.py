@@ -12,7 +12,7 @@ from heatdata.recognition.pose import read_surface
 
 setup_logging(path=snakemake.log[0])
 name = snakemake.params.descriptor
-(spec,) = [s for s in (DescriptorSpec(**d) for d in snakemake.params.descriptors) if s.name == name]
+(spec,) = [s for s in (DescriptorSpec.from_dict(d) for d in snakemake.params.descriptors) if s.name == name]
 (spec,) = load_fitted([spec], {name: snakemake.input.fitted[0]} if snakemake.input.fitted else {})
 rows, _ = read_table(snakemake.input.descriptors, filters=[("descriptor", "==", name)])
 scales = pd.concat([pd.read_csv(p) for p in snakemake.input.time_scales]) if snakemake.input.time_scales else None

@@ -22,7 +22,7 @@ from heatdata.views.view import kinect_intrinsics
 
 setup_logging(path=snakemake.log[0])
 s = snakemake.params.settings
-specs = [DescriptorSpec(**d) for d in s["descriptors"]]
+specs = [DescriptorSpec.from_dict(d) for d in s["descriptors"]]
 render = {
     "distance": s["distance"],
     "elevation": s["elevation"],

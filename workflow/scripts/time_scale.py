@@ -9,6 +9,6 @@ from heatdata.log import setup_logging
 
 setup_logging(path=snakemake.log[0])
 views, _ = read_table(snakemake.input[0])
-specs = [DescriptorSpec(**d) for d in snakemake.params.descriptors]
+specs = [DescriptorSpec.from_dict(d) for d in snakemake.params.descriptors]
 with threadpool_limits(snakemake.threads):
     view_table_time_scales(views, specs).to_csv(snakemake.output[0], index=False)
