@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
+import yaml
 from conftest import ROOT
 
 from heatdata.errors import HeatdataError
@@ -201,3 +202,18 @@ def test_the_commit_is_marked_changed_by_edits_but_not_by_the_published_files(tm
     (tmp_path / "code.py").write_text("print()\n")
     assert publish.commit(tmp_path, exclude=publish.PUBLISHED) == clean + "+changes"
     assert publish.commit(tmp_path / "nowhere") == "unknown"
+
+
+def test_the_targets_table_is_checked_by_its_schema(tmp_path):
+    table = docs_targets.read_targets()
+    assert set(table) == set(TARGETS) and all(name.startswith("docs_") for name in table)
+    broken = dict(table, docs_main={**table["docs_main"], "outputs": ["docs/results/household steps.txt"]})
+    path = tmp_path / "docs_targets.yaml"
+    path.write_text(yaml.safe_dump(broken))
+    with pytest.raises(HeatdataError, match="docs_main/outputs/0: 'docs/results/household steps.txt' does not match"):
+        docs_targets.targets([], "results", path)
+    path.write_text(yaml.safe_dump(dict(table, docs_main={**table["docs_main"], "steps": [{"move": ["a", "b"]}]})))
+    with pytest.raises(HeatdataError, match="docs_main/steps/0"):
+        docs_targets.targets([], "results", path)
+    poses = TARGETS["docs_poses"]  # the placeholder is the default descriptor's library, as recognize reads it
+    assert f"results/libraries/{docs_targets.DEFAULT_LIBRARY}" in poses.inputs and "{default" not in str(TARGETS)

@@ -5,8 +5,8 @@
 # The real runs take minutes to hours and stay manual; tests/experiments/test_docs_targets.py dry-runs every one.
 # A target that compares two runs (320x240 against 640x480, seeds) reads the other run's results too: run that
 # config first. Steps are heatdata.experiments.publish's: an analysis script of scripts/, a table cut from a run's
-# precision, a figure copied from a run, tables of several runs labelled; the targets are listed in
-# heatdata.experiments.docs_targets, which the tests read too.
+# precision, a figure copied from a run, tables of several runs labelled; the targets are the table
+# workflow/docs_targets.yaml (read and checked by heatdata.experiments.docs_targets), which the tests read too.
 from heatdata.experiments import docs_targets, publish
 
 
