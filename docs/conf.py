@@ -14,6 +14,8 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(DOCS))  # sphinx-gallery finds GalleryOrder below as conf.GalleryOrder
 os.environ.setdefault("MPLBACKEND", "Agg")
 
+from numpydoc.xref import DEFAULT_LINKS  # noqa: E402
+
 import heatdata  # noqa: E402
 
 project = "heatdata"
@@ -26,6 +28,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # the site carries MathJax (_static/mathjax/): maths renders without a network
     "sphinx.ext.intersphinx",
     "numpydoc",
     "myst_parser",
@@ -48,7 +51,13 @@ autodoc_default_options = {"members": True, "inherited-members": False, "show-in
 autodoc_typehints = "none"  # numpydoc's Parameters sections carry the types; signatures stay readable
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
-numpydoc_xref_param_type = False
+# the types of Parameters and Returns link to heatdata's own classes (Recognition, View, ...); other words stay text
+numpydoc_xref_param_type = True
+numpydoc_xref_ignore = "all"
+numpydoc_xref_aliases = {
+    **{word: word for word in DEFAULT_LINKS},  # numpydoc's own links need Python's and numpy's inventories
+    **{name: f"heatdata.{name}" for name in heatdata.__all__ if isinstance(getattr(heatdata, name), type)},
+}
 
 # no intersphinx inventories are fetched (no network at build time); links to numpy/scipy are plain text
 intersphinx_mapping: dict[str, tuple[str, str | None]] = {}

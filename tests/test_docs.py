@@ -43,6 +43,11 @@ def test_the_site_builds_with_warnings_as_errors_within_three_minutes(site):
     for page in ("index", "install", "api", "changelog", "guide/workflow", "chapters/complex", "gallery/index"):
         assert (html / f"{page}.html").is_file(), page
     assert "not real sensor data" in (html / "index.html").read_text()
+    # the maths renders offline: pages load the MathJax the site carries, never a CDN's
+    pages = [p.read_text() for p in html.rglob("*.html")]
+    assert any("_static/mathjax/tex-chtml.js" in page for page in pages)
+    assert not any("cdn.jsdelivr.net" in page or "mathjax@3" in page for page in pages)
+    assert (html / "_static/mathjax/tex-chtml.js").stat().st_size > 100_000
 
 
 @pytest.mark.slow

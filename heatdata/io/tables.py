@@ -21,6 +21,8 @@ import pyarrow.parquet as pq
 from heatdata.errors import HeatdataError
 from heatdata.io.files import atomic, require_file
 
+#: the columns of a descriptor table (a run's ``descriptors.parquet``, a library file): one row per view and
+#: descriptor (and time object, for a time-scaled kind); ``values`` the descriptor, ``repairs`` what was mended
 DESCRIPTOR_SCHEMA = pa.schema(
     [
         ("object", pa.string()),

@@ -139,7 +139,7 @@ def build_library(
     Parameters
     ----------
     descriptors : pandas.DataFrame
-        A run's descriptor rows of ``spec`` (:data:`DESCRIPTOR_SCHEMA`).
+        A run's descriptor rows of ``spec`` (:data:`~heatdata.io.tables.DESCRIPTOR_SCHEMA`).
     spec : DescriptorSpec
         The descriptor, with what it learned if its kind is fitted.
     size : int
@@ -264,7 +264,7 @@ def write_library(rows: pd.DataFrame, metadata: dict, path: StrPath, *, index: b
     Parameters
     ----------
     rows, metadata
-        As :func:`build_library` returns them.
+        As :func:`~heatdata.recognition.library.build_library` returns them.
     path : str or Path
         The ``.parquet`` to write.
     index : bool
@@ -287,10 +287,10 @@ class Library:
     Parameters
     ----------
     rows : pandas.DataFrame
-        The rows of :func:`build_library`: library views (``split = "train"``) and independent views
+        The rows of :func:`~heatdata.recognition.library.build_library`: library views (``split = "train"``) and independent views
         (``split = "similarity"``).
     metadata : dict
-        Its metadata (:func:`build_library`).
+        Its metadata (:func:`~heatdata.recognition.library.build_library`).
     path : str or Path
         Where it was read from, for messages.
     values : (len(rows), M) float64, optional
@@ -377,7 +377,7 @@ class Library:
         Returns
         -------
         pandas.DataFrame
-            :data:`DESCRIPTOR_SCHEMA` rows: one, or one per object's time scale for a time-scaled kind.
+            :data:`~heatdata.io.tables.DESCRIPTOR_SCHEMA` rows: one, or one per object's time scale for a time-scaled kind.
         """
         plan = pd.DataFrame({"split": ["test"], "seed": [0]})
         rows = descriptor_rows([view], plan, [self.spec], time_scales=self.time_scales)
