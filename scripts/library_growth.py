@@ -1,7 +1,7 @@
 """How precision falls as a library grows: object and class precision against the number of objects it holds.
 
-    .venv/bin/python scripts/library_growth.py results/furniture --objects 14 58 200 --draws 5 \\
-        --out docs/results/library_growth.csv --figure docs/images/library_growth.png
+    .venv/bin/python scripts/library_growth.py results/furniture_all --described --objects 14 58 200 all \\
+        --draws 5 --out docs/results/library_growth.csv --figure docs/images/library_growth.png
 
 The run's objects are put in a random order (one per draw, seeded), and a library of N objects holds the first N: so
 the libraries of one draw are nested, and each larger one adds objects to the smaller. Every test view of the N
@@ -9,7 +9,12 @@ objects is classified against the library views of the N (:func:`heatdata.recogn
 as the classify rule does, at each library size of views per object). Object precision is the share of test views
 whose nearest library view is of their own object; class precision the share whose nearest view is of their class
 (for the furniture run, the Sweet Home 3D catalogue's category: living room, kitchen, ...). A library of every object
-is the same in every draw and is measured once. Rendered views, not real sensor data.
+is the same in every draw and is measured once (``all``: every object the run holds). Rendered views, not real
+sensor data.
+
+``--described`` reads the run's per-object tables (``descriptors/<object>.parquet``) instead of its collected
+``descriptors.parquet``: the objects described so far, for a run too long to wait for (every Sweet Home 3D model
+takes hours on 2 cores). It says how many objects that is.
 """
 
 from __future__ import annotations
@@ -27,12 +32,12 @@ from heatdata.recognition.evaluate import CLASSIFY_COLUMNS, evaluate_library_siz
 
 
 def growth(
-    descriptors: pd.DataFrame, names: list[str], counts: list[int], sizes: list[int], draws: int
+    descriptors: pd.DataFrame, names: list[str], counts: list[int | str], sizes: list[int], draws: int
 ) -> pd.DataFrame:
     """One row per draw, number of objects, descriptor and library size: object and class precision."""
     objects = np.array(sorted(descriptors["object"].unique()))
     rows = []
-    for count in counts:
+    for count in [len(objects) if c == "all" else int(c) for c in counts]:
         if count > len(objects):
             raise SystemExit(f"--objects {count}: the run has {len(objects)} objects")
         for draw in range(1 if count == len(objects) else draws):
@@ -121,19 +126,41 @@ def figure(table: pd.DataFrame, path: Path, what: str) -> None:
     plt.close(fig)
 
 
+def objects_count(text: str) -> int | str:
+    """A number of objects, or ``all``."""
+    if text == "all":
+        return text
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: a number of objects, or all") from None
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run", type=Path, help="a run's results folder (descriptors.parquet)")
-    parser.add_argument("--objects", type=int, nargs="+", required=True, help="library sizes in objects")
+    parser.add_argument(
+        "--objects", nargs="+", required=True, type=objects_count, help="library sizes in objects ('all': every one)"
+    )
+    parser.add_argument(
+        "--described", action="store_true", help="read the objects described so far (descriptors/*.parquet)"
+    )
     parser.add_argument("--views", type=int, nargs="+", default=[40, 12], help="library views per object (40 12)")
     parser.add_argument("--draws", type=int, default=5, help="random orders of the objects (default 5)")
     parser.add_argument("--out", type=Path, required=True, help="the table to write (.csv)")
     parser.add_argument("--figure", type=Path, help="the figure to write (.png)")
     args = parser.parse_args()
-    table = args.run / "descriptors.parquet"
-    names = [DescriptorSpec.from_dict(entry).name for entry in read_metadata(table)["descriptors"]]
     start = time.perf_counter()
-    descriptors, _ = read_table(table, columns=[*CLASSIFY_COLUMNS, "time_object", "weights"])
+    columns = [*CLASSIFY_COLUMNS, "time_object", "weights"]
+    tables = (
+        sorted((args.run / "descriptors").glob("*.parquet")) if args.described else [args.run / "descriptors.parquet"]
+    )
+    if not tables or not tables[0].is_file():
+        raise SystemExit(f"{args.run}: no descriptor table{' described yet' if args.described else ''}")
+    names = [DescriptorSpec.from_dict(entry).name for entry in read_metadata(tables[0])["descriptors"]]
+    descriptors = pd.concat([read_table(path, columns=columns)[0] for path in tables], ignore_index=True)
+    if args.described:
+        print(f"{args.run}: {descriptors['object'].nunique()} objects described so far", flush=True)
     draws = growth(descriptors, names, args.objects, args.views, args.draws)
     result = summary(draws)
     args.out.parent.mkdir(parents=True, exist_ok=True)
