@@ -234,19 +234,22 @@ def _usable(lib: pd.DataFrame, query: pd.DataFrame, descriptor: str) -> tuple[pd
     return lib[~lib["view_id"].isin(bad_lib)], query[~unusable], query[unusable]
 
 
-def nan_views(rows: pd.DataFrame) -> set[str]:
+def nan_views(rows: pd.DataFrame, values: np.ndarray | None = None) -> set[str]:
     """The ``view_id`` of rows with a NaN value (a failed descriptor): left out of libraries, counted wrong as queries.
 
     Parameters
     ----------
     rows : pandas.DataFrame
-        Descriptor rows (``view_id``, ``values``).
+        Descriptor rows (``view_id``, and ``values`` unless given as a matrix).
+    values : (len(rows), M) float64, optional
+        The rows' values as one array (:func:`heatdata.io.tables.iter_matrix_table`).
 
     Returns
     -------
     set of str
     """
-    return set(rows.loc[~rows["values"].map(lambda v: bool(np.isfinite(v).all())), "view_id"])
+    finite = rows["values"].map(lambda v: bool(np.isfinite(v).all())) if values is None else np.isfinite(values).all(1)
+    return set(rows.loc[~np.asarray(finite, dtype=bool), "view_id"])
 
 
 def _stack(column: pd.Series) -> np.ndarray | None:
@@ -407,7 +410,7 @@ def evaluate_table(
     _one_kind_and_length(train, descriptor, {block.shape[1] for block in blocks})
     values = np.concatenate(blocks)
     del frames, blocks
-    bad = set(train.loc[~np.isfinite(values).all(axis=1), "view_id"])
+    bad = nan_views(train, values)
     if bad:
         log.warning("%s: %d library views have NaN values (see their repairs) and are left out", descriptor, len(bad))
     libraries = {}
