@@ -287,8 +287,8 @@ class Library:
     Parameters
     ----------
     rows : pandas.DataFrame
-        The rows of :func:`~heatdata.recognition.library.build_library`: library views (``split = "train"``) and independent views
-        (``split = "similarity"``).
+        The rows of :func:`~heatdata.recognition.library.build_library`: library views (``split = "train"``) and
+        independent views (``split = "similarity"``).
     metadata : dict
         Its metadata (:func:`~heatdata.recognition.library.build_library`).
     path : str or Path
@@ -377,7 +377,8 @@ class Library:
         Returns
         -------
         pandas.DataFrame
-            :data:`~heatdata.io.tables.DESCRIPTOR_SCHEMA` rows: one, or one per object's time scale for a time-scaled kind.
+            :data:`~heatdata.io.tables.DESCRIPTOR_SCHEMA` rows: one, or one per object's time scale for a
+            time-scaled kind.
         """
         plan = pd.DataFrame({"split": ["test"], "seed": [0]})
         rows = descriptor_rows([view], plan, [self.spec], time_scales=self.time_scales)
