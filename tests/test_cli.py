@@ -84,9 +84,11 @@ def test_render_describe_classify(demo_run, tmp_path, capsys):
     _, out = demo_run
     model = tmp_path.parent / "model.ply"
     trimesh.creation.box(extents=(0.2, 0.1, 0.15)).export(model)
-    assert main(["render", str(model), "--azimuth", "30", "--out", str(tmp_path / "v.npz")]) == 0
+    assert main(["render", str(model), "--azimuth", "30", "--out", str(tmp_path / "v.npz"), "--json"]) == 0
     rendered = json.loads(capsys.readouterr().out)
-    assert rendered["vertices"] > 1000
+    assert rendered["vertices"] > 1000 and rendered["views"] == [str(tmp_path / "v.npz")]
+    assert main(["render", str(model), "--azimuth", "30", "--out", str(tmp_path / "v.npz")]) == 0
+    assert capsys.readouterr().out.startswith(f"{tmp_path / 'v.npz'}: {rendered['vertices']:,} vertices, ")
     assert main(["describe", str(tmp_path / "v.npz"), "--samples", "16", "--sampling", "polar"]) == 0
     described = json.loads(capsys.readouterr().out)
     assert len(described["values"]) == 16 and described["descriptor"] == "pvhk/polar/closest/16"
@@ -234,7 +236,7 @@ def test_bad_command_lines_are_one_clear_line(demo_run, tmp_path, capsys, caplog
 def test_render_creates_the_output_folder(tmp_path, capsys):
     trimesh.creation.box(extents=(0.2, 0.1, 0.15)).export(tmp_path / "box.ply")
     assert main(["render", str(tmp_path / "box.ply"), "--out", str(tmp_path / "new" / "deep" / "v.npz")]) == 0
-    assert json.loads(capsys.readouterr().out)["view"] == str(tmp_path / "new" / "deep" / "v.npz")
+    assert capsys.readouterr().out.startswith(f"{tmp_path / 'new' / 'deep' / 'v.npz'}: ")
     with pytest.raises(hd.ModelError, match="mirrors"):
         hd.load_model(tmp_path / "box.ply", size=(-0.1, 0.1, 0.1))
 

@@ -61,17 +61,7 @@ def cmd_render(args: argparse.Namespace) -> None:
     model = load_model(args.model, size=tuple(args.size) if args.size else None, scale=args.scale)
     view = render_view(model, args.azimuth, args.elevation, args.distance, noise=not args.no_noise, seed=args.seed)
     view.save(out)
-    print(
-        dump_json(
-            {
-                "view": str(out),
-                "vertices": view.n_vertices,
-                "faces": len(view.faces),
-                "boundary": len(view.boundary),
-                "repairs": view.repairs,
-            }
-        )
-    )
+    _print_view(view, [out], args.json)
 
 
 def cmd_view_from_depth(args: argparse.Namespace) -> None:
@@ -93,18 +83,14 @@ def cmd_view_from_depth(args: argparse.Namespace) -> None:
         max_depth_jump=args.max_depth_jump,
     )
     view.write(outs)
-    if args.json:
-        print(
-            dump_json(
-                {
-                    "views": [str(p) for p in outs],
-                    "vertices": view.n_vertices,
-                    "faces": len(view.faces),
-                    "boundary": len(view.boundary),
-                    "repairs": view.repairs,
-                }
-            )
-        )
+    _print_view(view, outs, args.json)
+
+
+def _print_view(view, outs: list[Path], as_json: bool) -> None:
+    """What a command that writes a view prints: a line a person reads and its repairs, or JSON (``--json``)."""
+    if as_json:
+        summary = {"vertices": view.n_vertices, "faces": len(view.faces), "boundary": len(view.boundary)}
+        print(dump_json({"views": [str(p) for p in outs], **summary, "repairs": view.repairs}))
         return
     print(
         f"{', '.join(map(str, outs))}: {view.n_vertices:,} vertices, {len(view.faces):,} faces, "
@@ -331,6 +317,7 @@ def build_parser() -> argparse.ArgumentParser:
     render = sub.add_parser("render", help="render one partial view of a model", description=cmd_render.__doc__)
     render.add_argument("model", type=Path, help="OBJ, PLY, STL, OFF or GLB file")
     render.add_argument("-o", "--out", type=Path, required=True, help="output .npz view (its folder is created)")
+    render.add_argument("--json", action="store_true", help="print JSON for programs")
     render.add_argument(
         "--azimuth", type=number(), default=0.0, help="camera azimuth about the model's +y axis, degrees (default 0)"
     )
