@@ -30,6 +30,7 @@ from heatdata.descriptors import (
     DEFAULT_KIND,
     DESCRIPTORS,
     KINDS,
+    THRESHOLD_KIND,
     DescriptorSpec,
     describe,
 )
@@ -166,7 +167,7 @@ def _implied_kind(args: argparse.Namespace) -> str:
     if args.color_map:
         return COLOR_KIND
     if args.threshold is not None:
-        return "pvst"
+        return THRESHOLD_KIND
     if args.samples is not None or args.source is not None or args.sampling is not None:
         return DEFAULT_KIND
     return DEFAULT_DESCRIPTOR.kind
@@ -435,8 +436,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--kind",
         choices=list(KINDS),
         help=f"default: the default descriptor ({DEFAULT_DESCRIPTOR.name}); a {DEFAULT_KIND} with --samples, "
-        f"--source or --sampling, a {COLOR_KIND} with --color-map, a pvst with --threshold; 'heatdata kinds' lists "
-        "every kind and its options",
+        f"--source or --sampling, a {COLOR_KIND} with --color-map, a {THRESHOLD_KIND} with --threshold; "
+        "'heatdata kinds' lists every kind and its options",
     )
     desc.add_argument(
         "--option",

@@ -47,7 +47,7 @@ from heatdata.descriptors.heat import (
     pvhk,
     view_time_scale,
 )
-from heatdata.descriptors.stochastic_time import PVST_THRESHOLD, pvst
+from heatdata.descriptors.stochastic_time import PVST_THRESHOLD, THRESHOLD_KIND, pvst
 from heatdata.descriptors.work import ViewWork, heat_kernel, heat_operator
 
 for _module in pkgutil.iter_modules(__path__):  # every kind registers itself; the compiled kernels load on use
@@ -73,6 +73,7 @@ __all__ = [
     "PVST_THRESHOLD",
     "SAMPLINGS",
     "SOURCE_RULES",
+    "THRESHOLD_KIND",
     "Descriptor",
     "DescriptorSpec",
     "Kind",

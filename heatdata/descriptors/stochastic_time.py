@@ -35,6 +35,7 @@ from heatdata.views.view import View
 log = logging.getLogger(__name__)
 
 PVST_THRESHOLD = 0.75  # T_a of Alg. 5.3, a fraction of the equilibrium temperature
+THRESHOLD_KIND = "pvst"  # the kind a threshold without a kind asks for (the CLI's --threshold)
 PVST_WINDOW = 10.0  # t_final = PVST_WINDOW / lambda_2 (Alg. 5.3)
 
 
@@ -134,7 +135,7 @@ def _pvst_times(
 
 
 class PVST(BoundaryKind):
-    name = "pvst"
+    name = THRESHOLD_KIND
     summary = "Partial View Stochastic Time: first time each boundary point reaches T_a (Alg. 5.3)"
     options = (
         SAMPLES,
