@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse import csgraph
+from scipy.spatial import cKDTree
 
 
 def mesh_edges(faces: np.ndarray, n: int) -> np.ndarray:
@@ -27,6 +28,35 @@ def component_labels(edges: np.ndarray, n: int) -> np.ndarray:
     """(n,) int: the connected-component index of each of ``n`` vertices joined by ``edges`` (e, 2)."""
     graph = sp.csr_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
     return csgraph.connected_components(graph, directed=False)[1]
+
+
+def merged_vertices(vertices: np.ndarray, tolerance: float) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices closer than ``tolerance`` merged into one (the lowest index of each chain of such pairs).
+
+    Parameters
+    ----------
+    vertices : (n, 3) float
+    tolerance : float
+        Vertices at most this far apart are merged (scipy's ``cKDTree.query_pairs``), and
+        so are chains of such pairs (their connected components).
+
+    Returns
+    -------
+    index : (n,) int64
+        The new index of each vertex; the kept vertices are ``vertices[first]`` in their
+        original order.
+    first : (k,) int64
+        The kept vertex of each merged group, ascending.
+    """
+    n = len(vertices)
+    pairs = cKDTree(vertices).query_pairs(tolerance, output_type="ndarray")
+    labels = component_labels(pairs.reshape(-1, 2), n)
+    first = np.full(labels.max() + 1 if n else 0, n, np.int64)
+    np.minimum.at(first, labels, np.arange(n))
+    order = np.argsort(first)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    return rank[labels].astype(np.int64), first[order]
 
 
 def consistent_winding(faces: np.ndarray) -> tuple[np.ndarray, int]:

@@ -23,6 +23,7 @@ import PIL.Image
 import trimesh
 from numpy.typing import ArrayLike
 
+from heatdata.core.mesh import merged_vertices
 from heatdata.errors import ModelError, StitchError
 from heatdata.io.files import atomic, require_file
 
@@ -578,6 +579,65 @@ def reversed_faces(model: Model) -> Model:
         faces=model.faces[:, ::-1].copy(),
         corner_colors=model.corner_colors[:, ::-1].copy(),
         corner_uv=model.corner_uv[:, ::-1].copy(),
+    )
+
+
+#: coincident vertices are merged within this fraction of a mesh's median edge length (:func:`welded`)
+WELD_FRACTION = 1e-3
+
+
+def welded(model: Model, fraction: float = WELD_FRACTION) -> Model:
+    """``model`` with its coincident vertices merged, as a repair: what an STL file or a cut that duplicated its
+    vertices leaves apart.
+
+    An STL file gives every triangle its own three vertices, and many cutting tools give each side of a cut its
+    own copy of the cut's vertices: the faces of such a mesh share no vertex, so it has a boundary along every
+    edge. Vertices within ``fraction`` of the median edge length of each other (and chains of such) become the
+    first of them (:func:`heatdata.core.mesh.merged_vertices`); faces this collapses, and second copies of a
+    face, are dropped with their colours and texture coordinates.
+
+    Parameters
+    ----------
+    model : Model
+    fraction : float
+        The tolerance, relative to the median length of the faces' edges.
+
+    Returns
+    -------
+    Model
+        ``model`` itself when no two vertices coincide; else the merged model, whose
+        ``repairs`` say how many vertices were merged and faces dropped.
+    """
+    corners = model.vertices[model.faces]
+    lengths = np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2).ravel()
+    lengths = lengths[lengths > 0]
+    if not len(lengths):
+        return model
+    tolerance = fraction * float(np.median(lengths))
+    index, first = merged_vertices(model.vertices, tolerance)
+    if len(first) == len(model.vertices):
+        return model
+    faces = index[model.faces]
+    keep = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 2] != faces[:, 0])
+    once = np.zeros(len(faces), bool)
+    once[np.unique(np.sort(faces, axis=1), axis=0, return_index=True)[1]] = True
+    keep &= once
+    note = (
+        f"{len(model.vertices) - len(first)} coincident vertices merged (within {tolerance:.3g}, "
+        f"{fraction:g} of the median edge); {len(faces) - keep.sum()} face(s) this collapsed or repeated dropped"
+    )
+    log.info("%s: %s", model.name, note)
+    used = np.zeros(len(first), bool)
+    used[faces[keep]] = True
+    reindex = np.cumsum(used) - 1
+    return replace(
+        model,
+        vertices=model.vertices[first[used]],
+        faces=reindex[faces[keep]],
+        corner_colors=model.corner_colors[keep],
+        corner_uv=model.corner_uv[keep],
+        face_texture=model.face_texture[keep],
+        repairs=[*model.repairs, note],
     )
 
 

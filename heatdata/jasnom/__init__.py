@@ -4,7 +4,10 @@ Two scans of an object (standing, then flipped; or two opposite cameras) cover i
 together without overlapping, so overlap-based registration cannot align them. JASNOM
 aligns them by their boundary loops, B1 and B2, and stitches the gap between them with a
 triangle strip (7.4). Loops that pass a vertex twice (a pinch) are split there, so two
-meshes that share a boundary see the same loops.
+meshes that share a boundary see the same loops. Before the loops are traced, vertices
+that coincide within a thousandth of the median edge are merged (recorded as a repair):
+an STL file gives every triangle its own vertices, and many cutting tools give each
+side of a cut its own copies, so such a mesh would otherwise be open along every edge.
 
 **The cost** (eq. 7.2-7.4, made continuous). Each mesh's loops are resampled uniformly by
 arc length (7.5): ``samples`` points on the longest, proportionally many on the others.

@@ -26,13 +26,13 @@ from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, MAX_SAMPLES, MIN
 log = logging.getLogger(__name__)
 
 
+#: distinct coarse candidates refined over six degrees of freedom
 REFINE = 4
-
-
+#: a runner-up whose J is below this many times the best's makes the answer ambiguous
 AMBIGUOUS = 1.25
-
-
+#: a seam whose mean gap exceeds this fraction of the object's size is a poor stitch
 POOR_GAP = 0.02
+#: poses closer than this (degrees of rotation, translation over the size) are the same answer
 DISTINCT_DEGREES, DISTINCT_SIZE = 2.0, 0.01
 
 

@@ -10,7 +10,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from heatdata.errors import StitchError
-from heatdata.io.models import Model, reversed_faces, rigid_motion, transformed, vertex_colors
+from heatdata.io.models import Model, reversed_faces, rigid_motion, transformed, vertex_colors, welded
 from heatdata.jasnom.align import Alignment, align, alignment_at, checked_samples
 from heatdata.jasnom.boundary import (
     Boundary,
@@ -25,21 +25,6 @@ from heatdata.jasnom.cost import ScanSurface
 from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN_ROBUST
 
 log = logging.getLogger(__name__)
-
-
-"""Distinct coarse candidates refined over six degrees of freedom."""
-
-
-"""A runner-up whose J is below this many times the best's makes the answer ambiguous."""
-
-
-"""A seam whose mean gap exceeds this fraction of the object's size is a poor stitch."""
-
-
-"""Poses closer than this (rotation, translation over the size) are the same answer."""
-
-
-"""Vertices a longest boundary needs before it can fix a motion."""
 
 
 def nearest_targets(first: Boundary, second: Boundary) -> np.ndarray:
@@ -208,6 +193,9 @@ def stitch(
         Two meshes that together cover an object without overlapping, each a 2-manifold
         with a boundary, both wound the same way about the object (both outwards, or both
         inwards as two of heatdata's views are, whose faces point away from their cameras).
+        Coincident vertices (an STL file's, or a cut's duplicated ones) are merged first
+        (:func:`heatdata.io.models.welded`), and the merge is recorded in the model's
+        ``repairs``.
     alpha, beta, gamma, along, robust, samples
         As for :func:`align`; ``along`` and ``robust`` default to :data:`ALONG` and 0, or
         for scans to :data:`SCAN_ALONG` and :data:`SCAN_ROBUST`.
@@ -248,6 +236,7 @@ def stitch(
         raise StitchError(
             f"{first.name} and {second.name} are the same mesh: JASNOM joins two different parts of an object"
         )
+    first, second = welded(first), welded(second)
     loops1, loops2 = boundaries(first), boundaries(second)
     b1, b2 = _longest(loops1, first.name), _longest(loops2, second.name)
     weights: dict[str, Any] = {
@@ -299,7 +288,7 @@ def stitch(
     seam = np.concatenate(
         [np.linalg.norm(np.roll(b.points, -1, axis=0) - b.points, axis=1) for pair in pairs for b in pair]
     )
-    faces, keep, welded = _weld(vertices, faces, strip, offset, 0.01 * float(np.median(seam)))
+    faces, keep, seam_welds = _weld(vertices, faces, strip, offset, 0.01 * float(np.median(seam)))
     faces = faces[keep]
     used = np.unique(faces)
     index = np.full(len(vertices), -1, np.int64)
@@ -336,7 +325,7 @@ def stitch(
         alignment.runner_up,
         alignment.gap,
         len(pairs),
-        welded,
+        seam_welds,
         strip_kept,
         alignment.seconds,
     )
@@ -347,6 +336,6 @@ def stitch(
         second=moved_b2,
         loop_pairs=len(pairs),
         open_loops=open_loops,
-        welded=welded,
+        welded=seam_welds,
         strip_faces=strip_kept,
     )

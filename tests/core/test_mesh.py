@@ -2,7 +2,13 @@
 
 import numpy as np
 
-from heatdata.core.mesh import boundary_loops, consistent_winding, surface_distances, surface_samples
+from heatdata.core.mesh import (
+    boundary_loops,
+    consistent_winding,
+    merged_vertices,
+    surface_distances,
+    surface_samples,
+)
 
 SQUARE = np.array([[0, 1, 2], [0, 2, 3]])  # two counter-clockwise triangles
 TETRAHEDRON = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]])
@@ -55,3 +61,14 @@ def test_surface_distances_of_two_concentric_spheres_are_the_radii_gap():
     assert np.allclose(out, 0.1, atol=2e-3) and np.allclose(back, 0.1, atol=2e-3)
     same, _ = surface_distances((inner.vertices, inner.faces), (inner.vertices, inner.faces), samples=1000)
     assert same.max() < 1e-5
+
+
+def test_vertices_within_the_tolerance_merge_into_the_first_and_chains_merge_whole():
+    vertices = np.array([[0.0, 0, 0], [1, 0, 0], [0, 0, 1e-4], [1, 0, 0.9e-3], [1, 0, 1.8e-3], [5, 0, 0]])
+    index, first = merged_vertices(vertices, 1e-3)
+    # 0 and 2 are one vertex; 1, 3 and 4 a chain (4 is 1.8e-3 from 1, but 0.9e-3 from 3); 5 stays alone
+    np.testing.assert_array_equal(first, [0, 1, 5])
+    np.testing.assert_array_equal(index, [0, 1, 0, 1, 1, 2])
+    index, first = merged_vertices(vertices, 1e-5)
+    np.testing.assert_array_equal(index, np.arange(6))
+    np.testing.assert_array_equal(first, np.arange(6))

@@ -124,3 +124,33 @@ def test_an_untextured_model_has_one_colour_or_its_corners_and_no_texture():
     coloured = hd.Model.untextured("tri", np.eye(3), [[0, 1, 2]], corners, label="tile")
     np.testing.assert_allclose(coloured.corner_colors, corners.astype(np.float32))
     assert coloured.label == "tile" and coloured.faces.dtype == np.int64
+
+
+def test_an_stl_box_is_welded_to_its_eight_corners_with_its_colours_kept(tmp_path, caplog):
+    from heatdata.io.models import welded
+
+    path = tmp_path / "box.stl"
+    colored_box().export(path)
+    model = hd.load_model(path)
+    assert len(model.vertices) == 36  # STL: three vertices of its own per triangle
+    model = hd.Model.untextured(model.name, model.vertices, model.faces, np.random.default_rng(0).random((12, 3, 3)))
+    with caplog.at_level("INFO"):
+        merged = welded(model)
+    assert len(merged.vertices) == 8 and len(merged.faces) == 12
+    np.testing.assert_allclose(merged.vertices[merged.faces], model.vertices[model.faces])
+    np.testing.assert_array_equal(merged.corner_colors, model.corner_colors)
+    assert merged.repairs == [merged.repairs[0]] and "28 coincident vertices merged" in merged.repairs[0]
+    assert "28 coincident vertices merged" in caplog.text
+    assert welded(merged) is merged  # nothing left to merge: the model itself
+
+
+def test_welding_drops_the_faces_it_collapses_and_second_copies():
+    from heatdata.io.models import welded
+
+    # a square of two triangles, a sliver whose two corners are one point, and the first triangle again
+    vertices = [[0.0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [1, 0, 1e-6], [0, 0, 1e-7]]
+    faces = [[0, 1, 2], [0, 2, 3], [0, 1, 4], [5, 1, 2]]
+    merged = welded(hd.Model.untextured("square", vertices, faces))
+    np.testing.assert_array_equal(merged.faces, [[0, 1, 2], [0, 2, 3]])
+    assert len(merged.vertices) == 4 and merged.corner_colors.shape == (2, 3, 3)
+    assert "2 face(s) this collapsed or repeated dropped" in merged.repairs[-1]

@@ -8,7 +8,7 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 from heatdata.errors import StitchError
-from heatdata.io.models import Model, transformed
+from heatdata.io.models import Model, load_model, transformed
 from heatdata.jasnom.align import align, alignment_at
 from heatdata.jasnom.boundary import boundaries, boundary, resample_loop
 from heatdata.jasnom.cost import ScanSurface
@@ -72,6 +72,42 @@ def test_two_halves_moved_apart_are_aligned_and_welded_closed(ellipsoid, amplitu
         np.isclose(result.model.corner_colors[..., 2], 0.9).any()
         and np.isclose(result.model.corner_colors[..., 0], 0.8).any()
     )
+
+
+def unwelded(model: Model, where: np.ndarray, noise: float = 0.0) -> Model:
+    """``model`` with each face given its own copy of the vertices in ``where`` (a mask), moved by up to
+    ``noise``: the duplicated vertices an STL file or a cutting tool leaves."""
+    faces = model.faces.copy()
+    vertices = [model.vertices]
+    count = len(model.vertices)
+    rng = np.random.default_rng(1)
+    for f, c in zip(*np.nonzero(where[model.faces]), strict=True):
+        vertices.append(model.vertices[faces[f, c]][None] + rng.uniform(-noise, noise, (1, 3)))
+        faces[f, c] = count
+        count += 1
+    return Model.untextured(model.name, np.vstack(vertices), faces, model.corner_colors)
+
+
+@pytest.mark.parametrize("duplicated", ["every vertex (STL)", "the cut's vertices"])
+def test_halves_with_duplicated_vertices_are_welded_and_stitched_exactly(ellipsoid, duplicated, tmp_path):
+    a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2])
+    cut_vertices = [np.isin(np.arange(len(m.vertices)), boundary(m).loop) for m in (a, b)]
+    if duplicated.startswith("every"):
+        for half in (a, b):
+            trimesh.Trimesh(half.vertices, half.faces, process=False).export(tmp_path / f"{half.name}.stl")
+        a, b = (load_model(tmp_path / f"{half.name}.stl", center=False) for half in (a, b))
+        assert len(a.vertices) == 3 * len(a.faces)
+    else:  # each face keeps its own copy of the cut's vertices, a nanometre apart
+        a, b = (unwelded(half, where, 1e-9) for half, where in zip((a, b), cut_vertices, strict=True))
+    result = stitch(a, b, samples=64)
+    expected = truth(*MOTION)
+    assert np.degrees(Rotation.from_matrix(result.alignment.rotation @ expected[:3, :3].T).magnitude()) < 1e-4
+    assert result.alignment.cost < 1e-12 and result.open_loops == 0
+    mesh = as_trimesh(result.model)
+    assert mesh.is_watertight and mesh.is_winding_consistent
+    assert mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=1e-6)
+    assert len(result.model.vertices) == len(ellipsoid.vertices)
+    assert any("coincident vertices merged" in repair for repair in result.model.repairs)
 
 
 @pytest.mark.parametrize("amplitude, offset", [(0.0, 0.0), (0.05, 0.1), (0.0, -0.15)])
