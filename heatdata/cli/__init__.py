@@ -36,6 +36,7 @@ from heatdata.descriptors import (
 )
 from heatdata.descriptors.base import article
 from heatdata.errors import HeatdataError, Terminated
+from heatdata.experiments.captures import CAPTURE_SUFFIXES as DEPTH_SUFFIXES
 from heatdata.io.files import check_output, require_file
 from heatdata.io.tables import (
     DESCRIPTOR_SCHEMA,
@@ -43,7 +44,17 @@ from heatdata.io.tables import (
     read_table,
     write_table,
 )
-from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, MAX_SAMPLES, MIN_SAMPLES, SCAN_ALONG, SCAN_ROBUST
+from heatdata.jasnom.defaults import (
+    ALONG,
+    ALPHA,
+    BETA,
+    GAMMA,
+    MAX_SAMPLES,
+    MIN_SAMPLES,
+    SCAN_ALONG,
+    SCAN_ROBUST,
+    TABLE,
+)
 from heatdata.log import printable, progress, setup_logging
 from heatdata.recognition.evaluate import TIME_RULES
 from heatdata.version import __version__
@@ -123,20 +134,25 @@ def cmd_stitch(args: argparse.Namespace) -> None:
         if motion.shape != (4, 4):
             raise HeatdataError(f"{args.motion}: not a 4x4 matrix of numbers (shape {motion.shape})")
         motion[:3, 3] *= args.scale
-    first, second = (load_model(path, scale=args.scale, center=False) for path in (args.first, args.second))
-    result = stitch(
-        first,
-        second,
-        alpha=args.alpha,
-        beta=args.beta,
-        gamma=args.gamma,
-        along=args.along,
-        robust=args.robust,
-        samples=args.samples,
-        scans=args.scans,
-        name=out.stem,
-        motion=motion,
-    )
+    options = {
+        "alpha": args.alpha,
+        "beta": args.beta,
+        "gamma": args.gamma,
+        "along": args.along,
+        "robust": args.robust,
+        "samples": args.samples,
+        "name": out.stem,
+        "motion": motion,
+    }
+    if _depth_frames(args):
+        from heatdata.jasnom.seam import stitch_scans
+
+        result = stitch_scans(*_table_scans(args), table=args.table, **options)
+    else:
+        if args.intrinsics or args.rgb:
+            raise HeatdataError("--intrinsics and --rgb are for two depth frames (heatdata stitch --scans a.png b.png)")
+        first, second = (load_model(path, scale=args.scale, center=False) for path in (args.first, args.second))
+        result = stitch(first, second, scans=args.scans, **options)
     save_model(result.model, out)
     a = result.alignment
     if a.ambiguous:
@@ -159,6 +175,37 @@ def cmd_stitch(args: argparse.Namespace) -> None:
         "seconds": round(a.seconds, 2),
     }
     print(dump_json(summary))
+
+
+def _depth_frames(args: argparse.Namespace) -> bool:
+    """Whether ``stitch`` was given two depth frames (an object on a table, standing and flipped) rather than meshes."""
+    frames = [Path(p).suffix.lower() in DEPTH_SUFFIXES for p in (args.first, args.second)]
+    if any(frames) and not all(frames):
+        raise HeatdataError(
+            "give two depth frames (an object on a table, standing and flipped) or two meshes, not one of each"
+        )
+    if all(frames) and not args.scans:
+        raise HeatdataError("two depth frames are stitched as scans of an object on a table: add --scans")
+    return all(frames)
+
+
+def _table_scans(args: argparse.Namespace):
+    """The two frames' objects on their tables: each frame's intrinsics are --intrinsics or its ``<name>.json``, its
+    colour the --rgb given or its ``<name>.rgb.png`` when there is one."""
+    from heatdata.jasnom.table import read_table_scan
+
+    scans = []
+    for k, path in enumerate((args.first, args.second)):
+        base = Path(path).with_suffix("")
+        intrinsics = args.intrinsics or Path(f"{base}.json")
+        if not Path(intrinsics).is_file():
+            raise HeatdataError(
+                f"{path}: no intrinsics: give --intrinsics (JSON or YAML with fx, fy, cx, cy, width, height) or "
+                f"write {base}.json"
+            )
+        rgb = args.rgb[k] if args.rgb else Path(f"{base}.rgb.png")
+        scans.append(read_table_scan(path, intrinsics, rgb if Path(rgb).is_file() or args.rgb else None))
+    return scans
 
 
 def _implied_kind(args: argparse.Namespace) -> str:
@@ -365,9 +412,12 @@ def build_parser() -> argparse.ArgumentParser:
         description=cmd_stitch.__doc__,
     )
     join.add_argument(
-        "first", type=Path, help="the mesh that stays put: the output is in its frame (PLY, OBJ, OFF, STL, GLB)"
+        "first",
+        type=Path,
+        help="the mesh that stays put: the output is in its frame (PLY, OBJ, OFF, STL, GLB); with --scans, a depth "
+        "frame (.png in millimetres, .npy in metres) of the object standing on a table",
     )
-    join.add_argument("second", type=Path, help="the mesh moved onto it")
+    join.add_argument("second", type=Path, help="the mesh moved onto it; with --scans, a frame of the object flipped")
     join.add_argument("-o", "--out", type=Path, required=True, help="the stitched mesh (.ply keeps vertex colours)")
     join.add_argument(
         "--alpha",
@@ -390,6 +440,25 @@ def build_parser() -> argparse.ArgumentParser:
         help="the meshes are depth scans, each in its camera's frame (camera at the origin), taken from "
         "opposite sides (the object flipped): the alignment keeps each on the far side from the "
         "other's camera and tolerates the band of surface neither saw",
+    )
+    join.add_argument(
+        "--intrinsics",
+        type=Path,
+        help="with two depth frames: their camera's fx, fy, cx, cy, width, height (JSON or YAML; default each "
+        "frame's <name>.json)",
+    )
+    join.add_argument(
+        "--rgb",
+        type=Path,
+        nargs=2,
+        metavar=("FIRST", "SECOND"),
+        help="with two depth frames: their colour images (default each frame's <name>.rgb.png, when there is one)",
+    )
+    join.add_argument(
+        "--table",
+        type=number(0.0),
+        default=TABLE,
+        help=f"with two depth frames: weight of the support-plane term, the tables as witnesses (default {TABLE:g})",
     )
     join.add_argument(
         "--along",

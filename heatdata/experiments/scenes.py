@@ -37,7 +37,7 @@ from PIL import Image
 from heatdata.core.geometry import turn_about_up
 from heatdata.errors import HeatdataError
 from heatdata.io.files import atomic
-from heatdata.io.models import Model
+from heatdata.io.models import Model, transformed
 from heatdata.io.tables import DETECTION_SCHEMA
 from heatdata.typing import StrPath
 from heatdata.views.depth import back_project
@@ -197,6 +197,67 @@ def object_pose(model: Model, x: float, z: float, yaw_degrees: float) -> np.ndar
     low, high = model.vertices.min(axis=0), model.vertices.max(axis=0)
     centre = _transform([-(low[0] + high[0]) / 2, -low[1], -(low[2] + high[2]) / 2])
     return _transform([x, TABLE_HEIGHT, z], yaw_degrees) @ centre
+
+
+def render_flipped_pair(
+    model: Model,
+    *,
+    elevation: float,
+    yaw: float = 0.0,
+    flip_axis: float = 0.0,
+    distance: float | None = None,
+    settings: dict | None = None,
+    seed: int = 0,
+) -> tuple[SceneFrame, SceneFrame, np.ndarray]:
+    """Two frames of ``model`` on the scenes' table, as JASNOM's acquisition takes them (thesis 7.5): standing, then
+    flipped upside down where it stood, from one camera in front of the table.
+
+    Parameters
+    ----------
+    model : Model
+        The object.
+    elevation : float
+        The camera's elevation above the table, degrees.
+    yaw : float
+        The standing object's turn about +y, degrees.
+    flip_axis : float
+        How far off the user's flip is, degrees: the object is turned about +y by ``yaw + flip_axis``, then by a
+        half-turn about x, the axis across the camera's view. With 0 the flip turns the sides the camera did not
+        see towards it.
+    distance : float, optional
+        Camera to the object's centre, metres (default three times its size, at least 0.6 m).
+    settings : dict, optional
+        The scenes' settings (:data:`SCENE_DEFAULTS`): the table, the sensor, the image scale.
+    seed : int
+        The sensor noise's seed (the second frame's is the next).
+
+    Returns
+    -------
+    standing, flipped : SceneFrame
+    motion : (4, 4) float64
+        The flipped frame's camera coordinates to the standing frame's: the truth JASNOM looks for.
+    """
+    from heatdata.views.render import Placement, camera_pose, render_scene
+
+    settings = {**SCENE_DEFAULTS, **(settings or {})}
+    standing = object_pose(model, 0.0, 0.0, yaw)
+    turn = np.eye(4)
+    turn[:3, :3] = turn_about_up(yaw + flip_axis)
+    turn[:3, :3] = np.diag([1.0, -1.0, -1.0]) @ turn[:3, :3]  # then a half-turn about x
+    flipped = object_pose(transformed(model, turn[:3, :3], np.zeros(3)), 0.0, 0.0, 0.0) @ turn
+    size = float(np.linalg.norm(model.extents))
+    target = np.array([0.0, TABLE_HEIGHT + model.extents[1] / 2, 0.0])
+    camera = camera_pose(target, 0.0, elevation, distance or max(0.6, 3.0 * size))
+    k = kinect_intrinsics(settings.get("image_scale", 1.0))
+    sensor = SensorProfile.named(settings["sensor"])
+    width, depth = settings["table"]
+    frames = [
+        render_scene(
+            [*room(width, depth, 0.1), Placement(model, pose)], camera, intrinsics=k, sensor=sensor, seed=seed + i
+        )
+        for i, pose in enumerate((standing, flipped))
+    ]
+    return frames[0], frames[1], np.linalg.inv(camera) @ standing @ np.linalg.inv(flipped) @ camera
 
 
 def render_planned_scene(plan: dict, models: dict[str, Model], settings: dict) -> tuple[SceneFrame, dict]:

@@ -15,19 +15,23 @@ from heatdata.jasnom.boundary import MIN_BOUNDARY, Boundary, _as_loops
 from heatdata.jasnom.cost import (
     ScanSurface,
     _Curve,
+    _flat_residuals,
     _residuals,
-    _robust,
     _terms,
     _Weights,
     _weights,
 )
-from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, MAX_SAMPLES, MIN_SAMPLES
+from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, MAX_SAMPLES, MIN_SAMPLES, TABLE
+from heatdata.jasnom.table import TableContact
 
 log = logging.getLogger(__name__)
 
 
 #: distinct coarse candidates refined over six degrees of freedom
 REFINE = 4
+#: evaluations of J a refinement may make; with tables fewer, as their quantile and free-space residuals are
+#: piecewise linear, where the least squares creeps (the closest-point polish follows either way)
+REFINE_STEPS, TABLE_STEPS = 300, 60
 #: a runner-up whose J is below this many times the best's makes the answer ambiguous
 AMBIGUOUS = 1.25
 #: a seam whose mean gap exceeds this fraction of the object's size is a poor stitch
@@ -46,7 +50,9 @@ class Alignment:
     translation : (3,) float64
         ``x = rotation @ y + translation`` maps the second mesh into the first's frame.
     cost, edge_cost, crossing_cost, crease_cost : float
-        J, J1, J2 and J3 at the motion (module docstring); ``J = J1 + beta J2 + gamma J3``.
+        J, J1, J2 and J3 at the motion (module docstring); ``J = J1 + beta J2 + gamma J3 + T``.
+    table_cost : float
+        T, the support-plane term (:mod:`heatdata.jasnom.table`), weight included; 0 without tables.
     runner_up : float
         J of the best pose found more than 2 deg or 1% of the size away (NaN when the
         search found none, or no search was made).
@@ -70,6 +76,7 @@ class Alignment:
     edge_cost: float
     crossing_cost: float
     crease_cost: float
+    table_cost: float
     runner_up: float
     gap: float
     size: float
@@ -133,6 +140,8 @@ def align(
     refine: int = REFINE,
     robust: float = 0.0,
     scans: tuple[ScanSurface, ScanSurface] | None = None,
+    contact: TableContact | None = None,
+    table: float = TABLE,
     constrained: bool = True,
     trace: list | None = None,
 ) -> Alignment:
@@ -158,6 +167,12 @@ def align(
         The two meshes as depth scans (:func:`stitch` with ``scans=True``): poses are
         allowed where each lies on the far side from the other's camera, instead of where
         the boundary normals face each other (7.3).
+    contact : TableContact, optional
+        The scans' table planes (an object scanned standing, then flipped, on a table): J
+        gains the support-plane term T, and the coarse search the flip candidates
+        (:mod:`heatdata.jasnom.table`).
+    table : float
+        T's weight (default :data:`heatdata.jasnom.defaults.TABLE`).
     constrained : bool
         False allows every pose (no orientation constraint; for ablations).
     trace : list, optional
@@ -190,6 +205,7 @@ def align(
     begin = time.perf_counter()
     c1, c2 = _Curve.of(first, samples), _Curve.of(second, samples)
     w = _weights(c1, alpha, beta, gamma, along, robust, samples)
+    table = _checked_table(table)
     size = float(
         np.linalg.norm(
             np.ptp(np.vstack([c1.samples, c2.samples - c2.samples.mean(axis=0) + c1.samples.mean(axis=0)]), axis=0)
@@ -199,9 +215,12 @@ def align(
     visited: list = []
 
     def evaluate(rotation, translation) -> tuple[np.ndarray, float]:
-        """The weighted residuals and J, +inf where the meshes would lie on one side of the seam (7.3)."""
+        """The residual vector whose squares sum to J, and J: +inf where the meshes would lie on one side of the
+        seam (7.3)."""
         residuals, _, cosines = _residuals(rotation, translation, c1, c2, w)
-        residuals = residuals * w.root
+        vector = _flat_residuals(residuals * w.root, w.robust)
+        if contact is not None:
+            vector = np.concatenate([vector, np.sqrt(table) * contact.residuals(rotation, translation, w.scale)])
         if not constrained:
             allowed = True
         elif scans is None:
@@ -214,9 +233,9 @@ def align(
                 )
                 < 0.5
             )
-        value = float(np.mean(np.sum(_robust(residuals**2, w.robust), axis=1))) if allowed else np.inf
+        value = float(vector @ vector) if allowed else np.inf
         visited.append((rotation, translation, value))
-        return residuals, value
+        return vector, value
 
     shifts = np.arange(samples)
     order = np.concatenate(
@@ -226,6 +245,11 @@ def align(
         ]
     )  # and the mirrored order
     rotations, translations = _kabsch(c1.samples[:samples][order], c2.samples[:samples])
+    if contact is not None:  # each set on the table; and the half-turns that put the flipped scan on it, slid along it
+        translations = np.array([contact.on_table(r, t) for r, t in zip(rotations, translations, strict=True)])
+        turns, placed = contact.flip_candidates()
+        placed = np.array([_slid(r, t, c1, c2, contact.planes[0, :3]) for r, t in zip(turns, placed, strict=True)])
+        rotations, translations = np.concatenate([rotations, turns]), np.concatenate([translations, placed])
     coarse = np.array([evaluate(r, t)[1] for r, t in zip(rotations, translations, strict=True)])
     if not np.isfinite(coarse).any():
         raise StitchError(
@@ -237,15 +261,25 @@ def align(
             "first (the same surface twice), or their longest boundaries are not one curve"
         )
     starts: list[tuple[np.ndarray, np.ndarray, float]] = []
-    for k in np.argsort(coarse, kind="stable")[: np.isfinite(coarse).sum()]:  # the cheapest, 10 deg or 5% apart
-        if all(_differs((rotations[k], translations[k]), start[:2], centre, size, 10.0, 0.05) for start in starts):
-            starts.append((rotations[k], translations[k], float(coarse[k])))
-        if len(starts) == refine:
-            break
+    # the cheapest of each family (boundary correspondences; flips), 10 deg or 5% apart
+    for family in (slice(0, 2 * samples), slice(2 * samples, len(coarse))):
+        chosen = 0
+        for k in family.start + np.argsort(coarse[family], kind="stable"):
+            if not np.isfinite(coarse[k]) or chosen == refine:
+                break
+            if all(_differs((rotations[k], translations[k]), start[:2], centre, size, 10.0, 0.05) for start in starts):
+                starts.append((rotations[k], translations[k], float(coarse[k])))
+                chosen += 1
     # a refinement that ends where the constraint forbids (J = inf) leaves its start as the candidate
     found = sorted(
         (
-            min((_refine(r, t, r @ centre + t, w, c1, c2, evaluate), (r, t, j)), key=lambda pose: pose[2])
+            min(
+                (
+                    _refine(r, t, r @ centre + t, w, c1, c2, evaluate, TABLE_STEPS if contact else REFINE_STEPS),
+                    (r, t, j),
+                ),
+                key=lambda pose: pose[2],
+            )
             for r, t, j in starts
         ),
         key=lambda pose: pose[2],
@@ -258,11 +292,31 @@ def align(
     ]
     if trace is not None:
         trace.extend(visited)
-    return _alignment(rotation, translation, c1, c2, w, min(others, default=np.nan), len(visited), begin)
+    return _alignment(
+        rotation, translation, c1, c2, w, min(others, default=np.nan), len(visited), begin, contact, table
+    )
+
+
+def _slid(rotation: np.ndarray, translation: np.ndarray, c1: _Curve, c2: _Curve, normal: np.ndarray, steps: int = 10):
+    """A translation moved along the plane of unit ``normal`` (the table) by closest-point steps that bring B2's samples
+    onto B1 on average, both ways: the flip candidates' placement, which their footprints' centroids only guess."""
+    for _ in range(steps):
+        moved = c2.samples @ rotation.T + translation
+        back = c2.closest((c1.samples - translation) @ rotation)[0] @ rotation.T + translation
+        step = 0.5 * (np.mean(c1.closest(moved)[0] - moved, axis=0) + np.mean(c1.samples - back, axis=0))
+        translation = translation + step - (step @ normal) * normal
+    return translation
 
 
 def _refine(
-    rotation0: np.ndarray, translation0: np.ndarray, centre: np.ndarray, w: _Weights, c1: _Curve, c2: _Curve, evaluate
+    rotation0: np.ndarray,
+    translation0: np.ndarray,
+    centre: np.ndarray,
+    w: _Weights,
+    c1: _Curve,
+    c2: _Curve,
+    evaluate,
+    steps: int,
 ) -> tuple[np.ndarray, np.ndarray, float]:
     """Trust-region least squares from a pose, over a rotation vector about ``centre`` (B2's moved centroid) and a
     translation in units of s, then :func:`_polished`."""
@@ -271,22 +325,11 @@ def _refine(
         turn = Rotation.from_rotvec(p[:3]).as_matrix()
         return turn @ rotation0, turn @ (translation0 - centre) + centre + w.scale * p[3:]
 
-    pairs = len(c1.samples) + len(c2.samples)
-
     def residuals(p):
-        return evaluate(*motion(p))[0].ravel() / np.sqrt(pairs)
+        return evaluate(*motion(p))[0]
 
     result = least_squares(
-        residuals,
-        np.zeros(6),
-        method="trf",
-        x_scale=1.0,
-        ftol=1e-12,
-        xtol=1e-12,
-        gtol=1e-12,
-        max_nfev=300,
-        loss="soft_l1" if w.robust > 0 else "linear",
-        f_scale=w.robust / np.sqrt(pairs) if w.robust > 0 else 1.0,
+        residuals, np.zeros(6), method="trf", x_scale=1.0, ftol=1e-12, xtol=1e-12, gtol=1e-12, max_nfev=steps
     )
     rotation, translation = motion(result.x)
     return _polished(rotation, translation, c1, c2, evaluate)
@@ -323,6 +366,8 @@ def alignment_at(
     along: float = ALONG,
     robust: float = 0.0,
     samples: int = 128,
+    contact: TableContact | None = None,
+    table: float = TABLE,
 ) -> Alignment:
     """J at a known rigid motion of ``second`` onto ``first`` (registered cameras, a turntable, the truth).
 
@@ -333,24 +378,50 @@ def alignment_at(
     c1, c2 = _Curve.of(_as_loops(first), samples), _Curve.of(_as_loops(second), samples)
     w = _weights(c1, alpha, beta, gamma, along, robust, samples)
     return _alignment(
-        np.asarray(rotation, np.float64), np.asarray(translation, np.float64), c1, c2, w, np.nan, 1, begin
+        np.asarray(rotation, np.float64),
+        np.asarray(translation, np.float64),
+        c1,
+        c2,
+        w,
+        np.nan,
+        1,
+        begin,
+        contact,
+        _checked_table(table),
     )
 
 
+def _checked_table(table: float) -> float:
+    if not (np.isfinite(table) and table >= 0):
+        raise StitchError(f"table must be a finite non-negative number, got {table}")
+    return float(table)
+
+
 def _alignment(
-    rotation, translation, c1: _Curve, c2: _Curve, w: _Weights, runner_up: float, candidates: int, begin: float
+    rotation,
+    translation,
+    c1: _Curve,
+    c2: _Curve,
+    w: _Weights,
+    runner_up: float,
+    candidates: int,
+    begin: float,
+    contact: TableContact | None,
+    table: float,
 ) -> Alignment:
     residuals, xi, cosines = _residuals(rotation, translation, c1, c2, w)
     cost, edge, crossing, crease = _terms(residuals, w)
+    plane = 0.0 if contact is None else table * float(np.sum(contact.residuals(rotation, translation, w.scale) ** 2))
     moved = c2.samples @ rotation.T + translation
     size = float(np.linalg.norm(np.ptp(np.vstack([c1.samples, moved]), axis=0)))
     return Alignment(
         rotation=rotation,
         translation=translation,
-        cost=cost,
+        cost=cost + plane,
         edge_cost=edge,
         crossing_cost=crossing,
         crease_cost=crease,
+        table_cost=plane,
         runner_up=float(runner_up),
         gap=float(np.mean(np.linalg.norm(xi, axis=1))),
         size=size,

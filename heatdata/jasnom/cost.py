@@ -170,6 +170,14 @@ def _terms(residuals: np.ndarray, w: _Weights) -> tuple[float, float, float, flo
     return edge + crossing + crease, edge, crossing / w.beta if w.beta else 0.0, crease / w.gamma if w.gamma else 0.0
 
 
+def _flat_residuals(weighted: np.ndarray, scale: float) -> np.ndarray:
+    """Weighted pair residuals (p, 7) as one vector whose squares sum to their J: each through the soft-L1 loss of
+    width ``scale`` (sign kept), over the square root of the pairs, so J is a mean over pairs."""
+    if scale > 0:
+        weighted = np.sign(weighted) * np.sqrt(_robust(weighted**2, scale))
+    return weighted.ravel() / np.sqrt(len(weighted))
+
+
 def _robust(squares: np.ndarray, scale: float) -> np.ndarray:
     """Squared residuals through the soft-L1 loss of width ``scale`` (0: as they are)."""
     return squares if scale <= 0 else 2 * scale**2 * (np.sqrt(1.0 + squares / scale**2) - 1.0)

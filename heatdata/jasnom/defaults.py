@@ -15,3 +15,5 @@ SCAN_ALONG, SCAN_ROBUST = 0.1, 0.05
 #: the fewest and most boundary samples of the alignment: 4,096 peaked at 2.03 GB in 140 s (two halves of a sphere,
 #: ``heatdata stitch --samples 4096``), so the most is half that
 MIN_SAMPLES, MAX_SAMPLES = 8, 2048
+#: weight of the support-plane term for scans of an object on a table (:mod:`heatdata.jasnom.table`)
+TABLE = 10.0

@@ -22,7 +22,8 @@ from heatdata.jasnom.boundary import (
     boundaries,
 )
 from heatdata.jasnom.cost import ScanSurface
-from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN_ROBUST
+from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, SCAN_ALONG, SCAN_ROBUST, TABLE
+from heatdata.jasnom.table import TableContact, TableScan
 
 log = logging.getLogger(__name__)
 
@@ -152,6 +153,7 @@ class Stitched:
             "edge_cost": a.edge_cost,
             "crossing_cost": a.crossing_cost,
             "crease_cost": a.crease_cost,
+            "table_cost": a.table_cost,
             "runner_up": None if np.isnan(a.runner_up) else a.runner_up,
             "ambiguous": a.ambiguous,
             "mean_gap": a.gap,
@@ -180,6 +182,8 @@ def stitch(
     scans: bool = False,
     name: str | None = None,
     motion: np.ndarray | None = None,
+    contact: TableContact | None = None,
+    table: float = TABLE,
 ) -> Stitched:
     """JASNOM: align ``second`` onto ``first`` by their longest boundaries and stitch them into one model.
 
@@ -212,6 +216,12 @@ def stitch(
         turntable): nothing is searched (:func:`alignment_at`), and boundaries that do not
         face each other there (a gap of grazing surface between two opposite scans) are
         stitched anyway, with a warning.
+    contact : TableContact, optional
+        The scans' tables (the object scanned standing, then flipped, on a table;
+        :func:`stitch_scans` gives them): J gains the support-plane term and the search the
+        flip candidates (:mod:`heatdata.jasnom.table`).
+    table : float
+        The support-plane term's weight (default :data:`heatdata.jasnom.defaults.TABLE`).
 
     Returns
     -------
@@ -247,6 +257,8 @@ def stitch(
         "along": (SCAN_ALONG if scans else ALONG) if along is None else along,
         "robust": (SCAN_ROBUST if scans else 0.0) if robust is None else robust,
     }
+    if contact is not None:
+        weights |= {"contact": contact, "table": table}
     if motion is None:
         alignment = align(
             loops1, loops2, **weights, scans=(ScanSurface.of(first), ScanSurface.of(second)) if scans else None
@@ -339,3 +351,27 @@ def stitch(
         welded=seam_welds,
         strip_faces=strip_kept,
     )
+
+
+def stitch_scans(first: TableScan, second: TableScan, **options: Any) -> Stitched:
+    """JASNOM on an object scanned standing on a table, then flipped upside down on it (thesis 7.5): :func:`stitch`
+    of the two scans' objects (``scans=True``) with their tables as witnesses (:mod:`heatdata.jasnom.table`).
+
+    Parameters
+    ----------
+    first, second : TableScan
+        The standing scan (the output is in its camera's frame) and the flipped one
+        (:func:`heatdata.jasnom.table.table_scan`).
+    **options
+        :func:`stitch`'s other options (``samples``, ``table``, ``motion``, ``name``...).
+
+    Returns
+    -------
+    Stitched
+
+    Raises
+    ------
+    StitchError
+        As :func:`stitch`; objects whose heights above their tables differ (not one object).
+    """
+    return stitch(first.model, second.model, scans=True, contact=TableContact.of_scans(first, second), **options)
