@@ -12,28 +12,40 @@ frame, and each scan's table plane ``P = (n, d)`` (unit normal towards the objec
 - **scan 2 (flipped)**: the object's top rests on P2, seen by scan 1. So scan 1 lies on the moved P2's object
   side and touches it: ``h_b = (R n2) . (x - t) + d2 >= 0`` for every point ``x`` of scan 1, lowest at 0.
 
-Both fix the translation along the table normal. The band's ambiguity lies along the viewing ray, one direction,
-so fixing its component along the normal fixes it whole, unless the camera looks exactly horizontally. Where the
-bottom is flat, the contact also fixes the tilt: tilting lowers one edge of the bottom below the plane.
+Both fix the translation along the table normal. They do not fix the rest of the band: the issue this was built
+for argued that the band's ambiguity lies along the viewing ray, one direction, so that fixing its component along
+the normal fixes it whole. Measured, the search is free to slide the flipped scan *along the table*, and the
+boundary cost closes the band by the ray's horizontal part (``scripts/jasnom_scans.py --table-out``: the error left
+lies along the ray's horizontal part, not the normal). Nor does the contact fix the tilt of a flat bottom: a tilt
+that keeps the lowest :data:`CONTACT_SHARE` of the points on the plane costs nothing (a cylinder with a known band:
+its centroid 0.26% of the size off along the normal, against 0.70% without the table).
+
+What holds the slide and the turn is **free space**: with the frames, each camera measured where the object is not.
+A point of the moved scan 2 that stands in front of what camera 1 read (the table beside the object, the wall
+behind it) cannot be there, and the same for scan 1 in camera 2.
 
 **The term** (added to J, eq. 7.4, with weight ``table``), in units of the boundary's RMS radius ``s`` as J's
 terms are:
 
-``T = table * [ (c_a / s)^2 + (c_b / s)^2 + mean_y p(h_a)^2 + mean_x p(h_b)^2 ]``
+``T = table * [ (c_a / s)^2 + (c_b / s)^2 + mean_y p(h_a)^2 + mean_x p(h_b)^2 + mean_y f_1(y)^2 + mean_x f_2(x)^2 ]``
 
 - ``c_a``, ``c_b``: the *contact*, the :data:`CONTACT_SHARE` quantile of the heights (not their minimum, which a
   sensor's noise and a flying pixel set);
 - ``p(h) = min(h, 0) / s``: how far a point lies below the plane. Not J2's logistic, which a boundary sample
   switches on only where it crosses the other mesh: here the whole object stands above the plane, and a logistic's
-  tail over thousands of points near it would pull the object down by a share of the sample spacing.
+  tail over thousands of points near it would pull the object down by a share of the sample spacing;
+- ``f_k = max(D_k(u) - z - spacing, 0) / s``: how far a moved point stands in front of the nearest reading ``D_k``
+  within :data:`NEIGHBOURHOOD` pixels of where camera k sees it (0 outside the image and where it read nothing),
+  beyond the mean spacing of the scans' samples.
 
 At the true motion T is 0 up to the sensor's noise; moved by ``delta`` along the normal it grows as
 ``2 table (delta / s)^2``, whatever the object's size.
 
 **The seeds.** The flip is a half-turn about an axis in the table plane: the object's up, ``n1`` in scan 1, is
-``-n2`` in scan 2, so ``R n2 = -n1``. :func:`flip_candidates` gives the motions that satisfy this, at every
-:data:`TURNS`-th turn about the normal, each placed so that its footprint's centroid is over scan 1's and its
-contact is 0; :func:`heatdata.jasnom.align.align` evaluates them beside the boundary correspondences. An object
+``-n2`` in scan 2, so ``R n2 = -n1``. :meth:`TableContact.flip_candidates` gives the motions that satisfy this, at
+every :data:`TURNS`-th turn about the normal, each set on the table with its footprint's centroid over scan 1's;
+:func:`heatdata.jasnom.align.align` slides each along the table by closest-point steps between the boundaries,
+sets its boundary correspondences' candidates on the table too, and refines the best of both families. An object
 that rests tilted once flipped (a top that is not parallel to its bottom) departs from ``R n2 = -n1``; the
 refinement is free to follow it.
 """

@@ -135,6 +135,20 @@ def test_the_table_holds_the_cylinder_at_its_height_where_the_band_lets_it_sink(
     assert height_error(found, truth, second, plane1[:3]) < 0.004 * size
 
 
+def test_a_point_in_front_of_what_the_other_camera_measured_costs_its_depth_beyond_the_spacing():
+    k = {"fx": 100.0, "fy": 100.0, "cx": 50.0, "cy": 40.0, "width": 100, "height": 80}
+    wall = np.full((80, 100), 1.0)  # each camera read a wall 1 m away, and nothing in its left half
+    wall[:, :50] = np.nan
+    ahead = np.array([[0.1, 0.0, 0.9], [0.2, 0.1, 0.95], [0.1, 0.0, 1.2], [-0.2, 0.0, 0.5], [0.0, 0.0, -1.0]])
+    planes = np.array([[0.0, -1.0, 0.0, 1.0], [0.0, -1.0, 0.0, 1.0]])
+    contact = TableContact(planes, (ahead, ahead), 0.01, (wall, wall), (k, k))
+    residuals = contact.residuals(np.eye(3), np.zeros(3), 0.5)
+    # in front by 0.1 and 0.05 m less the spacing; behind the wall, where it read nothing and behind the camera: 0
+    expected = np.sqrt(np.mean(np.array([0.09, 0.04, 0.0, 0.0, 0.0]) ** 2)) / 0.5
+    assert len(residuals) == 6
+    np.testing.assert_allclose(residuals[4:], expected, rtol=1e-12)
+
+
 def test_bad_planes_are_clear_errors():
     first, second, plane1, plane2, _ = scans(box(), 10.0)
     with pytest.raises(StitchError, match="plane 1 must be four finite numbers"):
