@@ -5,9 +5,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import settings
 from scipy.spatial import Delaunay
 
 import heatdata as hd
+
+# the suite runs a test file to a worker on every core: a property's example may wait for a core, so no deadline
+settings.register_profile("suite", deadline=None)
+settings.load_profile("suite")
 
 ROOT = Path(__file__).resolve().parents[1]
 
