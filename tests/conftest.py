@@ -10,7 +10,7 @@ from scipy.spatial import Delaunay
 
 import heatdata as hd
 
-# the suite runs a test file to a worker on every core: a property's example may wait for a core, so no deadline
+# a property's example may wait for a core on a busy machine (CI beside other jobs): no deadline
 settings.register_profile("suite", deadline=None)
 settings.load_profile("suite")
 
