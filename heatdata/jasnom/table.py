@@ -60,9 +60,11 @@ from scipy.ndimage import minimum_filter
 from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
+from heatdata.core.geometry import rotation_between
 from heatdata.errors import StitchError
 from heatdata.io.models import Model
 from heatdata.typing import StrPath
+from heatdata.views.depth import pixels_of
 from heatdata.views.segment import SegmentSettings, segment_frame
 
 log = logging.getLogger(__name__)
@@ -275,14 +277,10 @@ class TableContact:
     def _in_front(self, points: np.ndarray, k: int) -> np.ndarray:
         """How far each of ``points`` (in scan ``k``'s camera frame) stands in front of the nearest reading of that
         camera, beyond the sample spacing (0 behind it, outside the image and where it read nothing)."""
-        depth, intr = self.depths[k], self.intrinsics[k]  # type: ignore[index]
-        z = np.where(points[:, 2] > 0, points[:, 2], np.nan)
-        with np.errstate(invalid="ignore"):
-            u = np.round(intr["fx"] * points[:, 0] / z + intr["cx"])
-            v = np.round(intr["fy"] * points[:, 1] / z + intr["cy"])
-        inside = np.isfinite(u) & (u >= 0) & (u < intr["width"]) & (v >= 0) & (v < intr["height"])
+        depth = self.depths[k]  # type: ignore[index]
+        pixel, inside = pixels_of(points, self.intrinsics[k])  # type: ignore[index]
         measured = np.full(len(points), np.nan)
-        measured[inside] = depth[v[inside].astype(int), u[inside].astype(int)]
+        measured[inside] = depth[pixel[inside, 1], pixel[inside, 0]]
         gap = np.where(np.isfinite(measured), measured - points[:, 2] - self.spacing, 0.0)
         return np.maximum(gap, 0.0)
 
@@ -304,7 +302,7 @@ class TableContact:
         """
         n1, d1 = self.planes[0, :3], self.planes[0, 3]
         n2 = self.planes[1, :3]
-        upright = _turn_onto(n2, -n1)
+        upright = rotation_between(n2, -n1)
         angles = 2 * np.pi * np.arange(turns) / turns
         rotations = Rotation.from_rotvec(angles[:, None] * n1).as_matrix() @ upright
         foot1 = _foot(self.points[0], n1, d1).mean(axis=0)
@@ -350,16 +348,3 @@ def _samples(model: Model, count: int) -> np.ndarray:
 def _foot(points: np.ndarray, normal: np.ndarray, offset: float) -> np.ndarray:
     """The feet of ``points`` on the plane ``normal . x + offset = 0`` (unit normal)."""
     return points - np.outer(points @ normal + offset, normal)
-
-
-def _turn_onto(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The smallest rotation taking unit vector ``a`` onto ``b`` (a half-turn about any perpendicular when they are
-    opposite)."""
-    axis = np.cross(a, b)
-    sine, cosine = float(np.linalg.norm(axis)), float(a @ b)
-    if sine < 1e-12:
-        if cosine > 0:
-            return np.eye(3)
-        perpendicular = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
-        return Rotation.from_rotvec(np.pi * perpendicular / np.linalg.norm(perpendicular)).as_matrix()
-    return Rotation.from_rotvec(axis / sine * np.arctan2(sine, cosine)).as_matrix()

@@ -39,6 +39,7 @@ from heatdata.core.geometry import rotation_between, turn_about_up
 from heatdata.errors import LibraryError
 from heatdata.io.files import atomic, require_file
 from heatdata.typing import StrPath
+from heatdata.views.depth import pixels_of
 
 if TYPE_CHECKING:
     import open3d as o3d
@@ -523,31 +524,6 @@ def depth_image(points: np.ndarray, intrinsics: dict) -> np.ndarray:
     np.minimum.at(depth, (pixel[inside, 1], pixel[inside, 0]), points[inside, 2])
     depth[~np.isfinite(depth)] = np.nan
     return depth
-
-
-def pixels_of(points: np.ndarray, k: dict) -> tuple[np.ndarray, np.ndarray]:
-    """The pixel ``(u, v)`` each camera-frame point projects to (rounded), and which land inside the image.
-
-    Parameters
-    ----------
-    points : (n, 3) float
-    k : dict
-        ``fx, fy, cx, cy, width, height``.
-
-    Returns
-    -------
-    pixel : (n, 2) int64
-        Zero where outside.
-    inside : (n,) bool
-    """
-    z = np.where(points[:, 2] > 0, points[:, 2], np.nan)
-    with np.errstate(invalid="ignore"):
-        u = np.round(k["fx"] * points[:, 0] / z + k["cx"])
-        v = np.round(k["fy"] * points[:, 1] / z + k["cy"])
-    inside = np.isfinite(u) & np.isfinite(v) & (u >= 0) & (u < k["width"]) & (v >= 0) & (v < k["height"])
-    pixel = np.zeros((len(points), 2), dtype=np.int64)
-    pixel[inside] = np.stack([u[inside], v[inside]], axis=1).astype(np.int64)
-    return pixel, inside
 
 
 def verify(

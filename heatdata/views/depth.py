@@ -503,3 +503,28 @@ def write_depth(view: View, path: StrPath, intrinsics_path: StrPath | None = Non
         Image.fromarray(image).save(temporary)
     with atomic(intrinsics_path) as temporary:
         temporary.write_text(json.dumps(k, indent=1) + "\n")
+
+
+def pixels_of(points: np.ndarray, k: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The pixel ``(u, v)`` each camera-frame point projects to (rounded), and which land inside the image.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+    k : dict
+        ``fx, fy, cx, cy, width, height``.
+
+    Returns
+    -------
+    pixel : (n, 2) int64
+        Zero where outside.
+    inside : (n,) bool
+    """
+    z = np.where(points[:, 2] > 0, points[:, 2], np.nan)
+    with np.errstate(invalid="ignore"):
+        u = np.round(k["fx"] * points[:, 0] / z + k["cx"])
+        v = np.round(k["fy"] * points[:, 1] / z + k["cy"])
+    inside = np.isfinite(u) & np.isfinite(v) & (u >= 0) & (u < k["width"]) & (v >= 0) & (v < k["height"])
+    pixel = np.zeros((len(points), 2), dtype=np.int64)
+    pixel[inside] = np.stack([u[inside], v[inside]], axis=1).astype(np.int64)
+    return pixel, inside

@@ -59,7 +59,8 @@ def pose_outline(matrix: np.ndarray, surface, intrinsics: dict) -> np.ndarray:
     """
     from scipy.ndimage import binary_closing, binary_erosion, binary_fill_holes
 
-    from heatdata.recognition.pose import pixels_of, visible
+    from heatdata.recognition.pose import visible
+    from heatdata.views.depth import pixels_of
 
     posed = surface.points @ np.asarray(matrix)[:3, :3].T + np.asarray(matrix)[:3, 3]
     shape = (int(intrinsics["height"]), int(intrinsics["width"]))
