@@ -56,15 +56,15 @@ import logging
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.ndimage import minimum_filter
 from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
 from heatdata.core.geometry import rotation_between
 from heatdata.errors import StitchError
 from heatdata.io.models import Model
+from heatdata.jasnom.cost import ScanSurface
 from heatdata.typing import StrPath
-from heatdata.views.depth import pixels_of
+from heatdata.views.depth import nearest_readings, pixels_of
 from heatdata.views.segment import SegmentSettings, segment_frame
 
 log = logging.getLogger(__name__)
@@ -220,7 +220,7 @@ class TableContact:
                 f"{second.model.name}'s {heights[1]:.3f} m: not one object scanned standing and flipped"
             )
         contact = cls.of(first.model, second.model, first.plane, second.plane, count)
-        depths = tuple(_nearest_readings(scan.depth) for scan in (first, second))
+        depths = tuple(nearest_readings(scan.depth, NEIGHBOURHOOD) for scan in (first, second))
         return cls(contact.planes, contact.points, contact.spacing, depths, (first.intrinsics, second.intrinsics))  # type: ignore[arg-type]
 
     @classmethod
@@ -234,7 +234,7 @@ class TableContact:
             plane (a normal pointing away from the object).
         """
         planes = np.array([_checked_plane(p, k) for k, p in enumerate((plane1, plane2), start=1)])
-        points = tuple(_samples(model, count) for model in (first, second))
+        points = tuple(ScanSurface.of(model, count).centroids for model in (first, second))
         for k, (model, plane, sample) in enumerate(zip((first, second), planes, points, strict=True), start=1):
             if np.median(sample @ plane[:3] + plane[3]) < 0:
                 raise StitchError(
@@ -317,12 +317,6 @@ def _rms(values: np.ndarray) -> float:
     return float(np.sqrt(np.mean(values**2)))
 
 
-def _nearest_readings(depth: np.ndarray) -> np.ndarray:
-    """Each pixel's nearest reading within :data:`NEIGHBOURHOOD` pixels (NaN where none)."""
-    nearest = minimum_filter(np.where(np.isfinite(depth), depth, np.inf), size=NEIGHBOURHOOD)
-    return np.where(np.isfinite(nearest), nearest, np.nan)
-
-
 def _checked_plane(plane, k: int) -> np.ndarray:
     try:
         p = np.asarray(plane, dtype=np.float64).reshape(4)
@@ -332,17 +326,6 @@ def _checked_plane(plane, k: int) -> np.ndarray:
     if not (np.all(np.isfinite(p)) and length > 0):
         raise StitchError(f"plane {k} must be four finite numbers with a nonzero normal, got {p.tolist()}")
     return p / length
-
-
-def _samples(model: Model, count: int) -> np.ndarray:
-    """Up to ``count`` face centroids of ``model``, a seeded sample by area where it has more faces."""
-    corners = model.vertices[model.faces]
-    centroids = corners.mean(axis=1)
-    if len(centroids) <= count:
-        return centroids
-    area = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
-    keep = np.random.default_rng(0).choice(len(area), count, replace=False, p=area / area.sum())
-    return centroids[np.sort(keep)]
 
 
 def _foot(points: np.ndarray, normal: np.ndarray, offset: float) -> np.ndarray:

@@ -31,7 +31,6 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.ndimage import minimum_filter
 from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist
 
@@ -39,7 +38,7 @@ from heatdata.core.geometry import rotation_between, turn_about_up
 from heatdata.errors import LibraryError
 from heatdata.io.files import atomic, require_file
 from heatdata.typing import StrPath
-from heatdata.views.depth import pixels_of
+from heatdata.views.depth import nearest_readings, pixels_of
 
 if TYPE_CHECKING:
     import open3d as o3d
@@ -562,24 +561,14 @@ def verify(
     pixel, inside = pixels_of(seen, intrinsics)
     if not inside.any():
         return explained, 0.0, 1.0
-    measured = _nearest_reading(depth, pixel[inside])
+    pixel = pixel[inside]
+    half = NEIGHBOURHOOD // 2  # filter only the crop round the pixels
+    u0, v0 = np.maximum(pixel.min(axis=0) - half, 0)
+    u1, v1 = pixel.max(axis=0) + half + 1
+    measured = nearest_readings(depth[v0:v1, u0:u1], NEIGHBOURHOOD)[pixel[:, 1] - v0, pixel[:, 0] - u0]
     read = np.isfinite(measured)
     in_front = float(np.mean(seen[inside][read, 2] < measured[read] - tol)) if read.any() else 0.0
     return explained, in_front, float(1.0 - read.mean())
-
-
-def _nearest_reading(depth: np.ndarray, pixel: np.ndarray) -> np.ndarray:
-    """The nearest reading within :data:`NEIGHBOURHOOD` pixels of each ``(u, v)`` (NaN where none): a point of the
-    model's outline that rounds onto the background beside the object is not in front of it."""
-    half = NEIGHBOURHOOD // 2
-    u0, v0 = np.maximum(pixel.min(axis=0) - half, 0)
-    u1, v1 = pixel.max(axis=0) + half + 1
-    crop = depth[v0:v1, u0:u1]
-    nearest = minimum_filter(
-        np.where(np.isfinite(crop), crop, np.inf), size=NEIGHBOURHOOD, mode="constant", cval=np.inf
-    )
-    values = nearest[pixel[:, 1] - v0, pixel[:, 0] - u0]
-    return np.where(np.isfinite(values), values, np.nan)
 
 
 def estimate_pose(

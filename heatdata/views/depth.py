@@ -528,3 +528,24 @@ def pixels_of(points: np.ndarray, k: dict) -> tuple[np.ndarray, np.ndarray]:
     pixel = np.zeros((len(points), 2), dtype=np.int64)
     pixel[inside] = np.stack([u[inside], v[inside]], axis=1).astype(np.int64)
     return pixel, inside
+
+
+def nearest_readings(depth: np.ndarray, size: int) -> np.ndarray:
+    """Each pixel's nearest reading within a ``size`` x ``size`` window (NaN where none): a point that projects just
+    beside an object's outline, onto the background or a pixel the sensor dropped, is compared with the object.
+
+    Parameters
+    ----------
+    depth : (h, w) float
+        z-depth, NaN where the sensor gave no reading.
+    size : int
+        The window's side, pixels (odd).
+
+    Returns
+    -------
+    (h, w) float64
+    """
+    from scipy.ndimage import minimum_filter
+
+    nearest = minimum_filter(np.where(np.isfinite(depth), depth, np.inf), size=size, mode="constant", cval=np.inf)
+    return np.where(np.isfinite(nearest), nearest, np.nan)

@@ -15,7 +15,7 @@ import heatdata as hd
 from heatdata.experiments.captures import find_captures
 from heatdata.experiments.views import capture_view_table
 from heatdata.views.clouds import fit_intrinsics
-from heatdata.views.depth import back_project, grid_faces
+from heatdata.views.depth import back_project, grid_faces, nearest_readings, pixels_of
 
 FACE = Path(pymeshlab.__file__).parent / "tests/sample_meshes/rangemaps/face000.ply"  # a real range scan
 
@@ -233,3 +233,20 @@ def test_a_folder_of_captures_is_found_with_its_colour_masks_and_cameras(rendere
         find_captures(tmp_path / "beer-mug")
     with pytest.raises(hd.ViewError, match="no such folder"):
         find_captures(tmp_path / "none")
+
+
+def test_pixels_of_rounds_the_projection_and_says_which_land_inside():
+    k = {"fx": 100.0, "fy": 100.0, "cx": 2.0, "cy": 1.0, "width": 5, "height": 3}
+    points = np.array([[0.0, 0.0, 1.0], [0.024, 0.006, 2.0], [1.0, 0.0, 1.0], [0.0, 0.0, -1.0]])
+    pixel, inside = pixels_of(points, k)
+    assert inside.tolist() == [True, True, False, False]
+    assert pixel.tolist() == [[2, 1], [3, 1], [0, 0], [0, 0]]
+
+
+def test_nearest_readings_take_the_smallest_depth_in_the_window_and_nan_where_there_is_none():
+    depth = np.full((5, 7), np.nan)
+    depth[2, 1], depth[2, 2] = 2.0, 1.5
+    nearest = nearest_readings(depth, 3)
+    assert nearest[2, 0] == 2.0 and nearest[1, 1] == 1.5 and nearest[3, 3] == 1.5
+    assert np.isnan(nearest[2, 4]) and np.isnan(nearest[0, 6])
+    assert np.array_equal(nearest_readings(np.full((4, 4), 0.7), 5), np.full((4, 4), 0.7))
