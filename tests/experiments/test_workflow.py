@@ -49,14 +49,30 @@ def tiny_config(**overrides):
     return config
 
 
-def snakemake(workdir: Path, config: dict, *args: str) -> subprocess.CompletedProcess:
-    (workdir / "config").mkdir(parents=True, exist_ok=True)
-    (workdir / "config" / "config.yaml").write_text(yaml.safe_dump(config))
+def run_snakemake(directory: Path, *args: str) -> subprocess.CompletedProcess:
+    """The repository's workflow run in ``directory`` on 2 cores, its output captured as text."""
     return subprocess.run(
-        [str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(workdir), "--cores", "2", *args],
+        [str(SNAKEMAKE), "-s", str(SNAKEFILE), "--directory", str(directory), "--cores", "2", *args],
         capture_output=True,
         text=True,
         timeout=900,
+    )
+
+
+def snakemake(workdir: Path, config: dict, *args: str) -> subprocess.CompletedProcess:
+    """:func:`run_snakemake` in ``workdir`` with ``config`` as its config file."""
+    (workdir / "config").mkdir(parents=True, exist_ok=True)
+    (workdir / "config" / "config.yaml").write_text(yaml.safe_dump(config))
+    return run_snakemake(workdir, *args)
+
+
+def run_script(script: str, *args, **options) -> subprocess.CompletedProcess:
+    """``scripts/<script>`` run by the suite's Python, its output captured as text (within 300 s unless told)."""
+    return subprocess.run(
+        [sys.executable, ROOT / "scripts" / script, *args],
+        capture_output=True,
+        text=True,
+        **{"timeout": 300, **options},
     )
 
 
@@ -218,23 +234,17 @@ def test_the_protocol_and_time_scale_scripts_read_a_run_s_table(tiny_run, tmp_pa
     """scripts/protocols.py and scripts/ft_time_scales.py (issue 17) on the tiny run's descriptor table."""
     table = tiny_run / "results/descriptors.parquet"
     out = tmp_path / "protocols.csv"
-    result = subprocess.run(
-        [
-            sys.executable,
-            ROOT / "scripts/protocols.py",
-            table,
-            "--descriptor",
-            "pvhk/polar/center/32",
-            "ft-pvhk/polar/center/32",
-            "--sizes",
-            "6",
-            "3",
-            "--out",
-            out,
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
+    result = run_script(
+        "protocols.py",
+        table,
+        "--descriptor",
+        "pvhk/polar/center/32",
+        "ft-pvhk/polar/center/32",
+        "--sizes",
+        "6",
+        "3",
+        "--out",
+        out,
     )
     assert result.returncode == 0, result.stderr[-2000:]
     protocols = pd.read_csv(out).set_index(["descriptor", "protocol", "library_size"])
@@ -243,22 +253,7 @@ def test_the_protocol_and_time_scale_scripts_read_a_run_s_table(tiny_run, tmp_pa
     assert protocols.loc[("pvhk/polar/center/32", "thesis", 6), "precision"] == 1.0
     assert protocols.loc[("ft-pvhk/polar/center/32", "thesis", 6), "precision"] == 1.0
     out = tmp_path / "time_scales.csv"
-    result = subprocess.run(
-        [
-            sys.executable,
-            ROOT / "scripts/ft_time_scales.py",
-            table,
-            "ft-pvhk/polar/center/32",
-            "--sizes",
-            "8",
-            "4",
-            "--out",
-            out,
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
+    result = run_script("ft_time_scales.py", table, "ft-pvhk/polar/center/32", "--sizes", "8", "4", "--out", out)
     assert result.returncode == 0, result.stderr[-2000:]
     scales = pd.read_csv(out)
     assert len(scales) == 16 and set(scales["rule"]) == {"nearest", "normalized", "plausible", "known"}
@@ -278,28 +273,22 @@ def test_the_protocol_and_time_scale_scripts_read_a_run_s_table(tiny_run, tmp_pa
 def test_the_value_scale_script_reads_a_run_s_table(tiny_run, tmp_path):
     """scripts/value_scales.py (issue 17): x1 is the workflow's MHD; a log scale for the PVST's times."""
     table, out = tiny_run / "results/descriptors.parquet", tmp_path / "scales.csv"
-    result = subprocess.run(
-        [
-            sys.executable,
-            ROOT / "scripts/value_scales.py",
-            table,
-            "--descriptor",
-            "pvhk/polar/center/32",
-            "pvst/polar/center/32/T0.75",
-            "--transform",
-            "x1",
-            "x0.1",
-            "log10x0.3",
-            "--sizes",
-            "8",
-            "4",
-            "--leave-one-out",
-            "--out",
-            out,
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
+    result = run_script(
+        "value_scales.py",
+        table,
+        "--descriptor",
+        "pvhk/polar/center/32",
+        "pvst/polar/center/32/T0.75",
+        "--transform",
+        "x1",
+        "x0.1",
+        "log10x0.3",
+        "--sizes",
+        "8",
+        "4",
+        "--leave-one-out",
+        "--out",
+        out,
     )
     assert result.returncode == 0, result.stderr[-2000:]
     scales = pd.read_csv(out)
@@ -315,20 +304,7 @@ def test_the_value_scale_script_reads_a_run_s_table(tiny_run, tmp_path):
     assert np.allclose(
         thesis.set_index("library_size").loc[[8, 4], "precision"], workflow.loc[[8, 4], "precision"], atol=1e-4
     )
-    result = subprocess.run(
-        [
-            sys.executable,
-            ROOT / "scripts/value_scales.py",
-            table,
-            "--descriptor",
-            "pvhk/polar/center/32",
-            "--transform",
-            "sqrt",
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
+    result = run_script("value_scales.py", table, "--descriptor", "pvhk/polar/center/32", "--transform", "sqrt")
     assert result.returncode != 0 and "unknown transform 'sqrt'" in result.stderr
 
 
@@ -336,27 +312,22 @@ def test_the_value_scale_script_reads_a_run_s_table(tiny_run, tmp_path):
 def test_the_complex_ablation_script_reads_a_run_s_views(tiny_run, tmp_path):
     """scripts/complex_ablation.py (issue 28): its PVHK and ESF rows are the workflow's precision on the same views."""
     out = tmp_path / "steps.csv"
-    result = subprocess.run(
-        [
-            sys.executable,
-            ROOT / "scripts/complex_ablation.py",
-            tiny_run / "results",
-            "--test-every",
-            "1",
-            "--sizes",
-            "8",
-            "4",
-            "--samples",
-            "32",
-            "--triplets",
-            "2000",
-            "--jobs",
-            "1",
-            "--out",
-            out,
-        ],
-        capture_output=True,
-        text=True,
+    result = run_script(
+        "complex_ablation.py",
+        tiny_run / "results",
+        "--test-every",
+        "1",
+        "--sizes",
+        "8",
+        "4",
+        "--samples",
+        "32",
+        "--triplets",
+        "2000",
+        "--jobs",
+        "1",
+        "--out",
+        out,
         timeout=600,
     )
     assert result.returncode == 0, result.stderr[-2000:]
@@ -374,19 +345,9 @@ def test_the_complex_ablation_script_reads_a_run_s_views(tiny_run, tmp_path):
         theirs = 100 * workflow[workflow["descriptor"] == descriptor].set_index("library_size")["precision"]
         assert np.allclose(mine.loc[[8, 4]], theirs.loc[[8, 4]], atol=0.051), (variant, mine, theirs)
     figure = tmp_path / "steps.png"
-    drawn = subprocess.run(
-        [sys.executable, ROOT / "scripts/complex_ablation.py", "--plot", out, out, "--figure", figure],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
+    drawn = run_script("complex_ablation.py", "--plot", out, out, "--figure", figure)
     assert drawn.returncode == 0 and figure.stat().st_size > 10_000, drawn.stderr[-2000:]
-    empty = subprocess.run(
-        [sys.executable, ROOT / "scripts/complex_ablation.py", tmp_path, "--out", out],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
+    empty = run_script("complex_ablation.py", tmp_path, "--out", out)
     assert empty.returncode != 0 and "no views in" in empty.stderr
 
 
@@ -395,23 +356,7 @@ def test_the_combination_script_scores_kinds_alone_as_the_workflow_does(tiny_run
     """scripts/combine_kinds.py (issue 28): each kind alone is the workflow's precision; weights from the library."""
     table, out = tiny_run / "results/descriptors.parquet", tmp_path / "combined.csv"
     names = ["pvhk/polar/center/32", "esf/triplets=2000"]
-    result = subprocess.run(
-        [
-            sys.executable,
-            ROOT / "scripts/combine_kinds.py",
-            table,
-            "--descriptor",
-            *names,
-            "--sizes",
-            "8",
-            "4",
-            "--out",
-            out,
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
+    result = run_script("combine_kinds.py", table, "--descriptor", *names, "--sizes", "8", "4", "--out", out)
     assert result.returncode == 0, result.stderr[-2000:]
     combined = pd.read_csv(out)
     assert set(combined["method"]) == {*names, "sum", "learned", "rank"} and combined["test_views"].eq(12).all()
@@ -424,21 +369,7 @@ def test_the_combination_script_scores_kinds_alone_as_the_workflow_does(tiny_run
         mine = combined[combined["method"] == name].set_index("library_size")["precision"]
         theirs = workflow[workflow["descriptor"] == name].set_index("library_size")["precision"]
         assert np.allclose(mine.loc[[8, 4]], theirs.loc[[8, 4]])
-    refused = subprocess.run(
-        [
-            sys.executable,
-            ROOT / "scripts/combine_kinds.py",
-            table,
-            "--descriptor",
-            names[0],
-            "ft-pvhk/polar/center/32",
-            "--out",
-            out,
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
+    refused = run_script("combine_kinds.py", table, "--descriptor", names[0], "ft-pvhk/polar/center/32", "--out", out)
     assert refused.returncode != 0 and "time-scaled" in refused.stderr
 
 
@@ -453,21 +384,7 @@ def test_kinds_combined_are_fitted_on_the_library_views_and_classified_like_any_
 def test_colour_share_splits_the_hgd_colour_option_into_its_parts(tiny_run, tmp_path):
     """scripts/color_share.py (issue 28): the HGD and ESF alone are the workflow's precision."""
     out = tmp_path / "share.csv"
-    result = subprocess.run(
-        [
-            sys.executable,
-            ROOT / "scripts/color_share.py",
-            tiny_run / "results/descriptors.parquet",
-            "--sizes",
-            "8",
-            "4",
-            "--out",
-            out,
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
+    result = run_script("color_share.py", tiny_run / "results/descriptors.parquet", "--sizes", "8", "4", "--out", out)
     assert result.returncode == 0, result.stderr[-2000:]
     share = pd.read_csv(out).set_index(["variant", "library_size"])["precision"]
     assert set(share.index.get_level_values(0)) == {"colour alone", "ESF", "HGD", "ESF + colour", "HGD + colour"}
@@ -700,24 +617,8 @@ def test_config_readme_describes_every_key_and_file():
 
 @pytest.mark.slow
 def test_the_twins_config_plans_22_objects(tmp_path):
-    result = subprocess.run(
-        [
-            str(SNAKEMAKE),
-            "-s",
-            str(SNAKEFILE),
-            "--directory",
-            str(ROOT),
-            "--cores",
-            "2",
-            "--configfile",
-            "config/experiments/twins.yaml",
-            "--config",
-            f"results={tmp_path}/twins",
-            "--dry-run",
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
+    result = run_snakemake(
+        ROOT, "--configfile", "config/experiments/twins.yaml", "--config", f"results={tmp_path}/twins", "--dry-run"
     )
     assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
     assert re.search(r"render +22\b", result.stdout) and re.search(r"classify +48\b", result.stdout)
@@ -726,24 +627,8 @@ def test_the_twins_config_plans_22_objects(tmp_path):
 
 @pytest.mark.slow
 def test_smoke_config_plans_a_small_run(tmp_path):
-    result = subprocess.run(
-        [
-            str(SNAKEMAKE),
-            "-s",
-            str(SNAKEFILE),
-            "--directory",
-            str(ROOT),
-            "--cores",
-            "2",
-            "--configfile",
-            "config/experiments/smoke.yaml",
-            "--config",
-            f"results={tmp_path}/smoke",
-            "--dry-run",
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
+    result = run_snakemake(
+        ROOT, "--configfile", "config/experiments/smoke.yaml", "--config", f"results={tmp_path}/smoke", "--dry-run"
     )
     assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
     assert f"{tmp_path}/smoke/summary.md" in result.stdout
@@ -878,20 +763,7 @@ def test_colour_twins_join_the_run_and_only_colour_tells_them_apart(tmp_path):
     precision = pair.groupby("descriptor")["correct"].mean()
     assert precision[DescriptorSpec(**colour).name] > precision[DescriptorSpec(**shape).name]
     out, picture = tmp_path / "twins.csv", tmp_path / "twins.png"
-    subprocess.run(
-        [
-            sys.executable,
-            str(ROOT / "scripts" / "color_twins.py"),
-            str(results),
-            "--out",
-            str(out),
-            "--figure",
-            str(picture),
-        ],
-        check=True,
-        capture_output=True,
-        cwd=ROOT,
-    )
+    run_script("color_twins.py", str(results), "--out", str(out), "--figure", str(picture), check=True, cwd=ROOT)
     table = pd.read_csv(out).set_index("descriptor")
     assert table.loc[list(precision.index), "pairs"].round(4).tolist() == precision.round(4).tolist()
     assert picture.stat().st_size > 10_000
