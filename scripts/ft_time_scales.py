@@ -29,6 +29,7 @@ import numpy as np
 import pandas as pd
 
 from heatdata.descriptors import kind_of
+from heatdata.experiments.publish import print_precision
 from heatdata.io.tables import iter_table, read_table
 from heatdata.log import setup_logging
 from heatdata.recognition.evaluate import library_subset
@@ -123,13 +124,7 @@ def main() -> None:
                 flush=True,
             )
     table = pd.DataFrame(results)
-    print(
-        table.pivot_table(index=["weights", "rule"], columns="library_size", values="precision")
-        .map(lambda p: f"{p:.1%}")
-        .to_string()
-    )
-    if args.out:
-        table.to_csv(args.out, index=False)
+    print_precision(table, ["weights", "rule"], args.out)
 
 
 if __name__ == "__main__":

@@ -15,6 +15,7 @@ import time
 import pandas as pd
 import pyarrow.parquet as pq
 
+from heatdata.experiments.publish import print_precision
 from heatdata.log import setup_logging
 from heatdata.recognition.evaluate import evaluate_table
 
@@ -49,13 +50,7 @@ def main() -> None:
                 )
             print(f"{name} {protocol}: {time.perf_counter() - start:.0f} s", flush=True)
     table = pd.DataFrame(rows)
-    print(
-        table.pivot_table(index=["descriptor", "protocol"], columns="library_size", values="precision")
-        .map(lambda p: f"{p:.1%}")
-        .to_string()
-    )
-    if args.out:
-        table.to_csv(args.out, index=False)
+    print_precision(table, ["descriptor", "protocol"], args.out)
 
 
 if __name__ == "__main__":

@@ -29,6 +29,7 @@ import pandas as pd
 from heatdata.core.distances import mhd_matrix
 from heatdata.descriptors import kind_of
 from heatdata.errors import HeatdataError
+from heatdata.experiments.publish import print_precision
 from heatdata.io.tables import read_table
 from heatdata.log import setup_logging
 from heatdata.recognition.evaluate import CLASSIFY_COLUMNS, TIME_SCALED_COLUMNS, evaluate_library_sizes
@@ -105,13 +106,7 @@ def main() -> None:
                 )
             print(f"{name} {transform}: {time.perf_counter() - start:.0f} s", flush=True)
     table = pd.DataFrame(rows)
-    print(
-        table.pivot_table(index=["descriptor", "transform"], columns="library_size", values="precision", sort=False)
-        .map(lambda p: f"{p:.1%}")
-        .to_string()
-    )
-    if args.out:
-        table.to_csv(args.out, index=False)
+    print_precision(table, ["descriptor", "transform"], args.out, sort=False)
 
 
 if __name__ == "__main__":

@@ -129,6 +129,26 @@ def write_csv(table: pd.DataFrame, path: str | Path) -> None:
         table.to_csv(temporary, index=False)
 
 
+def print_precision(table: pd.DataFrame, index: list[str], out: str | Path | None = None, *, sort: bool = True) -> None:
+    """The ending of an analysis script: ``table``'s precision printed by ``index`` (rows) and library size
+    (columns) as percentages, and the table written whole to ``out`` when given.
+
+    Parameters
+    ----------
+    table : DataFrame
+        Columns ``index``, ``library_size`` and ``precision`` (a share), one row each.
+    index : list of str
+    out : path, optional
+        The CSV to write.
+    sort : bool
+        Sort the rows (False: in the order the table has them).
+    """
+    pivot = table.pivot_table(index=index, columns="library_size", values="precision", sort=sort)
+    print(pivot.map(lambda p: f"{p:.1%}").to_string())
+    if out:
+        write_csv(table, out)
+
+
 def copy(source: str | Path, destination: str | Path) -> None:
     """A run's file published as it is (written whole, then renamed)."""
     with atomic(destination) as temporary:

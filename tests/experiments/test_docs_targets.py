@@ -217,3 +217,23 @@ def test_the_targets_table_is_checked_by_its_schema(tmp_path):
         docs_targets.targets([], "results", path)
     poses = TARGETS["docs_poses"]  # the placeholder is the default descriptor's library, as recognize reads it
     assert f"results/libraries/{docs_targets.DEFAULT_LIBRARY}" in poses.inputs and "{default" not in str(TARGETS)
+
+
+def test_an_analysis_script_s_precision_is_printed_by_library_size_and_written_whole(tmp_path, capsys):
+    table = pd.DataFrame(
+        {
+            "descriptor": ["b", "b", "a", "a"],
+            "library_size": [12, 4, 12, 4],
+            "precision": [0.5, 0.25, 1.0, 0.875],
+            "test_views": [8, 8, 8, 8],
+        }
+    )
+    out = tmp_path / "precision.csv"
+    publish.print_precision(table, ["descriptor"], out, sort=False)
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0].split() == ["library_size", "12", "4"]  # the table's order
+    assert printed[-2].split() == ["b", "50.0%", "25.0%"] and printed[-1].split() == ["a", "100.0%", "87.5%"]
+    assert pd.read_csv(out).equals(table)
+    publish.print_precision(table, ["descriptor"])
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0].split() == ["library_size", "4", "12"] and printed[-2].split() == ["a", "87.5%", "100.0%"]
