@@ -3,7 +3,7 @@ leaves outside its scope, as PCL's ``3d_rec_framework`` global pipeline does it)
 
 :func:`segment_frame` reads a depth frame (and its colour) the way a tabletop pipeline does:
 
-1. **planes**: up to :data:`MAX_PLANES` planes by RANSAC (open3d's ``segment_plane``, seeded, then refit by least
+1. **planes**: up to :data:`MAX_PLANES` planes by RANSAC (open3d's ``segment_plane``, seeded, every sample drawn, then refit by least
    squares to its inliers, so that a frame is segmented the same every time), each holding at
    least ``plane_share`` of the readings; a **support plane** spans at least ``plane_size`` metres and has (almost)
    nothing hanging below its edges (an object's own face has: a box's top its sides, a chair's seat its legs). Of
@@ -411,7 +411,7 @@ def _support_plane(
         if free.sum() < 3:
             break
         remaining = np.flatnonzero(free)
-        model, _ = cloud.select_by_index(remaining).segment_plane(settings.plane_distance, 3, 500)
+        model, _ = cloud.select_by_index(remaining).segment_plane(settings.plane_distance, 3, 500, probability=1.0)
         plane, chosen = _refined(sampled[remaining], model, settings.plane_distance)
         if len(chosen) < settings.plane_share * len(sampled):
             break
@@ -513,7 +513,10 @@ def _refined(points: np.ndarray, model, distance: float) -> tuple[np.ndarray, np
 
     open3d's ``segment_plane`` runs in parallel threads and, seeded or not, does not return the same plane twice
     (its issue #7270); planes a little apart have nearly the same inliers, whose least-squares plane is the same, so
-    the frame's segmentation no longer changes from one run to the next.
+    the frame's segmentation no longer changes from one run to the next. Its early stop (``probability`` < 1) ends
+    the threads' search after a number of samples that depends on their timing: on a busy machine a table's plane
+    then came out another way in 3 of 6 runs and moved an object's segment, so the callers pass
+    ``probability=1.0`` and every sample is drawn.
     """
     plane = np.asarray(model, np.float64) / np.linalg.norm(np.asarray(model, np.float64)[:3])
     inliers = np.flatnonzero(np.abs(points @ plane[:3] + plane[3]) < distance)
@@ -641,7 +644,8 @@ def _segment(
     if _diameter(cloud, plane) > settings.plane_size and not isolated:
         o3d.utility.random.seed(settings.seed)
         tolerance = settings.plane_distance * float(np.median(depth_scale(cloud)))
-        model, _ = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(cloud)).segment_plane(tolerance, 3, 200)
+        flat = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(cloud))
+        model, _ = flat.segment_plane(tolerance, 3, 200, probability=1.0)
         if len(_refined(cloud, model, tolerance)[1]) >= FLAT_SHARE * len(cloud):
             return None
     notes = []

@@ -1,6 +1,9 @@
 """Scene segmentation: the support plane by RANSAC, the objects on it by DBSCAN, one view each, and what a user
 is told about frames that are not a table with objects on it."""
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 import trimesh
@@ -161,11 +164,26 @@ def test_a_table_seen_from_straight_above_is_still_the_support():
     assert len(found.segments) == 2
 
 
-def test_a_frame_is_segmented_the_same_every_time():
-    # open3d's RANSAC runs in threads and returns a plane a little apart each time; the refit plane is the same
-    frame = table_scene([(BOX, -0.2, 0.05, 20.0), (CAN, 0.15, -0.1, 0.0)], distance=1.3)
-    first = segment_frame(frame.depth, frame.intrinsics, frame.rgb)
-    for _ in range(8):
-        again = segment_frame(frame.depth, frame.intrinsics, frame.rgb)
-        assert np.array_equal(again.plane, first.plane)
-        assert [s.pixels for s in again.segments] == [s.pixels for s in first.segments]
+def test_a_frame_is_segmented_the_same_every_time_even_on_a_busy_machine(catalog):
+    # open3d's RANSAC runs in threads and returns a plane a little apart each time (the refit plane is the same), and
+    # its early stop depended on their timing: with both cores busy, the flipped beer mug's table (a frame of the
+    # JASNOM experiment) came out another way in 3 of 6 runs
+    from heatdata.experiments.scenes import render_flipped_pair
+
+    mug = hd.load_catalog_model(catalog[catalog["object"] == "beer-mug"].iloc[0])
+    frames = [
+        table_scene([(BOX, -0.2, 0.05, 20.0), (CAN, 0.15, -0.1, 0.0)], distance=1.3),
+        render_flipped_pair(mug, elevation=38.2, yaw=262.6, flip_axis=0.87, seed=1)[1],
+    ]
+    first = [segment_frame(f.depth, f.intrinsics, f.rgb) for f in frames]
+    busy = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(2)]
+    try:
+        for _ in range(4):
+            for frame, before in zip(frames, first):
+                again = segment_frame(frame.depth, frame.intrinsics, frame.rgb)
+                assert np.array_equal(again.plane, before.plane)
+                assert [s.pixels for s in again.segments] == [s.pixels for s in before.segments]
+    finally:
+        for process in busy:
+            process.kill()
+            process.wait()
