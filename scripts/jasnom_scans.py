@@ -29,12 +29,19 @@ rendered through the Kinect's sensor profile from a camera 20-50 deg above the t
 (:func:`heatdata.experiments.scenes.render_flipped_pair`; every draw seeded), segmented
 (:func:`heatdata.jasnom.table.table_scan`) and stitched with the tables as witnesses
 (:func:`heatdata.jasnom.seam.stitch_scans`), no motion given; the FPFH + RANSAC baseline on the same segments. The
-translation error is split along the table's normal, the camera ray's horizontal part and across it.
+translation error is split along the table's normal, the camera ray's horizontal part and across it. The flipped
+scan moved by JASNOM's motion (and by the baseline's) is also measured by its mean distance from its surface moved
+by the true one (ADD-S, as the BOP benchmark scores symmetric objects): a turn about a symmetry axis costs only
+where it carries the scan past its own edge. Both stitches (at JASNOM's motion and at the true
+one) are measured against the original and recognized as above, against libraries of the originals of PVHK and of
+the default descriptor (``--precision-out``: one column per descriptor and source). ``--table-tried-out`` aligns
+every pair with each setting of :data:`TABLE_TRIED` too.
 
 Rendered views, not real sensor data.
 
     .venv/bin/python scripts/jasnom_scans.py [--azimuth 0] [--elevation 45] [--out docs/results/jasnom_scans.csv] \
-        [--precision-out docs/results/jasnom_scans_precision.csv] [--table-out docs/results/jasnom_table.csv]
+        [--precision-out docs/results/jasnom_scans_precision.csv] [--table-out docs/results/jasnom_table.csv] \
+        [--table-tried-out docs/results/jasnom_table_tried.csv]
 """
 
 from __future__ import annotations
@@ -48,8 +55,9 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 from heatdata.core.mesh import surface_distances
-from heatdata.descriptors import DescriptorSpec, describe
+from heatdata.descriptors import DEFAULT_DESCRIPTOR, DescriptorSpec, describe
 from heatdata.errors import HeatdataError
+from heatdata.experiments.scenes import object_pose, render_flipped_pair
 from heatdata.experiments.views import render_views, view_plan
 from heatdata.io.catalog import embedded_catalog, load_catalog_model, read_catalog
 from heatdata.io.models import Model, transformed
@@ -57,7 +65,8 @@ from heatdata.jasnom.align import align, alignment_at
 from heatdata.jasnom.boundary import boundaries
 from heatdata.jasnom.cost import ScanSurface
 from heatdata.jasnom.defaults import SCAN_ALONG, SCAN_ROBUST
-from heatdata.jasnom.seam import stitch
+from heatdata.jasnom.seam import stitch, stitch_scans
+from heatdata.jasnom.table import TableContact, table_scan
 from heatdata.log import progress
 from heatdata.recognition.nearest import nearest_neighbors
 from heatdata.reporting.figures.jasnom import plot_stitch
@@ -104,11 +113,18 @@ def main() -> None:
     parser.add_argument("--figure-object", default="yogurt-bottle")
     parser.add_argument("--tried-out", help="also align every pair with each setting of TRIED; write the table here")
     parser.add_argument("--table-out", help="scan each object standing and flipped on a table instead; write here")
+    parser.add_argument("--table-tried-out", help="with --table-out: align every pair with each of TABLE_TRIED too")
     args = parser.parse_args()
     begin = time.perf_counter()
     if args.table_out:
-        table = on_table(args.samples)
+        table, precision, tried = on_table(args.samples, args.library, args.test, bool(args.table_tried_out))
         table.round(6).to_csv(args.table_out, index=False)
+        if args.precision_out:
+            precision.round(6).to_csv(args.precision_out)
+        if args.table_tried_out:
+            summary = summarize_tried(tried)
+            print(summary.to_string())
+            summary.to_csv(args.table_tried_out)
         print(f"{time.perf_counter() - begin:.0f} s in all")
         return
     catalog = read_catalog(embedded_catalog())
@@ -123,8 +139,9 @@ def main() -> None:
         truth = np.linalg.inv(standing.pose) @ flipped.pose  # the flipped camera's frame in the standing one's
         first, second = view_model(standing, f"{obj}/standing", obj), view_model(flipped, f"{obj}/flipped", obj)
         mine = plan[plan["object"] == obj]
-        library += [(obj, d) for d in describe_views(model, mine[mine["split"] == "train"])]
-        queries += [("original", obj, d) for d in describe_views(model, mine[mine["split"] == "test"])]
+        train, test = mine[mine["split"] == "train"], mine[mine["split"] == "test"]
+        library += [(obj, d) for d in described(model, train, {"pvhk": SPEC})["pvhk"]]
+        queries += [("original", obj, d) for d in described(model, test, {"pvhk": SPEC})["pvhk"]]
         try:
             loops1, loops2 = boundaries(first), boundaries(second)
             found = stitch(first, second, scans=True, samples=args.samples).alignment
@@ -178,7 +195,7 @@ def main() -> None:
             joined = transformed(stitched.model, to_world[:3, :3], to_world[:3, 3])
             result.update(stitched_row(joined, model, size, prefix))
             try:
-                queries += [(prefix, obj, d) for d in describe_views(joined, mine[mine["split"] == "test"])]
+                queries += [(prefix, obj, d) for d in described(joined, test, {"pvhk": SPEC})["pvhk"]]
             except HeatdataError as error:
                 result[f"{prefix}_error"] = f"rendering: {error}"
         rows.append(result)
@@ -238,16 +255,37 @@ TRIED = {
 }
 """The JASNOM settings ``--tried-out`` measures on every pair (issue 29: what was tried for opposite scans)."""
 
+TABLE_TRIED = {
+    "the tables as witnesses (the defaults: table 10, along 0.1, robust 0.05)": {"scans": True, "contact": True},
+    "no table: the isolated scans' JASNOM on the same segments": {"scans": True},
+    "the tables' seeds, no table term (table 0)": {"scans": True, "contact": True, "table": 0.0},
+    "a stiffer table (table 100)": {"scans": True, "contact": True, "table": 100.0},
+    "along 0": {"scans": True, "contact": True, "along": 0.0},
+    "along 1 (the cut models')": {"scans": True, "contact": True, "along": 1.0},
+    "beta 0 (no interpenetration term)": {"scans": True, "contact": True, "beta": 0.0},
+}
+"""The settings ``--table-tried-out`` measures on every pair on a table (what was tried with the tables)."""
+
 
 def setting_row(
-    name: str, settings: dict, first: Model, second: Model, truth: np.ndarray, size: float, samples: int
+    name: str,
+    settings: dict,
+    first: Model,
+    second: Model,
+    truth: np.ndarray,
+    size: float,
+    samples: int,
+    contact: TableContact | None = None,
 ) -> dict:
-    """One JASNOM setting on one scan pair: errors as in the main table, and J at the truth against J found."""
+    """One JASNOM setting on one scan pair: errors as in the main table, and J at the truth against J found (with
+    the tables' term where the setting names ``contact`` and ``contact`` is given)."""
     settings = dict(settings)
     loops = settings.pop("loops", None)
     scans = settings.pop("scans", False)
     constraint = settings.pop("constraint", True)
     weights = {"along": SCAN_ALONG if scans else 1.0, "robust": SCAN_ROBUST if scans else 0.0, **settings}
+    if weights.pop("contact", False):
+        weights["contact"] = contact
     loops1, loops2 = boundaries(first)[:loops], boundaries(second)[:loops]
     surfaces = (ScanSurface.of(first), ScanSurface.of(second)) if scans else None
     try:
@@ -328,32 +366,45 @@ def fpfh_ransac(first: Model, second: Model, size: float) -> tuple[np.ndarray, n
     return np.asarray(found.transformation[:3, :3]), np.asarray(found.transformation[:3, 3])
 
 
-def on_table(samples: int) -> pd.DataFrame:
+def on_table(
+    samples: int, library_views: int, test_views: int, tried: bool = False
+) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame]:
     """Every embedded object scanned standing, then flipped, on a table and stitched (module docstring): errors of
-    JASNOM with the tables and of the FPFH baseline, J and T at the truth and found, the runner-up."""
-    from heatdata.experiments.scenes import render_flipped_pair
-    from heatdata.jasnom.seam import stitch_scans
-    from heatdata.jasnom.table import TableContact, table_scan
-
+    JASNOM with the tables and of the FPFH baseline, J and T at the truth and found, the runner-up; the stitches at
+    the true motion and at JASNOM's, against the original; the precision of each's views (:func:`recognition`,
+    one column per descriptor and source); and, with ``tried``, one row per pair and setting of
+    :data:`TABLE_TRIED` (:func:`setting_row`)."""
     catalog = read_catalog(embedded_catalog())
+    plan = view_plan(list(catalog["object"]), n_train=library_views, n_test=test_views)
+    specs = {"pvhk": SPEC, "default": DEFAULT_DESCRIPTOR}
+    library: dict[str, list] = {name: [] for name in specs}
+    queries: dict[str, list] = {name: [] for name in specs}
     rng = np.random.default_rng(0)
-    rows = []
+    rows, tried_rows = [], []
     for _, row in progress(list(catalog.iterrows()), desc="objects on a table", unit="object"):
         obj = row["object"]
         model = load_catalog_model(row)
         size = float(np.linalg.norm(model.extents))
         elevation, yaw, off = rng.uniform(20.0, 50.0), rng.uniform(0.0, 360.0), rng.uniform(-10.0, 10.0)
         standing, flipped, truth = render_flipped_pair(model, elevation=elevation, yaw=yaw, flip_axis=off, seed=1)
+        mine = plan[plan["object"] == obj]
+        for split, source in (("train", None), ("test", "original")):
+            for name, found_views in described(model, mine[mine["split"] == split], specs).items():
+                if source is None:
+                    library[name] += [(obj, d) for d in found_views]
+                else:
+                    queries[name] += [(source, obj, d) for d in found_views]
         result: dict = {"object": obj, "size": size, "elevation": elevation, "flip_off": off, "error": ""}
         try:
             first, second = (table_scan(f.depth, f.intrinsics, f.rgb, name=f"{obj}/{n}")
                              for f, n in ((standing, "standing"), (flipped, "flipped")))  # fmt: skip
             began = time.perf_counter()
-            found = stitch_scans(first, second, samples=samples).alignment
+            stitched = stitch_scans(first, second, samples=samples, name=f"{obj}+jasnom")
             result["seconds"] = time.perf_counter() - began
         except HeatdataError as error:
             rows.append({**result, "error": str(error)})
             continue
+        found = stitched.alignment
         contact = TableContact.of_scans(first, second)
         at_truth = alignment_at(boundaries(first.model), boundaries(second.model), truth[:3, :3], truth[:3, 3],
                                 along=SCAN_ALONG, robust=SCAN_ROBUST, samples=samples, contact=contact)  # fmt: skip
@@ -370,17 +421,40 @@ def on_table(samples: int) -> pd.DataFrame:
         normal = first.plane[:3]
         ray = at - (at @ normal) * normal
         ray /= np.linalg.norm(ray)
+        where = (second.model.vertices @ truth[:3, :3].T + truth[:3, 3], second.model.faces)
         for prefix, motion in (
             ("jasnom", (found.rotation, found.translation)),
             ("fpfh", fpfh_ransac(first.model, second.model, size)),
         ):
+            moved = (second.model.vertices @ motion[0].T + motion[1], second.model.faces)
+            result[f"{prefix}_scan_distance"] = float(surface_distances(moved, where)[0].mean()) / size
             error = motion[0] @ centre + motion[1] - at
             result[f"{prefix}_rotation_error_deg"] = rotation_error(motion[0], truth[:3, :3])
             result[f"{prefix}_translation_error"] = float(np.linalg.norm(error)) / size
             for axis, direction in (("normal", normal), ("ray", ray), ("across", np.cross(normal, ray))):
                 result[f"{prefix}_{axis}_error"] = float(error @ direction) / size
+        to_model = np.linalg.inv(object_pose(model, 0.0, 0.0, yaw)) @ standing.camera  # standing camera -> model
+        for prefix, motion in (("jasnom", None), ("registered", truth)):  # registered: the true motion given
+            try:
+                made = (
+                    stitched if motion is None else stitch_scans(first, second, motion=motion, name=f"{obj}+{prefix}")
+                )
+                joined = transformed(made.model, to_model[:3, :3], to_model[:3, 3])
+                result.update(stitched_row(joined, model, size, prefix))
+                for name, found_views in described(joined, mine[mine["split"] == "test"], specs).items():
+                    queries[name] += [(prefix, obj, d) for d in found_views]
+            except HeatdataError as error:
+                result[f"{prefix}_error"] = str(error)
         rows.append(result)
+        if tried:
+            tried_rows += [
+                {"object": obj, **setting_row(name, settings, first.model, second.model, truth, size, samples, contact)}
+                for name, settings in TABLE_TRIED.items()
+            ]
     table = pd.DataFrame(rows)
+    precision = pd.concat(
+        {name: recognition(library[name], queries[name]) for name in specs}, axis=1, names=["descriptor", "source"]
+    )
     ok = table[table["error"] == ""]
     print(table.drop(columns=["error"]).round(3).to_string(index=False))
     for prefix in ("jasnom", "fpfh"):
@@ -394,11 +468,27 @@ def on_table(samples: int) -> pd.DataFrame:
             + " of the size"
         )
     print(f"J at the truth at or below J found in {(ok['cost_at_truth'] <= ok['cost_found']).sum()} of {len(ok)}")
-    return table
+    for prefix in ("jasnom", "fpfh"):
+        distance = ok[f"{prefix}_scan_distance"]
+        print(
+            f"{prefix}: the moved flipped scan's mean distance from where it truly is {distance.median():.2%} of the "
+            f"size (median), within 1% in {(distance <= 0.01).sum()} of {len(ok)}"
+        )
+    for prefix in ("registered", "jasnom"):
+        done = ok.dropna(subset=[f"{prefix}_watertight"])
+        print(
+            f"{prefix}: {len(done)} of {len(ok)} stitched, watertight {done[f'{prefix}_watertight'].mean():.1%}, "
+            f"median mean distance {done[f'{prefix}_mean_distance'].median():.2%}, median Hausdorff "
+            f"{done[f'{prefix}_hausdorff'].median():.1%} of the size"
+        )
+    print(precision.round(3).to_string())
+    return table, precision, pd.DataFrame(tried_rows)
 
 
-def describe_views(model: Model, plan: pd.DataFrame) -> list:
-    return [describe(view, [SPEC])[0] for view in render_views(model, plan)]
+def described(model: Model, plan: pd.DataFrame, specs: dict) -> dict[str, list]:
+    """Each named descriptor of each of ``plan``'s views of ``model``."""
+    views = [describe(view, list(specs.values())) for view in render_views(model, plan)]
+    return {name: [found[i] for found in views] for i, name in enumerate(specs)}
 
 
 def recognition(library: list, queries: list) -> pd.DataFrame:

@@ -61,6 +61,14 @@ steps while J decreases). The best is kept; the best *different* refined pose (m
 ambiguous (:attr:`Alignment.ambiguous`): a symmetric boundary, such as a circle, fits as
 well at other turns.
 
+**Scans on a table** (7.5's acquisition, :mod:`heatdata.jasnom.table`). With the two frames'
+table planes, J gains the support-plane term T (scan 2's bottom touches table 1 and scan
+1's top the moved table 2; no point below either; no point in front of what the other
+camera measured), and the search a second family of candidates: the 72 half-turns that
+put table 2 onto table 1 upside down, each slid along the table onto the other boundary.
+Every candidate of either family is set on the table first, and the best ``refine`` of
+each family are refined, so that T cannot push the boundary family's near-truth pose out.
+
 **The stitch** (7.4). At the motion, each vertex of B2 is assigned its nearest vertex of
 B1, made monotone along the loops (the order constraint of eq. 7.7), and the strip of
 7.4 walks both loops; the other loops are paired by their mean distance and similar length.

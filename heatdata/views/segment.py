@@ -3,8 +3,8 @@ leaves outside its scope, as PCL's ``3d_rec_framework`` global pipeline does it)
 
 :func:`segment_frame` reads a depth frame (and its colour) the way a tabletop pipeline does:
 
-1. **planes**: up to :data:`MAX_PLANES` planes by RANSAC (open3d's ``segment_plane``, seeded, every sample drawn, then refit by least
-   squares to its inliers, so that a frame is segmented the same every time), each holding at
+1. **planes**: up to :data:`MAX_PLANES` planes by RANSAC (open3d's ``segment_plane``, seeded, every sample drawn,
+   then refit by least squares to its inliers, so that a frame is segmented the same every time), each holding at
    least ``plane_share`` of the readings; a **support plane** spans at least ``plane_size`` metres and has (almost)
    nothing hanging below its edges (an object's own face has: a box's top its sides, a chair's seat its legs). Of
    these, those facing up in the image (the normal within 60 deg of the image's up) come first (a table before the
