@@ -64,6 +64,23 @@ def square() -> hd.View:
     return square_view()
 
 
+def model_of(mesh, name: str = "ellipsoid") -> hd.Model:
+    """A trimesh mesh as a model, red below y = 0.03 and blue above (a colour a stitch must carry across its seam)."""
+    colors = np.zeros((len(mesh.faces), 3, 3), np.float32)
+    colors[..., 0] = 0.8
+    colors[mesh.triangles_center[:, 1] > 0.03] = [0.1, 0.3, 0.9]
+    return hd.Model.untextured(name, mesh.vertices, mesh.faces, colors)
+
+
+@pytest.fixture(scope="module")
+def ellipsoid() -> hd.Model:
+    """A two-tone ellipsoid of semi-axes 10, 6 and 8 cm (642 vertices): JASNOM's tests cut, move and stitch it."""
+    import trimesh
+
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=0.1)
+    return model_of(trimesh.Trimesh(sphere.vertices * [1.0, 0.6, 0.8], sphere.faces))
+
+
 @pytest.fixture(scope="session")
 def catalog():
     return hd.read_catalog(ROOT / "data" / "models" / "catalog.csv")

@@ -1,51 +1,20 @@
-"""JASNOM (thesis ch. 7) on meshes with known answers: an ellipsoid cut in two, moved, and stitched back."""
+"""JASNOM's stitch (thesis 7.4) and the ``stitch`` command, end to end: an ellipsoid cut in two, moved, and
+stitched back; welded halves, known motions, bad meshes."""
 
 import logging
 
 import numpy as np
 import pytest
 import trimesh
+from conftest import model_of
+from meshes import MOTION, as_trimesh, moved_half, truth, unwelded
 from scipy.spatial.transform import Rotation
 
 from heatdata.errors import StitchError
 from heatdata.io.models import Model, load_model, transformed
-from heatdata.jasnom.align import align, alignment_at
-from heatdata.jasnom.boundary import boundaries, boundary, resample_loop
-from heatdata.jasnom.cost import ScanSurface
+from heatdata.jasnom.boundary import boundary
 from heatdata.jasnom.cuts import closed_part, split_model
 from heatdata.jasnom.seam import nearest_targets, stitch, strip_faces
-
-MOTION = Rotation.from_rotvec([0.5, -1.0, 0.3]), np.array([0.3, 0.1, -0.2])
-
-
-def model_of(mesh: trimesh.Trimesh, name: str = "ellipsoid") -> Model:
-    colors = np.zeros((len(mesh.faces), 3, 3), np.float32)
-    colors[..., 0] = 0.8
-    colors[mesh.triangles_center[:, 1] > 0.03] = [0.1, 0.3, 0.9]
-    return Model.untextured(name, mesh.vertices, mesh.faces, colors)
-
-
-@pytest.fixture(scope="module")
-def ellipsoid() -> Model:
-    sphere = trimesh.creation.icosphere(subdivisions=3, radius=0.1)
-    return model_of(trimesh.Trimesh(sphere.vertices * [1.0, 0.6, 0.8], sphere.faces))
-
-
-def as_trimesh(model: Model) -> trimesh.Trimesh:
-    return trimesh.Trimesh(model.vertices, model.faces, process=False)
-
-
-def truth(rotation: Rotation, translation: np.ndarray) -> np.ndarray:
-    """The 4x4 inverse of the motion that moved the second half: what JASNOM must find."""
-    inverse = np.eye(4)
-    inverse[:3, :3] = rotation.inv().as_matrix()
-    inverse[:3, 3] = -rotation.inv().apply(translation)
-    return inverse
-
-
-def moved_half(model: Model, normal, amplitude: float = 0.0, offset: float = 0.0) -> tuple[Model, Model]:
-    a, b = split_model(model, normal, amplitude=amplitude, offset=offset)
-    return a, transformed(b, MOTION[0].as_matrix(), MOTION[1])
 
 
 @pytest.mark.parametrize("amplitude", [0.0, 0.05])
@@ -74,20 +43,6 @@ def test_two_halves_moved_apart_are_aligned_and_welded_closed(ellipsoid, amplitu
     )
 
 
-def unwelded(model: Model, where: np.ndarray, noise: float = 0.0) -> Model:
-    """``model`` with each face given its own copy of the vertices in ``where`` (a mask), moved by up to
-    ``noise``: the duplicated vertices an STL file or a cutting tool leaves."""
-    faces = model.faces.copy()
-    vertices = [model.vertices]
-    count = len(model.vertices)
-    rng = np.random.default_rng(1)
-    for f, c in zip(*np.nonzero(where[model.faces]), strict=True):
-        vertices.append(model.vertices[faces[f, c]][None] + rng.uniform(-noise, noise, (1, 3)))
-        faces[f, c] = count
-        count += 1
-    return Model.untextured(model.name, np.vstack(vertices), faces, model.corner_colors)
-
-
 @pytest.mark.parametrize("duplicated", ["every vertex (STL)", "the cut's vertices"])
 def test_halves_with_duplicated_vertices_are_welded_and_stitched_exactly(ellipsoid, duplicated, tmp_path):
     a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2])
@@ -108,70 +63,6 @@ def test_halves_with_duplicated_vertices_are_welded_and_stitched_exactly(ellipso
     assert mesh.volume == pytest.approx(as_trimesh(ellipsoid).volume, rel=1e-6)
     assert len(result.model.vertices) == len(ellipsoid.vertices)
     assert any("coincident vertices merged" in repair for repair in result.model.repairs)
-
-
-@pytest.mark.parametrize("amplitude, offset", [(0.0, 0.0), (0.05, 0.1), (0.0, -0.15)])
-def test_the_cost_at_the_truth_is_at_or_below_every_pose_the_search_visits(ellipsoid, amplitude, offset):
-    a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2], amplitude, offset)
-    loops1, loops2 = boundaries(a), boundaries(b)
-    visited: list = []
-    found = align(loops1, loops2, samples=64, trace=visited)
-    expected = truth(*MOTION)
-    at_truth = alignment_at(loops1, loops2, expected[:3, :3], expected[:3, 3], samples=64)
-    assert len(visited) == found.candidates > 2 * 64
-    assert at_truth.cost <= min(cost for _, _, cost in visited)
-    assert at_truth.edge_cost < 1e-20 and at_truth.crossing_cost < 1e-20
-
-
-def test_the_cost_is_continuous_and_grows_with_misalignment(ellipsoid):
-    a, b = split_model(ellipsoid, [0.0, 1.0, 0.0])
-    b1, b2 = boundary(a), boundary(b)
-    steps = np.linspace(0.0, 0.01, 21)  # up to a tenth of the ellipsoid's radius, in steps far below the sampling
-    costs = np.array([alignment_at(b1, b2, np.eye(3), [d, 0.0, 0.0], samples=32).cost for d in steps])
-    assert costs[0] == pytest.approx(0.0, abs=1e-20) and np.all(np.diff(costs) > 0)
-    assert np.max(np.abs(np.diff(costs, 2))) < 0.2 * costs[-1] / len(steps)  # smooth: no jumps between samples
-    turns = [
-        alignment_at(b1, b2, Rotation.from_rotvec([0.0, angle, 0.0]).as_matrix(), np.zeros(3), samples=32).cost
-        for angle in np.radians([0.0, 0.5, 1.0, 2.0])
-    ]
-    assert turns[0] < turns[1] < turns[2] < turns[3]
-
-
-def test_interpenetration_costs_nothing_at_the_seam_and_grows_with_depth(ellipsoid):
-    a, b = split_model(ellipsoid, [0.0, 1.0, 0.0])  # a: the upper half, its boundary normals point down
-    b1, b2 = boundary(a), boundary(b)
-    crossing = [
-        alignment_at(b1, b2, np.eye(3), [0.0, d, 0.0], samples=32).crossing_cost
-        for d in (-0.01, 0.0, 0.002, 0.005, 0.01)
-    ]
-    # lowering the lower half opens a gap (nothing crosses); raising it pushes it into the upper one
-    assert crossing[0] < 0.2 * crossing[-1] and crossing[1] < 1e-20
-    assert crossing[1] < crossing[2] < crossing[3] < crossing[4]
-
-
-def test_the_cost_does_not_depend_on_the_object_size(ellipsoid):
-    a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2], 0.05)
-    offset = truth(*MOTION)
-    offset[:3, 3] += [0.004, 0.0, 0.002]  # a few percent of the size off
-    small = alignment_at(boundaries(a), boundaries(b), offset[:3, :3], offset[:3, 3])
-    big = alignment_at(
-        boundaries(transformed(a, 10 * np.eye(3), np.zeros(3))),
-        boundaries(transformed(b, 10 * np.eye(3), np.zeros(3))),
-        offset[:3, :3],
-        10 * offset[:3, 3],
-    )
-    assert big.cost == pytest.approx(small.cost, rel=1e-9) and small.cost > 0
-
-
-def test_a_symmetric_boundary_is_reported_ambiguous_and_an_asymmetric_one_is_not():
-    cylinder = model_of(trimesh.creation.cylinder(radius=0.05, height=0.12, sections=48), "cylinder")
-    a, b = moved_half(closed_part(cylinder), [0.0, 0.0, 1.0], offset=0.05)
-    assert align(boundaries(a), boundaries(b), samples=48).ambiguous  # a circle fits at every turn
-    egg = trimesh.creation.icosphere(subdivisions=3)
-    egg = model_of(trimesh.Trimesh(egg.vertices * [0.12, 0.09, 0.07] * (1 + 0.1 * egg.vertices[:, [0]]), egg.faces))
-    a, b = moved_half(egg, [0.3, 1.0, 0.2])
-    found = align(boundaries(a), boundaries(b), samples=48)
-    assert not found.ambiguous and found.runner_up > 100 * found.cost
 
 
 def test_a_known_motion_is_used_as_given(ellipsoid, caplog):
@@ -201,17 +92,6 @@ def test_a_known_motion_is_used_as_given(ellipsoid, caplog):
         stitch(a, moved, motion=np.eye(3))
 
 
-def test_resampling_is_uniform_by_arc_length_and_interpolates_normals():
-    square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float)
-    normals = np.array([[0, -1, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0]], dtype=float)
-    points, between = resample_loop(square, 8, normals)
-    np.testing.assert_allclose(np.linalg.norm(np.roll(points, -1, axis=0) - points, axis=1), 0.5)
-    np.testing.assert_allclose(between[1], [np.sqrt(0.5), -np.sqrt(0.5), 0.0])  # half-way from the first to the next
-    assert resample_loop(square, 4)[1] is None
-    with pytest.raises(StitchError, match="at least 3 samples"):
-        resample_loop(square, 2)
-
-
 def test_the_strip_uses_every_boundary_edge_once_against_its_face(ellipsoid):
     a, b = split_model(ellipsoid, [1.0, 0.2, 0.0])
     b1, b2 = boundary(a), boundary(transformed(b, np.eye(3), [0.01, 0.0, 0.0]))  # a gap to bridge
@@ -226,23 +106,6 @@ def test_the_strip_uses_every_boundary_edge_once_against_its_face(ellipsoid):
     noisy = targets.copy()
     noisy[::7] = (noisy[::7] + 2) % len(b1.loop)
     assert len(strip_faces(b1, b2, noisy, offset=len(a.vertices))) == len(b1.loop) + len(b2.loop)
-
-
-def test_a_boundary_that_pinches_is_split_into_loops_that_visit_each_vertex_once():
-    bowtie = Model.untextured(
-        "bowtie", [[0, 0, 0], [1, 0, 0], [1, 1, 0], [-1, 0, 0], [-1, -1, 0]], [[0, 1, 2], [0, 3, 4]], (0.5, 0.5, 0.5)
-    )  # two triangles that share a corner
-    loops = boundaries(bowtie)
-    assert sorted(sorted(b.loop.tolist()) for b in loops) == [[0, 1, 2], [0, 3, 4]]
-    assert all(b.loops == 2 for b in loops)
-
-
-def test_boundary_normals_point_out_of_the_mesh(ellipsoid):
-    a, _ = split_model(ellipsoid, [0.0, 1.0, 0.0])  # the upper half: its boundary runs round the equator
-    b = boundary(a)
-    assert b.loops == 1 and np.allclose(np.linalg.norm(b.normals, axis=1), 1.0)
-    assert np.mean(b.normals[:, 1]) < -0.5  # out of the upper half is downwards
-    assert b.arclength[0] == 0.0 and np.all(np.diff(b.arclength) > 0) and b.arclength[-1] < 1.0
 
 
 def test_bad_meshes_are_clear_errors(ellipsoid, caplog):
@@ -397,68 +260,3 @@ def test_a_cut_leaving_two_loops_is_aligned_by_the_longest_and_closed_at_both():
     mesh = as_trimesh(result.model)
     assert mesh.is_watertight and mesh.is_winding_consistent
     assert mesh.volume == pytest.approx(as_trimesh(torus).volume, rel=1e-3)
-
-
-def test_the_closed_part_merges_seams_keeps_the_largest_piece_and_faces_outwards(ellipsoid):
-    seamed = ellipsoid.faces.copy()
-    copies = len(ellipsoid.vertices) + np.arange(3)  # the first face's corners duplicated, as at a texture seam
-    seamed[0] = copies
-    vertices = np.vstack([ellipsoid.vertices, ellipsoid.vertices[ellipsoid.faces[0]]])
-    speck = trimesh.creation.icosphere(subdivisions=0, radius=0.01)  # a small separate piece
-    faces = np.vstack([seamed, speck.faces + len(vertices)])[:, ::-1]  # and everything wound inwards
-    vertices = np.vstack([vertices, speck.vertices + 1.0])
-    messy = Model.untextured("messy", vertices, faces, (0.0, 0.0, 0.0))
-    part = closed_part(messy)
-    mesh = as_trimesh(part)
-    assert len(part.faces) == len(ellipsoid.faces) and mesh.is_watertight and mesh.volume > 0
-    with pytest.raises(StitchError, match="not closed"):
-        closed_part(split_model(ellipsoid, [0.0, 1.0, 0.0])[0])
-
-
-def test_a_scan_faces_its_own_camera_and_not_the_opposite_one():
-    cap = trimesh.creation.icosphere(subdivisions=3, radius=0.1)
-    keep = cap.triangles_center[:, 2] < 0  # the half a camera at the origin sees of a ball 1 m ahead
-    scan = Model.untextured("scan", cap.vertices + [0.0, 0.0, 1.0], cap.faces[keep][:, ::-1], (0.5, 0.5, 0.5))
-    surface = ScanSurface.of(scan)
-    assert surface.toward_camera == -1.0  # wound away from its camera, as heatdata's views are
-    assert surface.faces_camera(np.eye(3), np.zeros(3), np.zeros(3)) > 0.85  # all but the faces near the limb
-    turned = Rotation.from_rotvec([0.0, np.pi, 0.0]).as_matrix()  # the back of the ball, seen from the same camera
-    assert surface.faces_camera(turned, [0.0, 0.0, 2.0] - turned @ [0.0, 0.0, 1.0], np.zeros(3)) < 0.15
-
-
-def test_two_rendered_scans_from_opposite_sides_are_turned_right():
-    from heatdata.io.catalog import embedded_catalog, load_catalog_model, read_catalog
-    from heatdata.views.render import render_view
-
-    catalog = read_catalog(embedded_catalog()).set_index("object", drop=False)
-    bottle = load_catalog_model(catalog.loc["yogurt-bottle"])
-    size = float(np.linalg.norm(bottle.extents))
-    views = [
-        render_view(bottle, azimuth, elevation, 3 * size, seed=seed)
-        for azimuth, elevation, seed in ((0.0, 45.0, 1), (180.0, -45.0, 2))
-    ]  # standing, then flipped (7.5)
-    first, second = (
-        Model.untextured(name, v.vertices, v.faces, v.colors[v.faces])
-        for name, v in zip(("standing", "flipped"), views, strict=True)
-    )
-    truth = np.linalg.inv(views[0].pose) @ views[1].pose
-    found = stitch(first, second, scans=True, samples=64).alignment
-    assert np.degrees(Rotation.from_matrix(found.rotation @ truth[:3, :3].T).magnitude()) < 5
-    # each scan lies on the far side from the other's camera there
-    assert ScanSurface.of(second).faces_camera(found.rotation, found.translation, np.zeros(3)) < 0.5
-
-
-def test_the_workflow_schema_defaults_are_the_library_defaults():
-    import inspect
-    from pathlib import Path
-
-    import yaml
-
-    schema = yaml.safe_load((Path(__file__).parents[2] / "workflow/schemas/config.schema.yaml").read_text())
-    keys = schema["properties"]["stitch"]["properties"]
-    signature = inspect.signature(stitch).parameters
-    for name in ("alpha", "beta", "gamma", "samples"):
-        assert keys[name]["default"] == signature[name].default, name
-    for name in ("along", "robust"):  # unset: the library chooses by the kind of input (cuts or scans)
-        assert "default" not in keys[name] and signature[name].default is None
-    assert keys["pairs"]["items"]["properties"]["scans"]["default"] is signature["scans"].default
