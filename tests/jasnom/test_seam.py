@@ -144,31 +144,25 @@ def test_bad_meshes_are_clear_errors(ellipsoid, caplog):
         split_model(ellipsoid, [0.0, 1.0, 0.0], offset=1.0)
 
 
+def stitch_command(first: Model, second: Model, folder, *options: str) -> int:
+    """``heatdata stitch a.ply b.ply -o ab.ply`` on the two models, saved in ``folder``: its exit status."""
+    from heatdata.cli import main
+    from heatdata.io.models import save_model
+
+    save_model(first, folder / "a.ply")
+    save_model(second, folder / "b.ply")
+    return main(["stitch", str(folder / "a.ply"), str(folder / "b.ply"), "-o", str(folder / "ab.ply"), *options])
+
+
 def test_the_command_writes_a_closed_coloured_mesh_in_the_first_frame(ellipsoid, tmp_path, capsys, caplog):
     import json
 
     from heatdata.cli import main
-    from heatdata.io.models import save_model
 
     a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2], 0.05)
     a = transformed(a, np.eye(3), [1.0, 2.0, 3.0])  # far from the origin: the output must stay there
     b = transformed(b, np.eye(3), [0.0, 0.0, 0.0])
-    save_model(a, tmp_path / "a.ply")
-    save_model(b, tmp_path / "b.ply")
-    assert (
-        main(
-            [
-                "stitch",
-                str(tmp_path / "a.ply"),
-                str(tmp_path / "b.ply"),
-                "-o",
-                str(tmp_path / "ab.ply"),
-                "--samples",
-                "32",
-            ]
-        )
-        == 0
-    )
+    assert stitch_command(a, b, tmp_path, "--samples", "32") == 0
     printed = json.loads(capsys.readouterr().out)
     assert printed["faces"] == len(ellipsoid.faces) and printed["mean_gap_of_size"] < 1e-6
     assert printed["cost"] < 1e-12 and printed["runner_up"] > 1e-4 and not printed["ambiguous"]
@@ -184,66 +178,22 @@ def test_the_command_writes_a_closed_coloured_mesh_in_the_first_frame(ellipsoid,
     inverse = truth(*MOTION)
     inverse[:3, 3] += [1.0, 2.0, 3.0]
     np.savetxt(tmp_path / "motion.txt", inverse)
-    assert (
-        main(
-            [
-                "stitch",
-                str(tmp_path / "a.ply"),
-                str(tmp_path / "b.ply"),
-                "-o",
-                str(tmp_path / "ab.ply"),
-                "--motion",
-                str(tmp_path / "motion.txt"),
-            ]
-        )
-        == 0
-    )
+    assert stitch_command(a, b, tmp_path, "--motion", str(tmp_path / "motion.txt")) == 0
     np.testing.assert_allclose(json.loads(capsys.readouterr().out)["translation"], inverse[:3, 3], atol=1e-6)
     assert trimesh.load(tmp_path / "ab.ply").is_watertight
     for bad, text in (("letters.txt", "1 2\n3 x\n"), ("small.txt", "1 0 0\n0 1 0\n0 0 1\n")):
         (tmp_path / bad).write_text(text)
-        assert (
-            main(
-                [
-                    "stitch",
-                    str(tmp_path / "a.ply"),
-                    str(tmp_path / "b.ply"),
-                    "-o",
-                    str(tmp_path / "ab.ply"),
-                    "--motion",
-                    str(tmp_path / bad),
-                ]
-            )
-            == 1
-        )
+        assert stitch_command(a, b, tmp_path, "--motion", str(tmp_path / bad)) == 1
         assert f"{bad}: not a 4x4 matrix" in caplog.text
 
 
 def test_the_command_warns_when_the_answer_is_ambiguous(tmp_path, capsys, caplog):
     import json
 
-    from heatdata.cli import main
-    from heatdata.io.models import save_model
-
     cylinder = closed_part(model_of(trimesh.creation.cylinder(radius=0.05, height=0.12, sections=48), "cylinder"))
     a, b = moved_half(cylinder, [0.0, 0.0, 1.0], offset=0.05)
-    save_model(a, tmp_path / "a.ply")
-    save_model(b, tmp_path / "b.ply")
     caplog.set_level(logging.WARNING)
-    assert (
-        main(
-            [
-                "stitch",
-                str(tmp_path / "a.ply"),
-                str(tmp_path / "b.ply"),
-                "-o",
-                str(tmp_path / "ab.ply"),
-                "--samples",
-                "48",
-            ]
-        )
-        == 0
-    )
+    assert stitch_command(a, b, tmp_path, "--samples", "48") == 0
     assert json.loads(capsys.readouterr().out)["ambiguous"] and "ambiguous: another pose" in caplog.text
     assert trimesh.load(tmp_path / "ab.ply").is_watertight  # a turned cylinder is still the cylinder
 
