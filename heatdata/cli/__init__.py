@@ -24,6 +24,7 @@ from heatdata.cli.arguments import (
 )
 from heatdata.cli.demo import add_demo
 from heatdata.cli.recognize import add_index, add_recognize
+from heatdata.cli.stitch import add_stitch
 from heatdata.descriptors import (
     COLOR_KIND,
     DEFAULT_DESCRIPTOR,
@@ -36,24 +37,12 @@ from heatdata.descriptors import (
 )
 from heatdata.descriptors.base import article
 from heatdata.errors import HeatdataError, Terminated
-from heatdata.experiments.captures import CAPTURE_SUFFIXES as DEPTH_SUFFIXES
-from heatdata.io.files import check_output, require_file
+from heatdata.io.files import check_output
 from heatdata.io.tables import (
     DESCRIPTOR_SCHEMA,
     PREDICTION_SCHEMA,
     read_table,
     write_table,
-)
-from heatdata.jasnom.defaults import (
-    ALONG,
-    ALPHA,
-    BETA,
-    GAMMA,
-    MAX_SAMPLES,
-    MIN_SAMPLES,
-    SCAN_ALONG,
-    SCAN_ROBUST,
-    TABLE,
 )
 from heatdata.log import printable, progress, setup_logging
 from heatdata.recognition.evaluate import TIME_RULES
@@ -110,102 +99,6 @@ def _print_view(view, outs: list[Path], as_json: bool) -> None:
     )
     for repair in view.repairs:
         print(f"  {repair}")
-
-
-def cmd_stitch(args: argparse.Namespace) -> None:
-    """JASNOM (thesis ch. 7): align the second mesh onto the first by their boundaries and stitch them.
-
-    The output is in the first mesh's frame. It prints the motion, J and its terms, the runner-up's J and the
-    seam's mean gap, and warns when another pose is nearly as cheap (ambiguous) or the seam is wide (poor).
-    """
-    from heatdata.io.models import SUPPORTED_SUFFIXES, load_model, save_model
-    from heatdata.jasnom.seam import stitch
-
-    out = check_output(
-        args.out, inputs=[args.first, args.second, args.motion], suffixes=SUPPORTED_SUFFIXES, what="the stitched model"
-    )
-    motion = None
-    if args.motion is not None:
-        require_file(args.motion, "motion file (a 4x4 matrix)")
-        try:
-            motion = np.loadtxt(args.motion, ndmin=2)
-        except (OSError, ValueError) as error:
-            raise HeatdataError(f"{args.motion}: not a 4x4 matrix of numbers ({error})") from error
-        if motion.shape != (4, 4):
-            raise HeatdataError(f"{args.motion}: not a 4x4 matrix of numbers (shape {motion.shape})")
-        motion[:3, 3] *= args.scale
-    options = {
-        "alpha": args.alpha,
-        "beta": args.beta,
-        "gamma": args.gamma,
-        "along": args.along,
-        "robust": args.robust,
-        "samples": args.samples,
-        "name": out.stem,
-        "motion": motion,
-    }
-    if _depth_frames(args):
-        from heatdata.jasnom.seam import stitch_scans
-
-        result = stitch_scans(*_table_scans(args), table=args.table, **options)
-    else:
-        if args.intrinsics or args.rgb:
-            raise HeatdataError("--intrinsics and --rgb are for two depth frames (heatdata stitch --scans a.png b.png)")
-        first, second = (load_model(path, scale=args.scale, center=False) for path in (args.first, args.second))
-        result = stitch(first, second, scans=args.scans, **options)
-    save_model(result.model, out)
-    a = result.alignment
-    if a.ambiguous:
-        log.warning(
-            "ambiguous: another pose costs nearly as little (J %.4g against %.4g): check the result, or give --motion",
-            a.runner_up,
-            a.cost,
-        )
-    if a.poor:
-        log.warning(
-            "poor: the seam's mean gap is %.1f%% of the size: the boundaries are not one curve here",
-            100 * a.gap / a.size,
-        )
-    summary = {"model": str(out), "vertices": len(result.model.vertices), "faces": len(result.model.faces)}
-    summary |= result.summary()
-    del summary["facing"]  # a found motion always faces away (align's constraint)
-    summary |= {
-        "rotation": np.round(a.rotation, 6).tolist(),
-        "translation": np.round(a.translation, 6).tolist(),
-        "seconds": round(a.seconds, 2),
-    }
-    print(dump_json(summary))
-
-
-def _depth_frames(args: argparse.Namespace) -> bool:
-    """Whether ``stitch`` was given two depth frames (an object on a table, standing and flipped) rather than meshes."""
-    frames = [Path(p).suffix.lower() in DEPTH_SUFFIXES for p in (args.first, args.second)]
-    if any(frames) and not all(frames):
-        raise HeatdataError(
-            "give two depth frames (an object on a table, standing and flipped) or two meshes, not one of each"
-        )
-    if all(frames) and not args.scans:
-        raise HeatdataError("two depth frames are stitched as scans of an object on a table: add --scans")
-    return all(frames)
-
-
-def _table_scans(args: argparse.Namespace):
-    """The two frames' objects on their tables: each frame's intrinsics are --intrinsics or its ``<name>.json``, its
-    colour the --rgb given or its ``<name>.rgb.png`` when there is one."""
-    from heatdata.jasnom.table import read_table_scan
-
-    scans = []
-    for k, path in enumerate((args.first, args.second)):
-        base = Path(path).with_suffix("")
-        intrinsics = args.intrinsics or Path(f"{base}.json")
-        if not Path(intrinsics).is_file():
-            raise HeatdataError(
-                f"{path}: no intrinsics: give --intrinsics (JSON or YAML with fx, fy, cx, cy, width, height) or "
-                f"write {base}.json"
-            )
-        rgb = args.rgb[k] if args.rgb else Path(f"{base}.rgb.png")
-        scans.append(read_table_scan(path, intrinsics, rgb if Path(rgb).is_file() or args.rgb else None))
-    return scans
 
 
 def _implied_kind(args: argparse.Namespace) -> str:
@@ -406,88 +299,7 @@ def build_parser() -> argparse.ArgumentParser:
     depth.add_argument("--json", action="store_true", help="print JSON for programs")
     depth.set_defaults(func=cmd_view_from_depth)
 
-    join = sub.add_parser(
-        "stitch",
-        help="JASNOM: one model from two non-overlapping meshes (thesis ch. 7)",
-        description=cmd_stitch.__doc__,
-    )
-    join.add_argument(
-        "first",
-        type=Path,
-        help="the mesh that stays put: the output is in its frame (PLY, OBJ, OFF, STL, GLB); with --scans, a depth "
-        "frame (.png in millimetres, .npy in metres) of the object standing on a table",
-    )
-    join.add_argument("second", type=Path, help="the mesh moved onto it; with --scans, a frame of the object flipped")
-    join.add_argument("-o", "--out", type=Path, required=True, help="the stitched mesh (.ply keeps vertex colours)")
-    join.add_argument(
-        "--alpha",
-        type=number(positive=True),
-        default=ALPHA,
-        help=f"steepness of the interpenetration penalty, relative to the sampling (default {ALPHA:g})",
-    )
-    join.add_argument(
-        "--beta",
-        type=number(0.0),
-        default=BETA,
-        help=f"weight of the interpenetration penalty J2, eq. 7.4; 0 to patch a hole (default {BETA:g})",
-    )
-    join.add_argument(
-        "--gamma", type=number(0.0), default=GAMMA, help=f"weight of the crease term J3 (default {GAMMA:g})"
-    )
-    join.add_argument(
-        "--scans",
-        action="store_true",
-        help="the meshes are depth scans, each in its camera's frame (camera at the origin), taken from "
-        "opposite sides (the object flipped): the alignment keeps each on the far side from the "
-        "other's camera and tolerates the band of surface neither saw",
-    )
-    join.add_argument(
-        "--intrinsics",
-        type=Path,
-        help="with two depth frames: their camera's fx, fy, cx, cy, width, height (JSON or YAML; default each "
-        "frame's <name>.json)",
-    )
-    join.add_argument(
-        "--rgb",
-        type=Path,
-        nargs=2,
-        metavar=("FIRST", "SECOND"),
-        help="with two depth frames: their colour images (default each frame's <name>.rgb.png, when there is one)",
-    )
-    join.add_argument(
-        "--table",
-        type=number(0.0),
-        default=TABLE,
-        help=f"with two depth frames: weight of the support-plane term, the tables as witnesses (default {TABLE:g})",
-    )
-    join.add_argument(
-        "--along",
-        type=number(0.0),
-        help="weight of the gap along the seam's continuation in J1: below 1 tolerates a band of "
-        f"unseen surface (default {ALONG:g}; with --scans {SCAN_ALONG:g})",
-    )
-    join.add_argument(
-        "--robust",
-        type=number(0.0),
-        help=f"soft-L1 width of the residuals, in boundary radii (default 0: squares; with --scans {SCAN_ROBUST:g})",
-    )
-    join.add_argument(
-        "--samples",
-        type=number(MIN_SAMPLES, high=MAX_SAMPLES, whole=True),
-        default=128,
-        help=(
-            "boundary samples for the alignment; the coarse search tries twice as many "
-            f"(default 128, at most {MAX_SAMPLES})"
-        ),
-    )
-    join.add_argument("--scale", type=number(positive=True), default=1.0, help="file units to metres (default 1)")
-    join.add_argument(
-        "--motion",
-        type=Path,
-        help="a known motion of the second mesh into the first's frame (registered cameras): a text "
-        "file with a 4x4 matrix, translation in file units; nothing is searched",
-    )
-    join.set_defaults(func=cmd_stitch)
+    add_stitch(sub)
 
     desc = sub.add_parser(
         "describe", help="any descriptor of a saved view (PVHK by default)", description=cmd_describe.__doc__
