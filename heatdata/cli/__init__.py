@@ -65,6 +65,35 @@ def cmd_render(args: argparse.Namespace) -> None:
     _print_view(view, [out], args.json)
 
 
+def add_render(sub) -> None:
+    """The ``render`` command's arguments."""
+    render = sub.add_parser("render", help="render one partial view of a model", description=cmd_render.__doc__)
+    render.add_argument("model", type=Path, help="OBJ, PLY, STL, OFF or GLB file")
+    render.add_argument("-o", "--out", type=Path, required=True, help="output .npz view (its folder is created)")
+    render.add_argument("--json", action="store_true", help="print JSON for programs")
+    render.add_argument(
+        "--azimuth", type=number(), default=0.0, help="camera azimuth about the model's +y axis, degrees (default 0)"
+    )
+    render.add_argument("--elevation", type=number(), default=30.0, help="camera elevation, degrees (default 30)")
+    render.add_argument(
+        "--distance",
+        type=number(positive=True),
+        default=1.0,
+        help="camera distance from the model's centre, metres (default 1)",
+    )
+    render.add_argument(
+        "--size",
+        type=number(0.0),
+        nargs=3,
+        metavar=("W", "H", "D"),
+        help="real size in metres (width x, height y, depth z)",
+    )
+    render.add_argument("--scale", type=number(positive=True), default=1.0, help="file units to metres (default 1)")
+    render.add_argument("--seed", type=number(0, whole=True), default=0, help="seed of the sensor noise (default 0)")
+    render.add_argument("--no-noise", action="store_true", help="render without the Kinect noise of thesis 2.6.1")
+    render.set_defaults(func=cmd_render)
+
+
 def cmd_view_from_depth(args: argparse.Namespace) -> None:
     """A view from real data: a depth image (16-bit PNG in mm, float .npy in m) with intrinsics, or an organized
     cloud (PCD, range-map PLY); written as a .npz view, a coloured .ply, or both."""
@@ -85,6 +114,27 @@ def cmd_view_from_depth(args: argparse.Namespace) -> None:
     )
     view.write(outs)
     _print_view(view, outs, args.json)
+
+
+def add_view_from_depth(sub) -> None:
+    """The ``view-from-depth`` command's arguments."""
+    depth = sub.add_parser(
+        "view-from-depth",
+        help="a view from a depth image or an organized point cloud",
+        description=cmd_view_from_depth.__doc__,
+    )
+    depth.add_argument("input", type=Path, help="depth image (.png 16-bit mm, .npy float m) or cloud (.pcd, .ply)")
+    depth.add_argument(
+        "-o",
+        "--out",
+        type=Path,
+        required=True,
+        action="append",
+        help="output .npz view and/or .ply mesh with colours (repeatable)",
+    )
+    frame_arguments(depth)
+    depth.add_argument("--json", action="store_true", help="print JSON for programs")
+    depth.set_defaults(func=cmd_view_from_depth)
 
 
 def _print_view(view, outs: list[Path], as_json: bool) -> None:
@@ -158,6 +208,41 @@ def cmd_describe(args: argparse.Namespace) -> None:
     print(dump_json(out))
 
 
+def add_describe(sub) -> None:
+    """The ``describe`` command's arguments."""
+    desc = sub.add_parser(
+        "describe",
+        help="any descriptor of a saved view (the default descriptor unless told)",
+        description=cmd_describe.__doc__,
+    )
+    desc.add_argument("view", type=Path, help=".npz view written by 'heatdata render'")
+    desc.add_argument(
+        "--samples",
+        type=number(0, high=MAX_BOUNDARY_SAMPLES, whole=True),
+        help=f"boundary samples (default 64, at most {MAX_BOUNDARY_SAMPLES}); 0: one per boundary vertex",
+    )
+    desc.add_argument("--source", help="closest (default), center, interior or a vertex index")
+    desc.add_argument("--sampling", choices=["arclength", "polar"], help="boundary sampling (default arclength)")
+    desc.add_argument("--color-map", default=None, help=f"c1, c2, c3, c4, hue or sat-hue: compute a {COLOR_KIND}")
+    desc.add_argument(
+        "--kind",
+        choices=list(KINDS),
+        help=f"default: the default descriptor ({DEFAULT_DESCRIPTOR.name}); a {DEFAULT_KIND} with --samples, "
+        f"--source or --sampling, a {COLOR_KIND} with --color-map, a {THRESHOLD_KIND} with --threshold; "
+        "'heatdata kinds' lists every kind and its options",
+    )
+    desc.add_argument(
+        "--option",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="any other option of the kind, e.g. --option seed=3 for an esf (repeatable)",
+    )
+    desc.add_argument("--time", type=float, help="the fixed time of an ft-pvhk (the object's time scale, Alg. 5.1)")
+    desc.add_argument("--threshold", type=float, help="the pvst's threshold T_a (default 0.75 of equilibrium)")
+    desc.set_defaults(func=cmd_describe)
+
+
 def cmd_classify(args: argparse.Namespace) -> None:
     """Classify the test rows of a descriptor table against its training rows."""
     from heatdata.recognition.evaluate import classify, evaluate_library_sizes
@@ -183,6 +268,32 @@ def cmd_classify(args: argparse.Namespace) -> None:
     if args.out:
         write_table(predictions, args.out, PREDICTION_SCHEMA, {"descriptors": str(args.descriptors)})
     print(_precision_lines(predictions, every_view=args.library_size is None))
+
+
+def add_classify(sub) -> None:
+    """The ``classify`` command's arguments."""
+    cls = sub.add_parser(
+        "classify", help="nearest-neighbour precision of a descriptor table", description=cmd_classify.__doc__
+    )
+    cls.add_argument("descriptors", type=Path, help="descriptors.parquet")
+    cls.add_argument("--descriptor", help="descriptor name (default: every one in the table)")
+    cls.add_argument(
+        "--library-size",
+        type=number(1, high=MAX_VIEWS, whole=True),
+        action="append",
+        metavar="N",
+        help="library views per object, evenly spaced in azimuth among the train views "
+        "(repeatable; default: every train view)",
+    )
+    cls.add_argument(
+        "--time-rule",
+        choices=TIME_RULES,
+        default=TIME_RULES[0],
+        help="which objects an ft-pvhk test view is compared with, each at its time scale: plausible "
+        "(default: those whose time scale is at most the view's own 1/lambda_2) or every",
+    )
+    cls.add_argument("--out", type=Path, help="write predictions.parquet here")
+    cls.set_defaults(func=cmd_classify)
 
 
 def _precision_lines(predictions: pd.DataFrame, every_view: bool) -> str:
@@ -227,6 +338,12 @@ def cmd_kinds(args: argparse.Namespace) -> None:
             print(f"  {option.name} (default {option.default!r}): {option.help}")
 
 
+def add_kinds(sub) -> None:
+    """The ``kinds`` command's arguments."""
+    kinds = sub.add_parser("kinds", help="list the descriptor kinds and their options", description=cmd_kinds.__doc__)
+    kinds.set_defaults(func=cmd_kinds)
+
+
 def cmd_import_sh3f(args: argparse.Namespace) -> None:
     """Extract a Sweet Home 3D furniture library into a catalogue folder."""
     from heatdata.io.sh3f import import_sh3f
@@ -242,124 +359,8 @@ def cmd_import_sh3f(args: argparse.Namespace) -> None:
     print(f"{len(table)} models in {Path(args.out) / 'catalog.csv'}")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="heatdata",
-        description="Heat-diffusion descriptors of partial 3D views.",
-        epilog="Exit codes: 0 success; 1 bad input (the message names the file or view); 2 wrong usage. "
-        "The full experiment with a report is the Snakemake workflow: snakemake --cores 2",
-    )
-    parser.add_argument("--version", action="version", version=f"heatdata {__version__}")
-    parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
-    sub = parser.add_subparsers(dest="command", required=True)
-
-    add_demo(sub)
-
-    render = sub.add_parser("render", help="render one partial view of a model", description=cmd_render.__doc__)
-    render.add_argument("model", type=Path, help="OBJ, PLY, STL, OFF or GLB file")
-    render.add_argument("-o", "--out", type=Path, required=True, help="output .npz view (its folder is created)")
-    render.add_argument("--json", action="store_true", help="print JSON for programs")
-    render.add_argument(
-        "--azimuth", type=number(), default=0.0, help="camera azimuth about the model's +y axis, degrees (default 0)"
-    )
-    render.add_argument("--elevation", type=number(), default=30.0, help="camera elevation, degrees (default 30)")
-    render.add_argument(
-        "--distance",
-        type=number(positive=True),
-        default=1.0,
-        help="camera distance from the model's centre, metres (default 1)",
-    )
-    render.add_argument(
-        "--size",
-        type=number(0.0),
-        nargs=3,
-        metavar=("W", "H", "D"),
-        help="real size in metres (width x, height y, depth z)",
-    )
-    render.add_argument("--scale", type=number(positive=True), default=1.0, help="file units to metres (default 1)")
-    render.add_argument("--seed", type=number(0, whole=True), default=0, help="seed of the sensor noise (default 0)")
-    render.add_argument("--no-noise", action="store_true", help="render without the Kinect noise of thesis 2.6.1")
-    render.set_defaults(func=cmd_render)
-
-    depth = sub.add_parser(
-        "view-from-depth",
-        help="a view from a depth image or an organized point cloud",
-        description=cmd_view_from_depth.__doc__,
-    )
-    depth.add_argument("input", type=Path, help="depth image (.png 16-bit mm, .npy float m) or cloud (.pcd, .ply)")
-    depth.add_argument(
-        "-o",
-        "--out",
-        type=Path,
-        required=True,
-        action="append",
-        help="output .npz view and/or .ply mesh with colours (repeatable)",
-    )
-    frame_arguments(depth)
-    depth.add_argument("--json", action="store_true", help="print JSON for programs")
-    depth.set_defaults(func=cmd_view_from_depth)
-
-    add_stitch(sub)
-
-    desc = sub.add_parser(
-        "describe", help="any descriptor of a saved view (PVHK by default)", description=cmd_describe.__doc__
-    )
-    desc.add_argument("view", type=Path, help=".npz view written by 'heatdata render'")
-    desc.add_argument(
-        "--samples",
-        type=number(0, high=MAX_BOUNDARY_SAMPLES, whole=True),
-        help=f"boundary samples (default 64, at most {MAX_BOUNDARY_SAMPLES}); 0: one per boundary vertex",
-    )
-    desc.add_argument("--source", help="closest (default), center, interior or a vertex index")
-    desc.add_argument("--sampling", choices=["arclength", "polar"], help="boundary sampling (default arclength)")
-    desc.add_argument("--color-map", default=None, help=f"c1, c2, c3, c4, hue or sat-hue: compute a {COLOR_KIND}")
-    desc.add_argument(
-        "--kind",
-        choices=list(KINDS),
-        help=f"default: the default descriptor ({DEFAULT_DESCRIPTOR.name}); a {DEFAULT_KIND} with --samples, "
-        f"--source or --sampling, a {COLOR_KIND} with --color-map, a {THRESHOLD_KIND} with --threshold; "
-        "'heatdata kinds' lists every kind and its options",
-    )
-    desc.add_argument(
-        "--option",
-        action="append",
-        default=[],
-        metavar="KEY=VALUE",
-        help="any other option of the kind, e.g. --option seed=3 for an esf (repeatable)",
-    )
-    desc.add_argument("--time", type=float, help="the fixed time of an ft-pvhk (the object's time scale, Alg. 5.1)")
-    desc.add_argument("--threshold", type=float, help="the pvst's threshold T_a (default 0.75 of equilibrium)")
-    desc.set_defaults(func=cmd_describe)
-
-    cls = sub.add_parser(
-        "classify", help="nearest-neighbour precision of a descriptor table", description=cmd_classify.__doc__
-    )
-    cls.add_argument("descriptors", type=Path, help="descriptors.parquet")
-    cls.add_argument("--descriptor", help="descriptor name (default: every one in the table)")
-    cls.add_argument(
-        "--library-size",
-        type=number(1, high=MAX_VIEWS, whole=True),
-        action="append",
-        metavar="N",
-        help="library views per object, evenly spaced in azimuth among the train views "
-        "(repeatable; default: every train view)",
-    )
-    cls.add_argument(
-        "--time-rule",
-        choices=TIME_RULES,
-        default=TIME_RULES[0],
-        help="which objects an ft-pvhk test view is compared with, each at its time scale: plausible "
-        "(default: those whose time scale is at most the view's own 1/lambda_2) or every",
-    )
-    cls.add_argument("--out", type=Path, help="write predictions.parquet here")
-    cls.set_defaults(func=cmd_classify)
-
-    add_recognize(sub)
-    add_index(sub)
-
-    kinds = sub.add_parser("kinds", help="list the descriptor kinds and their options", description=cmd_kinds.__doc__)
-    kinds.set_defaults(func=cmd_kinds)
-
+def add_import_sh3f(sub) -> None:
+    """The ``import-sh3f`` command's arguments."""
     imp = sub.add_parser(
         "import-sh3f",
         help="import a Sweet Home 3D furniture library",
@@ -378,6 +379,22 @@ def build_parser() -> argparse.ArgumentParser:
     )
     imp.add_argument("--exclude", help="regular expression of furniture names or object ids to leave out")
     imp.set_defaults(func=cmd_import_sh3f)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="heatdata",
+        description="Heat-diffusion descriptors of partial 3D views.",
+        epilog="Exit codes: 0 success; 1 bad input (the message names the file or view); 2 wrong usage. "
+        "The full experiment with a report is the Snakemake workflow: snakemake --cores 2",
+    )
+    parser.add_argument("--version", action="version", version=f"heatdata {__version__}")
+    parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    for add in (add_demo, add_render, add_view_from_depth, add_stitch, add_describe, add_classify, add_recognize,
+                add_index, add_kinds, add_import_sh3f):  # fmt: skip
+        add(sub)
     for command in sub.choices.values():  # -v after the command too: heatdata recognize ... -v
         command.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS, help="debug logging")
     return parser
