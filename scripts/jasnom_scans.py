@@ -388,12 +388,9 @@ def on_table(
         elevation, yaw, off = rng.uniform(20.0, 50.0), rng.uniform(0.0, 360.0), rng.uniform(-10.0, 10.0)
         standing, flipped, truth = render_flipped_pair(model, elevation=elevation, yaw=yaw, flip_axis=off, seed=1)
         mine = plan[plan["object"] == obj]
-        for split, source in (("train", None), ("test", "original")):
-            for name, found_views in described(model, mine[mine["split"] == split], specs).items():
-                if source is None:
-                    library[name] += [(obj, d) for d in found_views]
-                else:
-                    queries[name] += [(source, obj, d) for d in found_views]
+        train, test = mine[mine["split"] == "train"], mine[mine["split"] == "test"]
+        add_views(library, (obj,), model, train, specs)
+        add_views(queries, ("original", obj), model, test, specs)
         result: dict = {"object": obj, "size": size, "elevation": elevation, "flip_off": off, "error": ""}
         try:
             first, second = (table_scan(f.depth, f.intrinsics, f.rgb, name=f"{obj}/{n}")
@@ -441,8 +438,7 @@ def on_table(
                 )
                 joined = transformed(made.model, to_model[:3, :3], to_model[:3, 3])
                 result.update(stitched_row(joined, model, size, prefix))
-                for name, found_views in described(joined, mine[mine["split"] == "test"], specs).items():
-                    queries[name] += [(prefix, obj, d) for d in found_views]
+                add_views(queries, (prefix, obj), joined, test, specs)
             except HeatdataError as error:
                 result[f"{prefix}_error"] = str(error)
         rows.append(result)
@@ -483,6 +479,12 @@ def on_table(
         )
     print(precision.round(3).to_string())
     return table, precision, pd.DataFrame(tried_rows)
+
+
+def add_views(found: dict[str, list], key: tuple, model: Model, plan: pd.DataFrame, specs: dict) -> None:
+    """Append ``(*key, descriptor)`` for each of ``plan``'s views of ``model`` to ``found[name]``, per named spec."""
+    for name, descriptors in described(model, plan, specs).items():
+        found[name] += [(*key, d) for d in descriptors]
 
 
 def described(model: Model, plan: pd.DataFrame, specs: dict) -> dict[str, list]:

@@ -12,9 +12,9 @@ frame, and each scan's table plane ``P = (n, d)`` (unit normal towards the objec
 - **scan 2 (flipped)**: the object's top rests on P2, seen by scan 1. So scan 1 lies on the moved P2's object
   side and touches it: ``h_b = (R n2) . (x - t) + d2 >= 0`` for every point ``x`` of scan 1, lowest at 0.
 
-Both fix the translation along the table normal. They do not fix the rest of the band: the issue this was built
-for argued that the band's ambiguity lies along the viewing ray, one direction, so that fixing its component along
-the normal fixes it whole. Measured, the search is free to slide the flipped scan *along the table*, and the
+Both fix the translation along the table normal. They do not fix the rest of the band: the design assumed that
+the band's ambiguity lies along the viewing ray, one direction, so that fixing its component along the normal
+fixes it whole. Measured, the search is free to slide the flipped scan *along the table*, and the
 boundary cost closes the band by the ray's horizontal part (``scripts/jasnom_scans.py --table-out``: the error left
 lies along the ray's horizontal part, not the normal). Nor does the contact fix the tilt of a flat bottom: a tilt
 that keeps the lowest :data:`CONTACT_SHARE` of the points on the plane costs nothing (a cylinder with a known band:
