@@ -321,7 +321,7 @@ def read_matrix_table(
         raise HeatdataError(f"{path}: not the table this needs: it lacks column(s) {', '.join(missing)}")
     columns = [name for name in file.schema_arrow.names if name not in skip]
     try:
-        values = _matrix(file, matrix)
+        values = _matrix(file, matrix, path)
         frame = file.read(columns=[c for c in columns if c != matrix or values is None]).to_pandas()
     except Exception as exc:
         raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
@@ -330,9 +330,14 @@ def read_matrix_table(
     return frame, values, _run_metadata(file, path)
 
 
-def _matrix(file: pq.ParquetFile, column: str) -> np.ndarray | None:
+def _matrix(file: pq.ParquetFile, column: str, path: str | Path) -> np.ndarray | None:
     """A list column of equal-length rows as one (N, M) float64 array, its row groups decoded side by side into it;
-    None when its rows differ in length or one is null."""
+    None when its rows differ in length or one is null.
+
+    Each row group is decoded through a reader of its own (``path`` opened again) and without arrow's thread pool:
+    a Parquet file reader is not thread-safe, and four threads sharing ``file`` hung within 50 reads of a 20-group
+    table.
+    """
     import concurrent.futures
     import os
 
@@ -357,7 +362,8 @@ def _matrix(file: pq.ParquetFile, column: str) -> np.ndarray | None:
     starts = np.concatenate([[0], np.cumsum([g[0] for g in groups])])
 
     def fill(group: int) -> bool:
-        part = file.read_row_group(group, columns=[column]).column(0)
+        with pq.ParquetFile(path) as reader:
+            part = reader.read_row_group(group, columns=[column], use_threads=False).column(0)
         if _common_width(part) != width:
             return False
         at = starts[group]

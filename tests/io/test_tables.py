@@ -1,5 +1,8 @@
 """Parquet tables: schema, metadata, errors."""
 
+import subprocess
+import sys
+
 import numpy as np
 import pandas as pd
 import pyarrow as pa
@@ -101,6 +104,23 @@ def test_a_matrix_column_reads_as_one_array_in_row_groups(tmp_path, groups):
     assert np.array_equal(matrix, values) and meta["seed"] == 1 and list(back.columns) == ["name", "values"]
     assert all(np.shares_memory(row, matrix) for row in back["values"])  # the frame's rows are views of the array
     assert list(back["name"]) == list(frame["name"])
+
+
+def test_a_matrix_column_of_many_row_groups_reads_again_and_again(tmp_path):
+    # the row groups are decoded side by side; through one shared reader this hung within 250 reads in three tries
+    # of three, so the reads run in a child process that must finish in time
+    script = f"""
+import numpy as np, pandas as pd, pyarrow as pa
+from heatdata.io.tables import read_matrix_table, write_table
+MATRIX_SCHEMA = pa.schema([("name", pa.string()), ("values", pa.list_(pa.float64())), ("extra", pa.list_(pa.string()))])
+values = np.arange(60, dtype=np.float64).reshape(20, 3)
+frame = pd.DataFrame({{"name": list("abcdefghijklmnopqrst"), "values": list(values), "extra": [["x"]] * 20}})
+write_table(frame, {str(tmp_path / "m.parquet")!r}, MATRIX_SCHEMA, row_group_size=1)
+for _ in range(1000):
+    _, matrix, _ = read_matrix_table({str(tmp_path / "m.parquet")!r}, "values", schema=MATRIX_SCHEMA, skip=("extra",))
+    assert np.array_equal(matrix, values)
+"""
+    subprocess.run([sys.executable, "-c", script], check=True, timeout=90)
 
 
 def test_a_ragged_matrix_column_reads_row_by_row(tmp_path):
