@@ -14,6 +14,7 @@ from record import write
 from threadpoolctl import threadpool_limits
 
 import heatdata as hd
+from heatdata.descriptors.sources import candidate_descriptors, candidate_sources
 
 
 def timed(function):
@@ -27,17 +28,17 @@ def main() -> None:
     view = hd.render_view(
         hd.load_catalog_model(catalog[catalog["object"] == "beer-mug"].iloc[0]), 30.0, 30.0, 1.0, seed=0
     )
-    sources = hd.candidate_sources(view, 250)
+    sources = candidate_sources(view, 250)
     pvhk = hd.DescriptorSpec(kind="pvhk", sampling="polar")
     with threadpool_limits(1):
-        spectral, spectral_s = timed(lambda: hd.candidate_descriptors(view, sources, pvhk))
+        spectral, spectral_s = timed(lambda: candidate_descriptors(view, sources, pvhk))
         krylov, krylov_s = timed(
             lambda: hd.describe(
                 view, [hd.DescriptorSpec(kind="pvhk", sampling="polar", source=int(s)) for s in sources]
             )
         )
         _, pvst_s = timed(
-            lambda: hd.candidate_descriptors(view, sources, hd.DescriptorSpec(kind="pvst", sampling="polar"))
+            lambda: candidate_descriptors(view, sources, hd.DescriptorSpec(kind="pvst", sampling="polar"))
         )
     error = max(np.abs(a.values - b.values).max() for a, b in zip(spectral, krylov, strict=True))
     print(

@@ -1,4 +1,4 @@
-"""Time of the compact-library LP (Alg. 6.3, hd.select_sources) on real costs, against the DP, case by case.
+"""Time of the compact-library LP (Alg. 6.3, select_sources) on real costs, against the DP, case by case.
 
 Builds the candidate descriptors of a compact config's objects as the workflow does (Sweet Home 3D models,
 the config's views, ``compact.library_candidates`` sources per library view; test views are not needed)

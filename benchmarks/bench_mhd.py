@@ -18,8 +18,7 @@ import numpy as np
 from record import write
 from threadpoolctl import threadpool_limits
 
-import heatdata as hd
-from heatdata.core.distances import nearest_mhd
+from heatdata.core.distances import mhd_matrix, nearest_mhd
 
 
 def curves(rng: np.random.Generator, n: int) -> np.ndarray:
@@ -42,7 +41,7 @@ def main() -> None:
     large = curves(rng, args.library)
     nearest_mhd(large[:1], large[:2])  # compile (or load the cached kernel) outside the timing
     methods = {
-        "mhd_matrix + argmin": lambda q, lib: np.argmin(hd.mhd_matrix(q, lib), axis=1),
+        "mhd_matrix + argmin": lambda q, lib: np.argmin(mhd_matrix(q, lib), axis=1),
         "nearest_mhd": lambda q, lib: nearest_mhd(q, lib)[0],
     }
     figures = []

@@ -21,7 +21,8 @@ import pandas as pd
 from record import write
 from threadpoolctl import threadpool_limits
 
-import heatdata as hd
+from heatdata.recognition.multiview.appearance import learn_similarity
+from heatdata.recognition.multiview.filters import ExhaustiveFilter, ParticleFilter
 
 
 def synthetic(objects: int, views: int, seed: int) -> pd.DataFrame:
@@ -60,13 +61,13 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=50)
     args = parser.parse_args()
     library = synthetic(args.objects, args.views, 1)
-    similarity = hd.learn_similarity(library, synthetic(args.objects, args.views, 2))
+    similarity = learn_similarity(library, synthetic(args.objects, args.views, 2))
     observations = list(synthetic(args.objects, args.views, 3)["values"][:2])
     with threadpool_limits(1):
-        f = hd.ParticleFilter(library, similarity, particles=args.particles, seed=0)
+        f = ParticleFilter(library, similarity, particles=args.particles, seed=0)
         step = best(lambda: f.step(observations, 360.0 / args.views), args.repeat)
         move = best(lambda: f.best_move((-90, -45, -15, 15, 45, 90)), args.repeat)
-        exact = hd.ExhaustiveFilter(f.model)
+        exact = ExhaustiveFilter(f.model)
         exhaustive = best(lambda: exact.step(observations, 360.0 / args.views), args.repeat)
     print(
         f"{args.objects} objects x {args.views} views x 2 descriptors, {args.particles} particles, one thread, "

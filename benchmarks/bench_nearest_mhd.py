@@ -23,6 +23,7 @@ from record import write
 from scipy.spatial.distance import cdist
 
 import heatdata as hd
+from heatdata.core.distances import mhd_matrix, nearest_pair_mhd
 from heatdata.experiments.describe import candidate_rows
 from heatdata.experiments.views import render_views, view_plan
 
@@ -50,9 +51,9 @@ def main() -> None:
     figures = []
     for _, rows in tests.groupby("view_id"):
         candidates = np.stack(rows["values"].to_numpy())
-        best = hd.nearest_pair_mhd(candidates, lib_values, shortlist=None)
+        best = nearest_pair_mhd(candidates, lib_values, shortlist=None)
         for shortlist in args.shortlist:
-            same[shortlist] += hd.nearest_pair_mhd(candidates, lib_values, shortlist=shortlist).index == best.index
+            same[shortlist] += nearest_pair_mhd(candidates, lib_values, shortlist=shortlist).index == best.index
     count = tests["view_id"].nunique()
     print(
         f"Alg. 6.1: {count} test views x 250 candidates against {len(lib_values)} library descriptors "
@@ -64,7 +65,7 @@ def main() -> None:
     queries = np.stack(library.loc[library["object"] == OBJECTS[0], "values"].to_numpy())
     others = np.stack(library.loc[library["object"] != OBJECTS[0], "values"].to_numpy())
     tic = time.perf_counter()
-    full = hd.mhd_matrix(queries, others)
+    full = mhd_matrix(queries, others)
     seconds = time.perf_counter() - tic
     l1 = cdist(queries, others, "cityblock")
     rank = (l1 < l1[np.arange(len(queries)), full.argmin(axis=1)][:, None]).sum(axis=1)

@@ -37,7 +37,8 @@ from record import write
 from threadpoolctl import threadpool_limits
 
 import heatdata as hd
-from heatdata.core.spectrum import laplacian
+from heatdata.core.spectrum import HeatOperator, lambda2, laplacian
+from heatdata.descriptors import sample_boundary, source_vertex
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -59,17 +60,17 @@ def naive(v: hd.View, source: int) -> np.ndarray:
     boundary = v.boundary
     t = 1.0 / values[1]
     temps = (vectors[boundary] * np.exp(-values * t)) @ vectors[source] * v.n_vertices
-    return hd.sample_boundary(v, boundary, temps, 64)[0]
+    return sample_boundary(v, boundary, temps, 64)[0]
 
 
 def reference(view: hd.View, source: int) -> np.ndarray:
     v = fresh(view)
     L = laplacian(v.vertices, v.edges)
-    t = 1.0 / hd.lambda2(hd.HeatOperator(L))
+    t = 1.0 / lambda2(HeatOperator(L))
     pulse = np.zeros(v.n_vertices)
     pulse[source] = 1.0
     temps = sla.expm_multiply(-t * L, pulse) * v.n_vertices
-    return hd.sample_boundary(v, v.boundary, temps[v.boundary], 64)[0]
+    return sample_boundary(v, v.boundary, temps[v.boundary], 64)[0]
 
 
 def interleaved_best(functions: dict, repeat: int) -> dict:
@@ -96,7 +97,7 @@ def main() -> None:
     catalog = hd.read_catalog(ROOT / "data/models/catalog.csv")
     model = hd.load_catalog_model(catalog[catalog["object"] == args.object].iloc[0])
     view = hd.render_view(model, azimuth=30.0, elevation=30.0, distance=args.distance, seed=0)
-    source = hd.source_vertex(view, "closest")
+    source = source_vertex(view, "closest")
     methods = {
         "naive eigsh k=30 (SuperLU)": lambda v: naive(v, source),
         "heatdata eigen k=16 (CHOLMOD)": lambda v: hd.pvhk(v, 64, method="eigen", modes=16).values,

@@ -33,7 +33,7 @@ from scipy.optimize import brentq
 from threadpoolctl import threadpool_limits
 
 import heatdata as hd
-from heatdata.descriptors import heat_operator
+from heatdata.descriptors import heat_operator, source_vertex
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -114,7 +114,7 @@ def main() -> None:
     print(f"accuracy: {args.accuracy_object} at 1.0 m, {small.n_vertices} vertices, every boundary vertex")
     for rule in ("center", "closest"):
         d = hd.pvst(small, samples=None, source=rule)
-        source = hd.source_vertex(small, rule)
+        source = source_vertex(small, rule)
         if small.n_components > 1:
             raise SystemExit("the accuracy view must be one connected component")
         exact = dense_crossings(small, source, 0.75, d.time)

@@ -1,4 +1,4 @@
-"""Time and memory of hd.select_sources (the LP of thesis 6.3 by column generation) against the DP.
+"""Time and memory of select_sources (the LP of thesis 6.3 by column generation) against the DP.
 
 One object with 40 views x 250 candidate sources (2.5M edges), edge costs the mean
 absolute difference between random smooth 16-sample curves of consecutive views.
@@ -14,8 +14,7 @@ import time
 import numpy as np
 from record import write
 
-import heatdata as hd
-from heatdata.recognition.compact import cyclic_dp
+from heatdata.recognition.compact import cyclic_dp, select_sources
 
 
 def main() -> None:
@@ -32,7 +31,7 @@ def main() -> None:
         np.abs(curves[i][:, None, :] - curves[(i + 1) % args.views][None, :, :]).mean(axis=2) for i in range(args.views)
     ]
     tic = time.perf_counter()
-    _, lp = hd.select_sources(costs)
+    _, lp = select_sources(costs)
     lp_seconds = time.perf_counter() - tic
     lp_peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # before the DP's (n0, n, n) tensors
     tic = time.perf_counter()

@@ -14,6 +14,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import heatdata as hd
+from heatdata.descriptors.sources import candidate_descriptors, candidate_sources
+from heatdata.recognition.compact import combined_costs, consecutive_costs, other_object_distances, select_sources
 
 catalog = hd.read_catalog(hd.embedded_catalog())
 objects = ["coffee-cup", "plastic-cup", "beer-mug"]
@@ -22,15 +24,15 @@ spec = hd.DescriptorSpec("pvhk", 64, "center", "polar")
 azimuths = range(0, 360, 45)
 
 views = {o: [hd.render_view(models[o], azimuth=a, elevation=30.0, seed=a) for a in azimuths] for o in objects}
-sources = {o: [hd.candidate_sources(v, 20) for v in vs] for o, vs in views.items()}  # (20,) vertex ids per view
+sources = {o: [candidate_sources(v, 20) for v in vs] for o, vs in views.items()}  # (20,) vertex ids per view
 candidates = {  # per object, per view: (20, 64), one PVHK per candidate source (one eigenbasis per view)
-    o: [np.array([d.values for d in hd.candidate_descriptors(v, s, spec)]) for v, s in zip(views[o], sources[o])]
+    o: [np.array([d.values for d in candidate_descriptors(v, s, spec)]) for v, s in zip(views[o], sources[o])]
     for o in objects
 }
 
-rho = hd.other_object_distances(candidates)  # Alg. 6.3: each candidate's distance to the nearest other object
-costs = hd.consecutive_costs(candidates["coffee-cup"])  # eq. 6.6 between neighbouring library views
-choice, total = hd.select_sources(hd.combined_costs(costs, rho["coffee-cup"], alpha=0.75))  # eq. 6.11 by LP
+rho = other_object_distances(candidates)  # Alg. 6.3: each candidate's distance to the nearest other object
+costs = consecutive_costs(candidates["coffee-cup"])  # eq. 6.6 between neighbouring library views
+choice, total = select_sources(combined_costs(costs, rho["coffee-cup"], alpha=0.75))  # eq. 6.11 by LP
 print("the coffee cup's compact library: candidate", choice.tolist(), "of each view; cost", round(total, 4))
 
 fig, axes = plt.subplots(2, 4, figsize=(12, 6))

@@ -16,13 +16,15 @@ from matplotlib.colors import to_rgb
 from scipy.spatial.transform import Rotation
 
 import heatdata as hd
+from heatdata.io.models import transformed
+from heatdata.jasnom.cuts import closed_part
 
 catalog = hd.read_catalog(hd.embedded_catalog())
 row = catalog.set_index("object").loc["beer-mug"].to_dict() | {"object": "beer-mug"}
-mug = hd.closed_part(hd.load_catalog_model(row))  # its largest closed piece
+mug = closed_part(hd.load_catalog_model(row))  # its largest closed piece
 top, bottom = hd.split_model(mug, [0.0, 1.0, 0.2], amplitude=0.03)  # a wavy cut
 rotation = Rotation.from_rotvec([0.3, 1.0, 0.0]).as_matrix()
-moved = hd.transformed(bottom, rotation, [0.2, 0.0, 0.0])  # the second mesh, somewhere else
+moved = transformed(bottom, rotation, [0.2, 0.0, 0.0])  # the second mesh, somewhere else
 
 result = hd.stitch(top, moved)
 a = result.alignment

@@ -17,6 +17,8 @@ import numpy as np
 import pandas as pd
 
 import heatdata as hd
+from heatdata.recognition.multiview.appearance import learn_similarity
+from heatdata.recognition.multiview.filters import ExhaustiveFilter, ParticleFilter
 
 catalog = hd.read_catalog(hd.embedded_catalog())
 objects = ["coffee-cup", "plastic-cup", "beer-mug"]
@@ -39,10 +41,10 @@ independent = pd.DataFrame(
         for a in range(0, 360, 30)
     ]
 )
-similarity = hd.learn_similarity(library, independent)
+similarity = learn_similarity(library, independent)
 
-particles = hd.ParticleFilter(library, similarity, particles=30, seed=0)
-exact = hd.ExhaustiveFilter(library)
+particles = ParticleFilter(library, similarity, particles=30, seed=0)
+exact = ExhaustiveFilter(library)
 true_object, start, step = "coffee-cup", 260.0, 30.0  # from 260 degrees the cup looks like the mug
 history = []
 for stop in range(5):

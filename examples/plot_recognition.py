@@ -16,6 +16,8 @@ import numpy as np
 import pandas as pd
 
 import heatdata as hd
+from heatdata.recognition.metrics import confusion_matrix
+from heatdata.recognition.nearest import nearest_neighbors
 
 catalog = hd.read_catalog(hd.embedded_catalog())
 objects = ["coffee-cup", "plastic-cup", "beer-mug", "milk-carton", "speaker-small"]
@@ -37,11 +39,11 @@ tests = [describe(obj, a, seed=2) for obj in objects for a in test_azimuths]
 
 fig, axes = plt.subplots(1, 2, figsize=(11, 4.8))
 for k, (spec, ax) in enumerate(zip(specs, axes)):
-    nearest = hd.nearest_neighbors(np.array([t[k] for t in tests]), np.array([v[k] for v in library]))
+    nearest = nearest_neighbors(np.array([t[k] for t in tests]), np.array([v[k] for v in library]))
     recognized = library_objects[nearest.index]  # the object of each test view's nearest library view
     precision = np.mean(recognized == truth)
     print(f"{spec.name}: {precision:.1%} of {len(truth)} test views")
-    counts = hd.confusion_matrix(pd.Series(truth), pd.Series(recognized), labels=objects).to_numpy()
+    counts = confusion_matrix(pd.Series(truth), pd.Series(recognized), labels=objects).to_numpy()
     ax.imshow(counts, cmap="Blues", vmin=0, vmax=len(test_azimuths))
     for (i, j), n in np.ndenumerate(counts):
         ax.text(j, i, str(n), ha="center", va="center", color="white" if n > 9 else "black")

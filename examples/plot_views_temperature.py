@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import heatdata as hd
+from heatdata.descriptors import heat_kernel
 
 catalog = hd.read_catalog(hd.embedded_catalog())
 objects = ["beer-mug", "coffee-cup", "milk-carton", "wood-toy"]
@@ -23,7 +24,7 @@ fig, axes = plt.subplots(2, len(objects), figsize=(12, 5.6), height_ratios=[3, 1
 for column, row in enumerate(rows.to_dict("records")):
     view = hd.render_view(hd.load_catalog_model(row), azimuth=30.0, elevation=30.0, distance=1.0, seed=0)
     d = hd.pvhk(view, samples=64, source="center", sampling="polar")
-    temperature = hd.heat_kernel(view, source=d.source, times=[d.time])[0]  # (n,), equilibrium = 1
+    temperature = heat_kernel(view, source=d.source, times=[d.time])[0]  # (n,), equilibrium = 1
 
     ax = axes[0, column]
     p = view.pixels  # (n, 2) image coordinates of the vertices

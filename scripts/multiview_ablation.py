@@ -3,7 +3,7 @@
 Reads a multi-view run's descriptor table (``snakemake --configfile config/experiments/multiview.yaml``),
 rebuilds its library, similarity and ambiguous starts as the rule does, and runs the
 trials for each alpha, (sigma_min, tau_boot) pair and newcomer rule (their starting
-weight and place, :class:`heatdata.ParticleFilter`) with fewer repetitions (Fig. 4.8b).
+weight and place, :class:`heatdata.recognition.multiview.filters.ParticleFilter`) with fewer repetitions (Fig. 4.8b).
 Prints and writes a CSV of accuracy, identification and degrees travelled per policy and
 particle count.
 

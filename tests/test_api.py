@@ -1,9 +1,12 @@
-"""What ``import heatdata as hd`` offers: every name resolves, is documented (numpy style) and typed."""
+"""What ``import heatdata as hd`` offers, and the level beneath it: every name resolves, is documented (numpy
+style) and typed; the top level holds the user's path, the rest is imported from its module."""
 
 import dataclasses
+import importlib
 import inspect
 import subprocess
 import sys
+import warnings
 
 import pytest
 
@@ -28,6 +31,23 @@ def test_every_public_name_resolves_and_none_shadows_a_module():
     assert sorted(hd.__all__, key=str.lower) == sorted(set(hd.__all__), key=str.lower)
     with pytest.raises(AttributeError, match="no attribute 'nearest_neighbours'"):
         hd.nearest_neighbours  # noqa: B018 (renamed: nearest_neighbors)
+
+
+def test_the_top_level_is_the_users_path_and_the_rest_is_one_level_down():
+    eager = {name for name, value in vars(hd).items() if not name.startswith("_") and not inspect.ismodule(value)}
+    eager -= {"Any"} | set(hd._MODULE_OF)  # the package's own typing import; lazy names once used
+    assert set(hd.__all__) == eager | set(hd._MODULE_OF) | {"__version__"}  # __all__ lists the imports and _LAZY
+    assert len(hd.__all__) <= 60 and not set(hd.__all__) & set(hd._MOVED_TO)
+    assert {"load_model", "render_view", "describe", "load_library", "stitch", "HeatdataError"} <= set(hd.__all__)
+    for name, module in hd._MOVED_TO.items():
+        beneath = getattr(importlib.import_module(module), name)
+        with pytest.warns(DeprecationWarning, match=rf"heatdata\.{name} has moved: import it from {module}"):
+            assert getattr(hd, name) is beneath
+        assert name not in dir(hd)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for name in hd.__all__:
+            getattr(hd, name)
 
 
 def test_every_error_is_in_errors_and_derives_from_heatdataerror():
@@ -60,8 +80,9 @@ def _problems(obj, name):
 
 def test_every_public_function_and_method_has_parameters_returns_and_hints():
     problems = []
-    for name in hd.__all__:
-        value = getattr(hd, name)
+    beneath = {name: getattr(importlib.import_module(module), name) for name, module in hd._MOVED_TO.items()}
+    for name in [*hd.__all__, *beneath]:
+        value = beneath[name] if name in beneath else getattr(hd, name)
         if inspect.isfunction(value):
             problems += _problems(value, name)
         elif inspect.isclass(value) and not issubclass(value, BaseException):

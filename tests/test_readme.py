@@ -39,6 +39,7 @@ def main_job_library(folder, views: int = 8) -> dict:
     from heatdata.experiments.scenes import SCENE_DEFAULTS, choose_objects, render_scene_files
     from heatdata.experiments.views import render_views, view_plan
     from heatdata.recognition.library import build_library, write_library
+    from heatdata.recognition.pose import sample_surface
 
     config = yaml.safe_load((ROOT / "config/config.yaml").read_text())
     (spec,) = [
@@ -51,7 +52,7 @@ def main_job_library(folder, views: int = 8) -> dict:
     for model in map(hd.load_catalog_model, catalog.to_dict("records")):
         plan = view_plan([model.name], views, 2, elevation=30.0, distance=1.0, seed=0)
         rows.append(descriptor_rows(render_views(model, plan), plan, [spec]))
-        surfaces[model.name] = hd.sample_surface(model.vertices, model.faces)
+        surfaces[model.name] = sample_surface(model.vertices, model.faces)
     library, metadata = build_library(pd.concat(rows, ignore_index=True), spec, views, surfaces=surfaces)
     write_library(library, metadata, folder / "results/libraries" / f"{hd.descriptors.file_name(spec.name)}-40.parquet")
     scenes = {**SCENE_DEFAULTS, **config["scenes"]}  # and the main job's scene 0, as its rule scene writes it

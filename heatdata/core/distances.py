@@ -60,7 +60,8 @@ class NearestPair:
     distance: float
     """Their distance."""
     label: Any = None
-    """The library row's label, when the search was given labels (:func:`heatdata.classify_candidates`)."""
+    """The library row's label, when the search was given labels
+    (:func:`~heatdata.recognition.nearest.classify_candidates`)."""
 
 
 def _curve_x(m: int, dtype) -> np.ndarray:
@@ -132,7 +133,7 @@ def weighted_mhd(z1: np.ndarray, z2: np.ndarray, w1: np.ndarray, w2: np.ndarray)
     z2 : (M',) float
     w1 : (M,) float
     w2 : (M',) float
-        Non-negative part weights (:func:`heatdata.part_weights`).
+        Non-negative part weights (:func:`heatdata.descriptors.part_weights`).
 
     Returns
     -------

@@ -151,7 +151,7 @@ class Kind:
     learned: bool = False
     #: described at given fixed times (the objects' time scales, Alg. 5.1); a test view once per object
     time_scaled: bool = False
-    #: can be computed from many sources of one view (:func:`heatdata.candidate_descriptors`, ch. 6)
+    #: can be computed from many sources of one view (:func:`heatdata.descriptors.sources.candidate_descriptors`, ch. 6)
     multi_source: bool = False
     #: the descriptor carries part weights used by its distance (eq. 5.14)
     weighted: bool = False
@@ -531,7 +531,7 @@ def stack_values(items, what: str = "descriptors") -> np.ndarray:
     ----------
     items : (n, M) array, or a sequence of :class:`Descriptor` or of (M,) arrays
         What the API hands out: a stacked array, :func:`heatdata.describe`'s or
-        :func:`heatdata.candidate_descriptors`'s list of descriptors.
+        :func:`heatdata.descriptors.sources.candidate_descriptors`'s list of descriptors.
     what : str
         Named in errors.
 

@@ -25,7 +25,7 @@ class HistogramKind(Kind):
         return self.bins
 
     def distance_matrix(self, queries, library, *, query_weights=None, library_weights=None):
-        """The chi-square distance between normalized histograms (:func:`heatdata.chi_square_matrix`)."""
+        """The chi-square distance between normalized histograms (:func:`heatdata.core.distances.chi_square_matrix`)."""
         return chi_square_matrix(queries, library)
 
     def check_points(self, view, count: int | None = None) -> None:

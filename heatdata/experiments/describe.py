@@ -47,7 +47,7 @@ def candidate_rows(
     Every view gets one row per candidate source (descriptor name with source
     ``candidates``, e.g. ``pvhk/polar/candidates/64``) and one row for ``spec``'s own
     rule (the initial library of 6.4, e.g. ``pvhk/polar/center/64``), all from one
-    eigen-decomposition (:func:`heatdata.candidate_descriptors`). Library views take
+    eigen-decomposition (:func:`heatdata.descriptors.sources.candidate_descriptors`). Library views take
     ``library_count`` candidates by mesh simplification, test views ``test_count``
     (None: every vertex off the outline, as in the thesis). A view that cannot be
     described gets one NaN candidate row with the reason in ``repairs``.

@@ -75,7 +75,8 @@ def multiview_trials(
     holds each object's test views (observations are the ``per_stop`` nearest each stop).
     ``step``, ``candidates`` and ``max_degrees`` go to
     :func:`~heatdata.recognition.multiview.robot.recognize`, and ``filter_options`` to every
-    :class:`~heatdata.ParticleFilter` (``tau_boot``, ``sigma_min``, ``alpha``, ``newcomer``, ...).
+    :class:`~heatdata.recognition.multiview.filters.ParticleFilter` (``tau_boot``, ``sigma_min``, ``alpha``,
+    ``newcomer``, ...).
     The active policy runs with the similarity bootstrap only. With ``exhaustive``, each
     start also runs once with :class:`ExhaustiveFilter` (``bootstrap`` "exhaustive",
     fixed steps, ``particles`` its number of hypotheses): the exact answer of the

@@ -435,7 +435,7 @@ def consecutive_costs(views: list[np.ndarray], distance: str = "l1") -> list[np.
     ----------
     views : list of K (n_i, M) arrays, or of K lists of Descriptor
         Candidate descriptors of one object's library views, in azimuth order (one
-        :func:`heatdata.candidate_descriptors` list per view will do).
+        :func:`heatdata.descriptors.sources.candidate_descriptors` list per view will do).
     distance : {"l1", "mhd"}
 
     Returns

@@ -10,8 +10,8 @@ view of the objects it found. Each kind says which space (:attr:`heatdata.descri
     map), and the squared Euclidean distance between the maps is the squared Hellinger distance
     ``H^2 = sum_k (sqrt(a_k) - sqrt(b_k))^2``. Per bin, ``(a - b)^2 / (a + b) = (sqrt(a) - sqrt(b))^2
     (sqrt(a) + sqrt(b))^2 / (a + b)`` and the last factor lies in [1, 2], so ``H^2 / 2 <= chi^2 <= H^2``
-    (chi-square as :func:`heatdata.chi_square_matrix` defines it, with its 1/2): the nearest in the index are near
-    in chi-square, within a factor 2.
+    (chi-square as :func:`heatdata.core.distances.chi_square_matrix` defines it, with its 1/2): the nearest in the
+    index are near in chi-square, within a factor 2.
 ``"l2"``
     The Euclidean embeddings of a learned kind: the values themselves.
 ``"l1"``

@@ -751,7 +751,7 @@ class Library:
         Returns
         -------
         pandas.DataFrame
-            As :func:`heatdata.learn_similarity`.
+            As :func:`heatdata.recognition.multiview.appearance.learn_similarity`.
         """
         from heatdata.recognition.multiview.appearance import learn_similarity
 

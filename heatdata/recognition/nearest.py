@@ -52,7 +52,7 @@ def classify_candidates(
     ----------
     candidates : (s, M) float, or a list of Descriptor
         The observed view's descriptors, one per candidate source
-        (:func:`heatdata.candidate_descriptors`).
+        (:func:`heatdata.descriptors.sources.candidate_descriptors`).
     library : (N, M) float, or a list of Descriptor
     labels : (N,)
         Object (or class) of each library descriptor.

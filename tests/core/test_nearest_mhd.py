@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import heatdata as hd
-from heatdata.core.distances import nearest_mhd
+from heatdata.core.distances import chi_square_matrix, mhd_matrix, nearest_mhd, weighted_mhd
+from heatdata.recognition.nearest import nearest_neighbors
 
 
 def pvhk_like(rng, n, m=64):
@@ -15,10 +16,10 @@ def pvhk_like(rng, n, m=64):
 
 
 def reference(queries, library, wq=None, wl=None):
-    """The plain definition, pair by pair (eq. 3.1 / 5.14 via hd.weighted_mhd)."""
+    """The plain definition, pair by pair (eq. 3.1 / 5.14 via weighted_mhd)."""
     wq = np.ones(queries.shape) if wq is None else wq
     wl = np.ones(library.shape) if wl is None else wl
-    d = np.array([[hd.weighted_mhd(q, z, a, b) for z, b in zip(library, wl)] for q, a in zip(queries, wq)])
+    d = np.array([[weighted_mhd(q, z, a, b) for z, b in zip(library, wl)] for q, a in zip(queries, wq)])
     return np.argmin(d, axis=1), d.min(axis=1)
 
 
@@ -32,7 +33,7 @@ def test_the_search_finds_the_plain_definition_s_nearest_item_and_distance(block
     expected_index, expected = reference(queries, library)
     np.testing.assert_array_equal(index, expected_index)
     np.testing.assert_allclose(distance, expected, rtol=1e-12)
-    matrix = hd.mhd_matrix(queries, library)  # float32: the same items
+    matrix = mhd_matrix(queries, library)  # float32: the same items
     np.testing.assert_array_equal(np.argmin(matrix, axis=1), index)
 
 
@@ -62,9 +63,9 @@ def test_the_heat_kinds_and_the_recognizer_search_this_way():
     rng = np.random.default_rng(3)
     library, queries = pvhk_like(rng, 40), pvhk_like(rng, 5)
     index, distance = hd.descriptors.kind_of("pvhk").nearest(queries, library)
-    nn = hd.nearest_neighbors(queries, library)
+    nn = nearest_neighbors(queries, library)
     np.testing.assert_array_equal(nn.index, index)
-    matrix = hd.nearest_neighbors(queries, library, distance=hd.mhd_matrix)  # any distance matrix still works
+    matrix = nearest_neighbors(queries, library, distance=mhd_matrix)  # any distance matrix still works
     np.testing.assert_array_equal(matrix.index, index)
     np.testing.assert_allclose(matrix.distance, distance, rtol=1e-5)
 
@@ -83,7 +84,7 @@ def test_other_kinds_search_their_distance_matrix_in_chunks():
     rng = np.random.default_rng(4)
     library, queries = rng.dirichlet(np.ones(16), 30), rng.dirichlet(np.ones(16), 9)
     index, distance = hd.descriptors.kind_of("esf").nearest(queries, library, chunk=4)
-    d = hd.chi_square_matrix(queries, library)
+    d = chi_square_matrix(queries, library)
     np.testing.assert_array_equal(index, np.argmin(d, axis=1))
     np.testing.assert_allclose(distance, d.min(axis=1))
 

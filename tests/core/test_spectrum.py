@@ -8,17 +8,18 @@ import scipy.sparse.linalg as sla
 from conftest import grid_mesh, square_view
 
 import heatdata as hd
+from heatdata.core.spectrum import HeatOperator, eigen_spectrum, krylov_heat, lambda2, laplacian
 
 
 def test_laplacian_rows_sum_to_zero_and_symmetric(square):
-    L = hd.laplacian(square.vertices, square.edges)
+    L = laplacian(square.vertices, square.edges)
     assert np.allclose(np.asarray(L.sum(axis=1)).ravel(), 0.0, atol=1e-6 * L.diagonal().max())
     assert abs(L - L.T).max() == 0.0
 
 
 def test_laplacian_weights_are_inverse_squared_lengths():
     vertices = np.array([[0.0, 0, 1], [0.5, 0, 1], [0, 2.0, 1]])
-    L = hd.laplacian(vertices, np.array([[0, 1], [0, 2]]))
+    L = laplacian(vertices, np.array([[0, 1], [0, 2]]))
     assert L[0, 1] == pytest.approx(-1 / 0.25)
     assert L[0, 2] == pytest.approx(-1 / 4.0)
     assert L[0, 0] == pytest.approx(4.25)
@@ -27,7 +28,7 @@ def test_laplacian_weights_are_inverse_squared_lengths():
 def test_zero_length_edge_is_an_error():
     vertices = np.array([[0.0, 0, 1], [0.0, 0, 1], [1, 0, 1]])
     with pytest.raises(hd.SpectrumError, match="zero-length"):
-        hd.laplacian(vertices, np.array([[0, 1], [1, 2]]))
+        laplacian(vertices, np.array([[0, 1], [1, 2]]))
 
 
 def test_one_zero_eigenvalue_per_component():
@@ -36,34 +37,34 @@ def test_one_zero_eigenvalue_per_component():
     vertices = np.vstack([v1, v2 + [1.0, 0, 0]])
     faces = np.vstack([f1, f2 + len(v1)])
     view = hd.View.from_arrays(vertices, faces)
-    values = sl.eigvalsh(hd.laplacian(view.vertices, view.edges).toarray())
+    values = sl.eigvalsh(laplacian(view.vertices, view.edges).toarray())
     scale = values.max()
     assert np.sum(values < 1e-10 * scale) == 2 == view.n_components
 
 
 def test_lambda2_matches_dense(square):
-    L = hd.laplacian(square.vertices, square.edges)
+    L = laplacian(square.vertices, square.edges)
     exact = sl.eigvalsh(L.toarray())[1]
-    assert hd.lambda2(hd.HeatOperator(L)) == pytest.approx(exact, rel=1e-9)
+    assert lambda2(HeatOperator(L)) == pytest.approx(exact, rel=1e-9)
 
 
 def test_generalized_lambda2_matches_dense(square):
-    L = hd.laplacian(square.vertices, square.edges)
+    L = laplacian(square.vertices, square.edges)
     rates = np.random.default_rng(1).uniform(0.5, 2.0, square.n_vertices)
     exact = sl.eigh(L.toarray(), np.diag(rates), eigvals_only=True)[1]
-    assert hd.lambda2(hd.HeatOperator(L, rates)) == pytest.approx(exact, rel=1e-9)
+    assert lambda2(HeatOperator(L, rates)) == pytest.approx(exact, rel=1e-9)
 
 
 @pytest.mark.parametrize("with_color", [False, True])
 def test_krylov_heat_matches_expm_multiply(square, with_color):
-    L = hd.laplacian(square.vertices, square.edges)
+    L = laplacian(square.vertices, square.edges)
     n = square.n_vertices
     rates = np.random.default_rng(2).uniform(0.5, 2.0, n) if with_color else np.ones(n)
-    op = hd.HeatOperator(L, rates)
-    t2 = 1.0 / hd.lambda2(op)
+    op = HeatOperator(L, rates)
+    t2 = 1.0 / lambda2(op)
     times = np.array([0.05, 0.3, 1.0]) * t2
     source = 37
-    got = hd.krylov_heat(op, source, times, tol=1e-10)
+    got = krylov_heat(op, source, times, tol=1e-10)
     pulse = np.zeros(n)
     pulse[source] = 1.0
     A = -(sp.diags(1.0 / rates) @ L)  # dT/dt = -C^{-1} L T
@@ -73,9 +74,9 @@ def test_krylov_heat_matches_expm_multiply(square, with_color):
 
 
 def test_a_shifted_operator_reuses_the_analysis_and_solves_its_own_matrix(square):
-    L = hd.laplacian(square.vertices, square.edges)
+    L = laplacian(square.vertices, square.edges)
     rates = np.random.default_rng(3).uniform(0.5, 2.0, square.n_vertices)
-    op = hd.HeatOperator(L, rates)
+    op = HeatOperator(L, rates)
     shifted = op.shifted(10.0)
     y = np.random.default_rng(4).standard_normal(square.n_vertices)
     dense = L.toarray() + 10.0 * np.diag(rates)
@@ -85,18 +86,18 @@ def test_a_shifted_operator_reuses_the_analysis_and_solves_its_own_matrix(square
 
 def test_heat_is_conserved(square):
     rates = np.random.default_rng(3).uniform(0.5, 2.0, square.n_vertices)
-    op = hd.HeatOperator(hd.laplacian(square.vertices, square.edges), rates)
-    t2 = 1.0 / hd.lambda2(op)
-    temps = hd.krylov_heat(op, 5, [0.1 * t2, t2, 10 * t2])
+    op = HeatOperator(laplacian(square.vertices, square.edges), rates)
+    t2 = 1.0 / lambda2(op)
+    temps = krylov_heat(op, 5, [0.1 * t2, t2, 10 * t2])
     # normalized so that the equilibrium is 1: the c-weighted mean temperature is 1 at all times
     assert np.allclose(temps @ rates / rates.sum(), 1.0, atol=1e-9)
     assert np.allclose(temps[-1], 1.0, atol=1e-3)  # near equilibrium after 10 time scales
 
 
 def test_eigen_spectrum_is_c_orthonormal_and_matches_dense(square):
-    L = hd.laplacian(square.vertices, square.edges)
+    L = laplacian(square.vertices, square.edges)
     rates = np.random.default_rng(4).uniform(0.5, 2.0, square.n_vertices)
-    spectrum = hd.eigen_spectrum(hd.HeatOperator(L, rates), 12)
+    spectrum = eigen_spectrum(HeatOperator(L, rates), 12)
     exact = sl.eigh(L.toarray(), np.diag(rates), eigvals_only=True)[:12]
     assert np.allclose(spectrum.values, exact, rtol=1e-8, atol=1e-8 * exact[1])
     gram = spectrum.vectors.T @ (rates[:, None] * spectrum.vectors)
@@ -105,9 +106,9 @@ def test_eigen_spectrum_is_c_orthonormal_and_matches_dense(square):
 
 def test_spectrum_heat_with_all_modes_is_exact():
     view = square_view(n=8)
-    L = hd.laplacian(view.vertices, view.edges)
-    op = hd.HeatOperator(L)
-    spectrum = hd.eigen_spectrum(op, view.n_vertices - 2)
+    L = laplacian(view.vertices, view.edges)
+    op = HeatOperator(L)
+    spectrum = eigen_spectrum(op, view.n_vertices - 2)
     t = 0.5 / spectrum.lambda2
     exact = sla.expm_multiply(-t * L, np.eye(view.n_vertices)[:, [3, 9]]).T * view.n_vertices
     got = spectrum.heat([3, 9], t)
@@ -115,27 +116,27 @@ def test_spectrum_heat_with_all_modes_is_exact():
 
 
 def test_bad_rates_and_times_are_errors(square):
-    L = hd.laplacian(square.vertices, square.edges)
+    L = laplacian(square.vertices, square.edges)
     with pytest.raises(hd.SpectrumError, match="positive"):
-        hd.HeatOperator(L, np.zeros(square.n_vertices))
+        HeatOperator(L, np.zeros(square.n_vertices))
     with pytest.raises(hd.SpectrumError, match="times"):
-        hd.krylov_heat(hd.HeatOperator(L), 0, [-1.0])
+        krylov_heat(HeatOperator(L), 0, [-1.0])
 
 
 def test_non_convergence_is_reported_not_hidden(square):
-    op = hd.HeatOperator(hd.laplacian(square.vertices, square.edges))
+    op = HeatOperator(laplacian(square.vertices, square.edges))
     with pytest.raises(hd.SpectrumError, match="did not converge"):
-        hd.krylov_heat(op, 0, [1e-6], max_steps=4)
+        krylov_heat(op, 0, [1e-6], max_steps=4)
     with pytest.raises(hd.SpectrumError, match="did not converge"):
-        hd.lambda2(op, max_steps=4, rtol=1e-16)
+        lambda2(op, max_steps=4, rtol=1e-16)
 
 
 def test_tiny_mesh_krylov_space_becomes_invariant_and_is_exact():
     view = square_view(n=6)
-    L = hd.laplacian(view.vertices, view.edges)
-    op = hd.HeatOperator(L)
-    t = 1.0 / hd.lambda2(op)
-    got = hd.krylov_heat(op, 0, [t], tol=0.0, max_steps=200)[0]  # tol 0: only an invariant space stops it
+    L = laplacian(view.vertices, view.edges)
+    op = HeatOperator(L)
+    t = 1.0 / lambda2(op)
+    got = krylov_heat(op, 0, [t], tol=0.0, max_steps=200)[0]  # tol 0: only an invariant space stops it
     pulse = np.zeros(view.n_vertices)
     pulse[0] = 1.0
     assert np.allclose(got, sla.expm_multiply(-t * L, pulse) * view.n_vertices, atol=1e-9)

@@ -5,6 +5,7 @@ import pytest
 from conftest import disc_view, square_view
 
 import heatdata as hd
+from heatdata.core.distances import mhd_matrix
 from heatdata.descriptors.combined import layout, simplex_grid
 
 PARTS = [{"kind": "hgd", "bins": 8}, {"kind": "pvhk", "samples": 16, "source": "center", "sampling": "polar"}]
@@ -30,7 +31,7 @@ def test_the_weights_learned_on_library_views_favour_the_part_that_tells_them_ap
     """The PVHK is scale-free (stopped at 1/lambda_2), so only the HGD tells the two plates apart."""
     views = library()
     pvhk = np.stack([hd.describe(v, [hd.DescriptorSpec(**PARTS[1])])[0].values for v in views])
-    d = hd.mhd_matrix(pvhk, pvhk) + np.diag(np.full(len(views), np.inf))
+    d = mhd_matrix(pvhk, pvhk) + np.diag(np.full(len(views), np.inf))
     objects = np.array([v.object_id for v in views])
     assert np.mean(objects[d.argmin(axis=1)] == objects) < 1.0  # the PVHK alone confuses the plates
     spec = hd.fit_spec(hd.DescriptorSpec("combined", parts=PARTS), views)

@@ -11,8 +11,17 @@ from scipy.optimize import brentq
 
 import heatdata as hd
 import heatdata.descriptors.heat as descriptors
-from heatdata.core.spectrum import lambda2
-from heatdata.descriptors import heat_operator
+from heatdata.core.distances import mhd, mhd_matrix, weighted_mhd
+from heatdata.core.spectrum import heat_model, lambda2
+from heatdata.descriptors import (
+    global_derivative,
+    heat_kernel,
+    heat_operator,
+    object_time_scale,
+    part_weights,
+    view_time_scale,
+)
+from heatdata.descriptors.sources import candidate_descriptors
 
 
 def lattice_view(mask: np.ndarray, spacing: float = 0.002, name: str = "lattice") -> hd.View:
@@ -46,7 +55,7 @@ def test_bottleneck_drops_lambda2_about_tenfold():
 
 def test_global_derivative_is_largest_on_the_small_part():
     view = lattice_view(squares(True))
-    delta = hd.global_derivative(view, source=0)
+    delta = global_derivative(view, source=0)
     small = view.vertices[:, 0] > 12 * 0.002  # right of the bottleneck's middle
     assert delta[small].mean() > 10 * delta[~small].mean()
 
@@ -58,12 +67,12 @@ def test_global_derivative_matches_eq_5_11_by_dense_heat():
     t = 1.0 / np.sort(np.linalg.eigvalsh(L))[1]
     heat = scipy.linalg.expm(-t * L) * n  # column i: normalized temperatures with the source at i
     expected = 0.5 * np.einsum("ji,jk,ki->i", heat, L, heat)  # T_i^T L T_i / 2
-    np.testing.assert_allclose(hd.global_derivative(view, source=0), expected, rtol=1e-6)
+    np.testing.assert_allclose(global_derivative(view, source=0), expected, rtol=1e-6)
 
 
 def test_part_weights_follow_the_samples_and_lie_in_0_1():
     view = lattice_view(squares(True))
-    w = hd.part_weights(view, samples=64, source=0)
+    w = part_weights(view, samples=64, source=0)
     assert w.shape == (64,) and np.all((w > 0) & (w <= 1))
     assert w.min() < 0.2 and np.median(w) > 0.9  # low on the small square, ~1 on the main one
 
@@ -72,17 +81,17 @@ def test_mostly_small_part_boundary_gets_unit_weights_and_a_warning(monkeypatch,
     view = lattice_view(squares(True))
     monkeypatch.setattr(descriptors, "MIN_MAIN_SHARE", 0.99)
     with caplog.at_level(logging.WARNING):
-        w = hd.part_weights(view, samples=64, source=0)
+        w = part_weights(view, samples=64, source=0)
     assert np.all(w == 1.0)
     assert "unit weights" in caplog.text
 
 
 def test_object_time_scale_is_the_smallest_view_time_scale():
     views = [lattice_view(squares(True), name="joined"), lattice_view(squares(False), name="alone")]
-    scales = [hd.view_time_scale(v, source=0) for v in views]
-    assert hd.object_time_scale(views, source=0) == min(scales) == scales[1]
+    scales = [view_time_scale(v, source=0) for v in views]
+    assert object_time_scale(views, source=0) == min(scales) == scales[1]
     with pytest.raises(hd.ViewError):
-        hd.object_time_scale([])
+        object_time_scale([])
 
 
 def test_ft_pvhk_at_t_global_is_the_pvhk(mug):
@@ -100,29 +109,29 @@ def test_weighted_mhd_reduces_to_mhd_and_ignores_zero_weight_points():
     rng = np.random.default_rng(0)
     z1, z2 = rng.random(32), rng.random(32)
     ones = np.ones(32)
-    assert hd.weighted_mhd(z1, z2, ones, ones) == pytest.approx(hd.mhd(z1, z2))
+    assert weighted_mhd(z1, z2, ones, ones) == pytest.approx(mhd(z1, z2))
     spike = z1.copy()
     spike[10] += 5.0
     w = ones.copy()
     w[10] = 0.0
-    assert hd.weighted_mhd(spike, z1, w, w) < 1e-12 < hd.mhd(spike, z1)
+    assert weighted_mhd(spike, z1, w, w) < 1e-12 < mhd(spike, z1)
     weights = rng.random((3, 32)) + 0.1
     queries, library = rng.random((3, 32)), rng.random((4, 32))
     lib_w = rng.random((4, 32)) + 0.1
-    matrix = hd.mhd_matrix(queries, library, query_weights=weights, library_weights=lib_w, dtype=np.float64)
+    matrix = mhd_matrix(queries, library, query_weights=weights, library_weights=lib_w, dtype=np.float64)
     for i in range(3):
         for j in range(4):
-            assert matrix[i, j] == pytest.approx(hd.weighted_mhd(queries[i], library[j], weights[i], lib_w[j]))
+            assert matrix[i, j] == pytest.approx(weighted_mhd(queries[i], library[j], weights[i], lib_w[j]))
 
 
 def test_distances_refuse_nan_and_bad_weights():
     z = np.ones(8)
     with pytest.raises(hd.HeatdataError, match="NaN"):
-        hd.mhd_matrix(np.array([[np.nan] * 8]), z[None])
+        mhd_matrix(np.array([[np.nan] * 8]), z[None])
     with pytest.raises(hd.HeatdataError, match="non-negative"):
-        hd.weighted_mhd(z, z, -z, z)
+        weighted_mhd(z, z, -z, z)
     with pytest.raises(hd.HeatdataError, match="both"):
-        hd.mhd_matrix(z[None], z[None], query_weights=z[None])
+        mhd_matrix(z[None], z[None], query_weights=z[None])
 
 
 def test_pvst_of_a_disc_with_central_source_is_constant(disc):
@@ -203,8 +212,8 @@ def test_pvst_matches_a_dense_reference_to_1e_3(n, row):
 def test_a_shifted_factorization_gives_the_same_heat():
     op = heat_operator(square_view(15))
     times = np.array([1e-6, 1e-5, 1e-4])
-    base = hd.heat_model(op, 112, times, max_steps=200)(times)
-    early = hd.heat_model(op.shifted(1e6), 112, times)(times)
+    base = heat_model(op, 112, times, max_steps=200)(times)
+    early = heat_model(op.shifted(1e6), 112, times)(times)
     assert np.allclose(base, early, atol=1e-6)
 
 
@@ -234,11 +243,11 @@ def test_specs_check_kinds_and_thresholds(square):
 def test_empty_or_bad_times_and_tiny_thresholds_are_clear_errors(square):
     for times in ([], [0.0], [float("nan")]):
         with pytest.raises(hd.ViewError, match="positive finite times"):
-            hd.heat_kernel(square, "center", times=times)
+            heat_kernel(square, "center", times=times)
         with pytest.raises(hd.ViewError, match="positive finite times"):
             hd.describe(square, [hd.DescriptorSpec("ft-pvhk")], times=times)
     with pytest.raises(hd.ViewError, match="positive finite times"):
-        hd.candidate_descriptors(square, [220], hd.DescriptorSpec("ft-pvhk"), times=[])
+        candidate_descriptors(square, [220], hd.DescriptorSpec("ft-pvhk"), times=[])
     with pytest.raises(hd.SpecError, match="at least 0.01"):  # 1e-9 gave a false "does not reach T"
         hd.DescriptorSpec("pvst", threshold=1e-9)
     d = hd.pvst(square, 16, threshold=0.01, source="center")

@@ -8,12 +8,14 @@ import scipy.sparse.linalg as sla
 from conftest import grid_mesh
 
 import heatdata as hd
+from heatdata.core.spectrum import laplacian
+from heatdata.descriptors import heat_kernel, sample_boundary, source_vertex
 from heatdata.descriptors.boundary import color_rates
 
 
 @pytest.mark.parametrize("sampling", ["arclength", "polar"])
 def test_disc_with_central_source_gives_flat_pvhk(disc, sampling):
-    centre = hd.source_vertex(disc, "center")
+    centre = source_vertex(disc, "center")
     assert np.hypot(*disc.vertices[centre, :2]) < 1e-9
     d = hd.pvhk(disc, 64, source="center", sampling=sampling)
     assert d.source == centre
@@ -26,7 +28,7 @@ def test_disc_with_central_source_gives_flat_pvhk(disc, sampling):
 def test_pvhk_matches_expm_reference(mug):
     view = hd.render_view(mug, 40.0, 30.0, 1.4, seed=3)
     d = hd.pvhk(view, samples=None)
-    L = hd.laplacian(view.vertices, view.edges)
+    L = laplacian(view.vertices, view.edges)
     pulse = np.zeros(view.n_vertices)
     pulse[d.source] = 1.0
     exact = sla.expm_multiply(-d.time * L, pulse)[view.boundary] * view.n_vertices
@@ -47,8 +49,8 @@ def test_source_rules():
     vertices[:, 2] += 0.5 * vertices[:, 0] + 0.01 * (vertices[:, 0] ** 2 + vertices[:, 1] ** 2)
     vertices[:, :2] += 0.004  # the optical axis is off the grid centre
     view = hd.View.from_arrays(vertices, faces)
-    closest = hd.source_vertex(view, "closest")
-    center = hd.source_vertex(view, "center")
+    closest = source_vertex(view, "closest")
+    center = source_vertex(view, "center")
     assert closest == np.argmin(np.linalg.norm(view.vertices, axis=1))  # eq. 2.7
     # eq. 2.8 in the camera frame turned to face the segment: its image's bounding box centred on the optical axis
     turned = view.vertices @ view.canonical_rotation.T
@@ -57,9 +59,9 @@ def test_source_rules():
     assert center == np.argmin(np.hypot(turned[:, 0], turned[:, 1]))
     assert closest != center
     with pytest.raises(hd.ViewError, match="source rule"):
-        hd.source_vertex(view, "nearest")
+        source_vertex(view, "nearest")
     with pytest.raises(hd.ViewError, match="not in"):
-        hd.source_vertex(view, 10_000)
+        source_vertex(view, 10_000)
 
 
 def test_samples_none_gives_one_value_per_boundary_vertex(disc):
@@ -79,7 +81,7 @@ def test_arclength_samples_interpolate_per_vertex_values(disc):
 def test_polar_samples_follow_the_angle(square):
     view = square
     temps = view.planar[view.boundary, 0]  # value = x coordinate of the boundary point
-    values, positions = hd.sample_boundary(view, view.boundary, temps, 8, "polar")
+    values, positions = sample_boundary(view, view.boundary, temps, 8, "polar")
     theta = 2 * np.pi * positions
     # rays at 0, 45, 90 ... deg cross the square's boundary where x = r cos(theta)
     assert values[0] > 0 and values[4] < 0 and abs(values[2]) < 1e-9 and abs(values[6]) < 1e-9
@@ -172,15 +174,15 @@ def test_descriptor_spec_validation():
 
 
 def test_heat_kernel_public_api(disc):
-    temps = hd.heat_kernel(disc, source="center", times=[1e-4, 1e-3])
+    temps = heat_kernel(disc, source="center", times=[1e-4, 1e-3])
     assert temps.shape == (2, disc.n_vertices)
-    centre = hd.source_vertex(disc, "center")
+    centre = source_vertex(disc, "center")
     assert temps[0, centre] > temps[1, centre] > 1.0  # cooling at the source
     assert np.allclose(temps.mean(axis=1), 1.0, atol=1e-9)  # heat conserved (c = 1)
 
 
 def test_interior_source_is_farthest_from_the_outline(square, disc):
-    assert hd.source_vertex(disc, "interior") == 0  # the disc's centre
-    s = hd.source_vertex(square, "interior")
+    assert source_vertex(disc, "interior") == 0  # the disc's centre
+    s = source_vertex(square, "interior")
     assert np.allclose(square.vertices[s, :2], 0.0)  # the square's centre
     assert s not in set(square.boundary)

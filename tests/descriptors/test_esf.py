@@ -5,6 +5,7 @@ import pytest
 from conftest import square_view
 
 import heatdata as hd
+from heatdata.core.distances import chi_square_matrix
 from heatdata.descriptors import esf
 from heatdata.descriptors.esf import esf_histogram
 
@@ -41,7 +42,7 @@ def test_plane_lines_are_all_in_until_a_hole_is_cut():
     full, cut = rows(plane), rows(holed(plane, 0.03))
     assert full[8] == 0 and full[9] == 0 and full[6] > 0.45  # D2 in: half the weight; no mixed line
     assert cut[8] > 0.1 and cut[9] > 0.1 and cut[6] < full[6] - 0.15
-    assert hd.chi_square_matrix(full[None], cut[None])[0, 0] > 0.1
+    assert chi_square_matrix(full[None], cut[None])[0, 0] > 0.1
 
 
 def test_too_small_or_flat_views_are_errors():

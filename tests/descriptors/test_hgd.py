@@ -5,6 +5,7 @@ import pytest
 from conftest import grid_mesh, square_view
 
 import heatdata as hd
+from heatdata.core.distances import chi_square_matrix
 from heatdata.core.mesh import farthest_points
 from heatdata.descriptors.hgd import RATIO_EDGES, hgd_histogram
 
@@ -55,7 +56,7 @@ def test_a_fold_sends_pairs_round_and_another_component_counts_as_unreachable():
 def test_distance_is_in_metres_so_size_matters():
     small, large = square_view(31, 0.002), square_view(31, 0.006)
     a, b = (hgd_histogram(v) for v in (small, large))
-    assert hd.chi_square_matrix(a[None], b[None])[0, 0] > 0.3
+    assert chi_square_matrix(a[None], b[None])[0, 0] > 0.3
 
 
 def test_farthest_points_spread_and_stop_at_the_point_count():

@@ -10,7 +10,9 @@ import yaml
 from conftest import square_view
 
 import heatdata as hd
+from heatdata.core.distances import mhd
 from heatdata.descriptors import KINDS, kind_of
+from heatdata.descriptors.sources import candidate_descriptors
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -92,7 +94,7 @@ def test_distance_is_the_kinds_own_and_refuses_mixed_kinds():
     view = square_view(21)
     pvhk, esf = hd.describe(view, [hd.DescriptorSpec("pvhk", 16), hd.DescriptorSpec("esf")])
     other = hd.pvhk(view, 16, "center")
-    assert hd.distance(pvhk, other) == pytest.approx(hd.mhd(pvhk.values, other.values), rel=1e-6)
+    assert hd.distance(pvhk, other) == pytest.approx(mhd(pvhk.values, other.values), rel=1e-6)
     assert hd.distance(esf, esf) == 0.0
     with pytest.raises(hd.HeatdataError, match="no distance between a pvhk and an esf"):
         hd.distance(pvhk, esf)
@@ -100,7 +102,7 @@ def test_distance_is_the_kinds_own_and_refuses_mixed_kinds():
 
 def test_histogram_kinds_have_no_heat_source():
     with pytest.raises(hd.SpecError, match="no heat source"):
-        hd.candidate_descriptors(square_view(21), [200], hd.DescriptorSpec("esf"))
+        candidate_descriptors(square_view(21), [200], hd.DescriptorSpec("esf"))
     assert {k for k, v in KINDS.items() if v.multi_source} == {"pvhk", "c-pvhk", "ft-pvhk", "pvst"}
     assert {k for k, v in KINDS.items() if v.fitted} == {"si-hks", "combined", "pointnet"} and kind_of(
         "ft-pvhk"

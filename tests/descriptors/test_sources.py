@@ -7,6 +7,8 @@ import pytest
 from scipy.spatial import cKDTree
 
 import heatdata as hd
+from heatdata.core.spectrum import HeatOperator
+from heatdata.descriptors.sources import candidate_descriptors, candidate_sources
 
 
 def coverage(view: hd.View, sources: np.ndarray) -> float:
@@ -16,7 +18,7 @@ def coverage(view: hd.View, sources: np.ndarray) -> float:
 
 def test_candidates_are_distinct_interior_and_spread_over_the_view(mug):
     view = hd.render_view(mug, 30.0, 30.0, 1.15, seed=0)
-    sources = hd.candidate_sources(view, 250)
+    sources = candidate_sources(view, 250)
     assert len(sources) == 250 and len(np.unique(sources)) == 250
     assert not set(sources) & set(view.boundary)
     area = (
@@ -27,33 +29,33 @@ def test_candidates_are_distinct_interior_and_spread_over_the_view(mug):
     )
     spacing = np.sqrt(area / 250)  # the side of one candidate's share of the surface
     assert coverage(view, sources) < 3 * spacing
-    assert np.array_equal(sources, hd.candidate_sources(view, 250))  # deterministic
+    assert np.array_equal(sources, candidate_sources(view, 250))  # deterministic
 
 
 def test_candidates_cover_a_disc_evenly(disc):
-    sources = hd.candidate_sources(disc, 40)
+    sources = candidate_sources(disc, 40)
     radius = np.linalg.norm(disc.vertices[:, :2], axis=1).max()
     # 40 points on a disc of radius R: each covers ~pi R^2 / 40, a circle of radius R / sqrt(40)
     assert coverage(disc, sources) < 3 * radius / np.sqrt(40)
 
 
 def test_all_interior_vertices_and_too_many_asked(square):
-    interior = hd.candidate_sources(square, None)
+    interior = candidate_sources(square, None)
     assert len(interior) == square.n_vertices - len(square.boundary)
     with pytest.raises(hd.ViewError, match=f"only {len(interior)} vertices off its outer boundary"):
-        hd.candidate_sources(square, len(interior) + 1)
+        candidate_sources(square, len(interior) + 1)
     with pytest.raises(hd.ViewError, match="at least one"):
-        hd.candidate_sources(square, 0)
-    assert len(hd.candidate_sources(square, len(interior))) == len(interior)
+        candidate_sources(square, 0)
+    assert len(candidate_sources(square, len(interior))) == len(interior)
 
 
 @pytest.mark.parametrize("kind, clock", [("pvhk", None), ("c-pvhk", "color"), ("c-pvhk", "shape"), ("ft-pvhk", None)])
 def test_candidate_descriptors_from_one_spectrum_match_one_solve_per_source(mug, kind, clock):
     view = hd.render_view(mug, 30.0, 30.0, 1.15, seed=0)
-    sources = hd.candidate_sources(view, 20)
+    sources = candidate_sources(view, 20)
     spec = hd.DescriptorSpec(kind=kind, sampling="polar", color_map="c3" if kind == "c-pvhk" else None, clock=clock)
     times = [0.02, 0.05] if kind == "ft-pvhk" else None
-    many = hd.candidate_descriptors(view, sources, spec, times=times)
+    many = candidate_descriptors(view, sources, spec, times=times)
     assert len(many) == len(sources) * (2 if times else 1)
     for k in (0, 7, 19):  # against the Krylov solve of describe(), source by source
         single = hd.describe(
@@ -84,7 +86,7 @@ def test_candidate_descriptors_on_a_view_of_two_parts(square):
         view_id="two squares",
     )
     sources = np.array([square.n_vertices + 220, 220])  # the centre of each square, second part first
-    a, b = hd.candidate_descriptors(two, sources, hd.DescriptorSpec(kind="pvhk"))
+    a, b = candidate_descriptors(two, sources, hd.DescriptorSpec(kind="pvhk"))
     assert (a.source, b.source) == (square.n_vertices + 220, 220)
     np.testing.assert_allclose(a.values, b.values, atol=1e-9)  # the same square seen the same way, the same heat
 
@@ -93,10 +95,10 @@ def test_candidate_pvsts_share_the_view_work_and_match_one_at_a_time(square, mon
     spec = hd.DescriptorSpec(kind="pvst", sampling="polar")
     pvst_module = sys.modules["heatdata.descriptors.stochastic_time"]
     shifts, models = [], []
-    shifted, heat_model = hd.HeatOperator.shifted, pvst_module.heat_model
-    monkeypatch.setattr(hd.HeatOperator, "shifted", lambda op, sigma: shifts.append(sigma) or shifted(op, sigma))
+    shifted, heat_model = HeatOperator.shifted, pvst_module.heat_model
+    monkeypatch.setattr(HeatOperator, "shifted", lambda op, sigma: shifts.append(sigma) or shifted(op, sigma))
     monkeypatch.setattr(pvst_module, "heat_model", lambda op, *a, **k: models.append(op) or heat_model(op, *a, **k))
-    many = hd.candidate_descriptors(square, [220, 200, 242, 221, 219], spec)
+    many = candidate_descriptors(square, [220, 200, 242, 221, 219], spec)
     assert [d.source for d in many] == [220, 200, 242, 221, 219]
     early = [op for op in models if op.sigma != models[0].sigma]  # models on a shifted factorization
     assert len(early) >= 5 and 1 <= len(shifts) < len(early)  # neighbouring sources share their factorizations
@@ -104,11 +106,11 @@ def test_candidate_pvsts_share_the_view_work_and_match_one_at_a_time(square, mon
     one = hd.pvst(square, source=200, sampling="polar")
     np.testing.assert_allclose(many[1].values, one.values, rtol=1e-9)
     with pytest.raises(hd.ViewError, match="outer boundary"):
-        hd.candidate_descriptors(square, [220, 0], spec)  # vertex 0 is a corner
+        candidate_descriptors(square, [220, 0], spec)  # vertex 0 is a corner
 
 
 def test_candidate_descriptors_refuse_what_they_cannot_do(square):
     with pytest.raises(hd.SpecError, match="needs times="):
-        hd.candidate_descriptors(square, [220], hd.DescriptorSpec(kind="ft-pvhk"))
+        candidate_descriptors(square, [220], hd.DescriptorSpec(kind="ft-pvhk"))
     with pytest.raises(hd.ViewError, match="vertex indices"):
-        hd.candidate_descriptors(square, [square.n_vertices], hd.DescriptorSpec())
+        candidate_descriptors(square, [square.n_vertices], hd.DescriptorSpec())

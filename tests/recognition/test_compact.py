@@ -11,8 +11,11 @@ import pytest
 
 import heatdata as hd
 import heatdata.recognition.compact as library
+from heatdata.core.distances import mhd
+from heatdata.descriptors.sources import candidate_descriptors, candidate_sources
 from heatdata.experiments.compact import compact_libraries
 from heatdata.recognition._minplus_kernel import minplus
+from heatdata.recognition.compact import select_sources
 from heatdata.recognition.evaluate import evaluate_compact
 from heatdata.recognition.metrics import precision_table
 
@@ -23,7 +26,7 @@ def random_costs(rng, layers, low, high):
 
 
 def check(costs):
-    choice, cost = hd.select_sources(costs)
+    choice, cost = select_sources(costs)
     _, best = library.cyclic_dp(costs)
     assert cost == pytest.approx(best, rel=1e-9)
     assert cost == pytest.approx(sum(c[choice[i], choice[(i + 1) % len(costs)]] for i, c in enumerate(costs)))
@@ -40,8 +43,8 @@ def test_negative_costs_choose_as_the_shifted_costs_do():
     rng = np.random.default_rng(4)
     for _ in range(5):
         costs = random_costs(rng, 5, 2, 6)
-        choice, cost = hd.select_sources(costs)
-        shifted_choice, shifted_cost = hd.select_sources([c - 3.0 for c in costs])
+        choice, cost = select_sources(costs)
+        shifted_choice, shifted_cost = select_sources([c - 3.0 for c in costs])
         check([c - 3.0 for c in costs])
         assert shifted_cost == pytest.approx(cost - 3.0 * len(costs)) and shifted_cost < 0
         assert np.array_equal(shifted_choice, choice)
@@ -92,7 +95,7 @@ def test_a_fractional_relaxation_is_branched_to_the_exact_cycle(caplog):
     # Winding twice (0 -> 0 -> 1 -> 1 -> 0) costs 0, i.e. 0 per turn; every single turn costs 5.
     costs = [np.array([[0.0, 5.0], [5.0, 0.0]]), np.array([[5.0, 0.0], [0.0, 5.0]])]
     with caplog.at_level(logging.INFO, logger="heatdata.recognition.compact"):
-        choice, cost = hd.select_sources(costs)
+        choice, cost = select_sources(costs)
     assert "fractional" in caplog.text
     assert cost == 5.0 and library.cyclic_dp(costs)[1] == 5.0
 
@@ -108,13 +111,13 @@ def test_a_fractional_relaxation_is_branched_to_the_exact_cycle(caplog):
 )
 def test_bad_graphs_are_named(costs, message):
     with pytest.raises(hd.HeatdataError, match=message):
-        hd.select_sources(costs, name="chair-7")
+        select_sources(costs, name="chair-7")
 
 
 def test_a_missing_solver_is_named(monkeypatch):
     monkeypatch.setattr(library, "SOLVER", "GUROBI_NOT_HERE")
     with pytest.raises(hd.HeatdataError, match="chair-7: the LP solver GUROBI_NOT_HERE is not installed"):
-        hd.select_sources([np.ones((2, 2)), np.ones((2, 2))], name="chair-7")
+        select_sources([np.ones((2, 2)), np.ones((2, 2))], name="chair-7")
 
 
 def curve(offset, wiggle, m=16):
@@ -167,8 +170,8 @@ def test_the_thesis_distances_for_c_and_rho():
     costs = library.consecutive_costs(views, "mhd")
     assert [c.shape for c in costs] == [(3, 2), (2, 3)]
     for i, j in np.ndindex(3, 2):
-        assert costs[0][i, j] == pytest.approx(hd.mhd(views[0][i], views[1][j]), rel=1e-5)
-        assert costs[1][j, i] == pytest.approx(hd.mhd(views[1][j], views[0][i]), rel=1e-5)
+        assert costs[0][i, j] == pytest.approx(mhd(views[0][i], views[1][j]), rel=1e-5)
+        assert costs[1][j, i] == pytest.approx(mhd(views[1][j], views[0][i]), rel=1e-5)
     other = [rng.random((4, 12))]
     rho = library.other_object_distances({"a": views, "b": other}, norm="l2")
     l2 = np.sqrt(((views[0][:, None, :] - other[0][None, :, :]) ** 2).sum(axis=2))
@@ -240,8 +243,9 @@ def test_an_lp_that_ends_infeasible_is_an_error_naming_the_object():
 def test_solver_output_goes_to_the_log_not_to_stdout():
     """HiGHS prints a banner from C once per process: a fresh process shows whether it reaches stdout."""
     code = (
-        "import logging, numpy as np, heatdata as hd; logging.basicConfig(level=logging.DEBUG); "
-        "rng = np.random.default_rng(0); hd.select_sources([rng.random((6, 6)) for _ in range(5)])"
+        "import logging, numpy as np; from heatdata.recognition.compact import select_sources; "
+        "logging.basicConfig(level=logging.DEBUG); "
+        "rng = np.random.default_rng(0); select_sources([rng.random((6, 6)) for _ in range(5)])"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr[-2000:]
@@ -250,7 +254,7 @@ def test_solver_output_goes_to_the_log_not_to_stdout():
 
 def test_ch6_costs_take_the_descriptor_lists_candidate_descriptors_returns(disc, square):
     spec = hd.DescriptorSpec("pvhk", 32, "center", "polar")
-    per_view = [hd.candidate_descriptors(v, hd.candidate_sources(v, 5), spec) for v in (disc, square, disc)]
+    per_view = [candidate_descriptors(v, candidate_sources(v, 5), spec) for v in (disc, square, disc)]
     arrays = [np.stack([d.values for d in zs]) for zs in per_view]
     for got, want in zip(library.consecutive_costs(per_view), library.consecutive_costs(arrays)):
         np.testing.assert_array_equal(got, want)

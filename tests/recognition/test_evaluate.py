@@ -9,6 +9,7 @@ import pyarrow.parquet as pq
 import pytest
 
 import heatdata as hd
+from heatdata.core.distances import mhd, weighted_mhd
 from heatdata.experiments.describe import candidate_view_table, describe_view_table
 from heatdata.experiments.views import render_object_views, view_plan
 from heatdata.recognition.evaluate import evaluate_library_sizes, library_subset
@@ -131,13 +132,13 @@ def test_fixed_time_classification_compares_each_object_at_its_own_time():
     rows = fixed_time_rows()
     predicted = classify(rows, "ft")
     assert len(predicted) == 1 and predicted["predicted_object"].item() == "a"
-    assert predicted["distance"].item() == pytest.approx(hd.mhd(rows["values"][2], rows["values"][0]))
+    assert predicted["distance"].item() == pytest.approx(mhd(rows["values"][2], rows["values"][0]))
     ignoring_time = classify(rows.assign(kind="pvhk", time_object=""), "ft")
     assert ignoring_time["predicted_object"].iloc[0] == "b"
     # part weights enter as eq. 5.14: down-weighting where the test view differs most changes the distance
     weights = np.where(np.arange(8) < 4, 1.0, 0.1)
     weighted = rows.assign(weights=[weights] * 4)
-    expected = hd.weighted_mhd(rows["values"][2], rows["values"][0], weights, weights)
+    expected = weighted_mhd(rows["values"][2], rows["values"][0], weights, weights)
     assert classify(weighted, "ft")["distance"].item() == pytest.approx(expected)
     with pytest.raises(hd.HeatdataError, match="no row at the time scale of object 'b'"):
         classify(rows.drop(index=3), "ft")

@@ -9,6 +9,7 @@ import pandas as pd
 import pytest
 
 import heatdata as hd
+from heatdata.core.distances import mhd
 from heatdata.experiments.multiview import ambiguous_starts, multiview_trials
 from heatdata.recognition.multiview.appearance import (
     angle_gap,
@@ -17,7 +18,12 @@ from heatdata.recognition.multiview.appearance import (
     set_distance,
     similarity_matrix,
 )
-from heatdata.recognition.multiview.filters import ExhaustiveFilter, _label_cells, stochastic_universal_sampling
+from heatdata.recognition.multiview.filters import (
+    ExhaustiveFilter,
+    ParticleFilter,
+    _label_cells,
+    stochastic_universal_sampling,
+)
 from heatdata.recognition.multiview.robot import TableRobot, recognize, robot_views
 
 ANGLES = np.arange(0.0, 360.0, 30.0)
@@ -69,15 +75,15 @@ def test_set_distance_is_eq_4_4():
 def test_alpha_is_the_mean_leave_one_out_distance_eq_4_5():
     rows = pd.DataFrame({"object": "a", "azimuth": 0.0, "values": [np.zeros(8), np.full(8, 0.1)]})
     model = appearance_model(pd.concat([rows, rows.assign(azimuth=90.0)]))
-    mhd = hd.mhd(np.zeros(8), np.full(8, 0.1))
-    np.testing.assert_allclose(model.alpha, [mhd, mhd])
+    first = mhd(np.zeros(8), np.full(8, 0.1))
+    np.testing.assert_allclose(model.alpha, [first, first])
     single = appearance_model(
         pd.DataFrame(
             {"object": "a", "azimuth": [0.0, 90.0, 180.0], "values": [np.zeros(8), np.full(8, 0.1), np.full(8, 0.3)]}
         )
     )
     # one view per angle: the distance to the nearest neighbouring angle
-    np.testing.assert_allclose(single.alpha, [mhd, mhd, hd.mhd(np.full(8, 0.1), np.full(8, 0.3))])
+    np.testing.assert_allclose(single.alpha, [first, first, mhd(np.full(8, 0.1), np.full(8, 0.3))])
     assert appearance_model(rows, alpha=0.08).alpha.tolist() == [0.08]
 
 
@@ -88,15 +94,15 @@ def test_alpha_learned_from_independent_views_is_their_mean_distance_to_the_libr
     )
     model = appearance_model(library, views=views)
     expected = [
-        (hd.mhd(np.zeros(8), np.full(8, 0.1)) + hd.mhd(np.zeros(8), np.full(8, 0.3))) / 2,
-        hd.mhd(np.ones(8), np.full(8, 1.2)),
+        (mhd(np.zeros(8), np.full(8, 0.1)) + mhd(np.zeros(8), np.full(8, 0.3))) / 2,
+        mhd(np.ones(8), np.full(8, 1.2)),
     ]
     np.testing.assert_allclose(model.alpha, expected, rtol=1e-6)  # mhd_matrix works in float32 chunks
     two = pd.concat([library, library.assign(object="b")])
     similarity = learn_similarity(two, pd.concat([views, views.assign(object="b")]))
-    f = hd.ParticleFilter(two, similarity, particles=4, seed=0)
+    f = ParticleFilter(two, similarity, particles=4, seed=0)
     np.testing.assert_allclose(f.model.alpha, expected * 2, rtol=1e-6)  # the filter takes the learned alpha
-    assert hd.ParticleFilter(two, similarity, particles=4, alpha=0.5, seed=0).model.alpha.tolist() == [0.5] * 4
+    assert ParticleFilter(two, similarity, particles=4, alpha=0.5, seed=0).model.alpha.tolist() == [0.5] * 4
 
 
 def test_similarity_is_high_between_look_alike_views(library, similarity):
@@ -117,14 +123,14 @@ def test_similarity_is_high_between_look_alike_views(library, similarity):
 
 def test_a_library_of_one_object_converges_at_once():
     one = table(objects=("cup",))
-    f = hd.ParticleFilter(one, learn_similarity(one, table(objects=("cup",), seed=1)), particles=20, seed=0)
+    f = ParticleFilter(one, learn_similarity(one, table(objects=("cup",), seed=1)), particles=20, seed=0)
     assert f.converged and f.estimate == "cup" and f.posterior() == {"cup": 1.0}
     f.step(observe("cup", 60.0, 0), 0.0)
     assert f.converged and f.estimate == "cup"
 
 
 def test_the_true_object_keeps_particles_while_ambiguous_then_wins(library, similarity):
-    f = hd.ParticleFilter(library, similarity, particles=60, seed=3)
+    f = ParticleFilter(library, similarity, particles=60, seed=3)
     azimuth = 270.0
     f.step(observe("mug", azimuth, 10), 0.0)
     for k in range(3):  # 270 -> 360: the handle stays hidden
@@ -141,7 +147,7 @@ def test_the_true_object_keeps_particles_while_ambiguous_then_wins(library, simi
 
 def test_the_baseline_bootstrap_replaces_particles_near_survivors_and_is_seeded(library, similarity):
     def bootstrapped(seed):
-        f = hd.ParticleFilter(library, similarity, particles=40, bootstrap="angular", seed=seed)
+        f = ParticleFilter(library, similarity, particles=40, bootstrap="angular", seed=seed)
         f.object = np.repeat([f.objects.index("mug"), f.objects.index("cup")], 20)
         f.azimuth = np.tile(np.arange(20) * 18.0, 2)
         f.log_w = np.where(f.object == f.objects.index("mug"), 0.0, -50.0)  # the cups far below the best hypothesis
@@ -162,7 +168,7 @@ def test_the_baseline_bootstrap_replaces_particles_near_survivors_and_is_seeded(
 
 
 def test_an_unexplained_observation_restarts_instead_of_dividing_by_zero(library, similarity):
-    f = hd.ParticleFilter(library, similarity, particles=30, seed=0)
+    f = ParticleFilter(library, similarity, particles=30, seed=0)
     f.object[:] = f.objects.index("cup")  # every particle on the cup: none explains the handle
     f.step(observe("mug", 120.0, 1), 0.0)
     assert f.restarts >= 1 and np.isfinite(f.log_w).all() and f.weights.sum() == pytest.approx(1.0)
@@ -172,8 +178,8 @@ def test_an_unexplained_observation_restarts_instead_of_dividing_by_zero(library
 
 
 def test_odometry_wraps_around_360(library, similarity):
-    a = hd.ParticleFilter(library, similarity, particles=10, seed=1)
-    b = hd.ParticleFilter(library, similarity, particles=10, seed=1)
+    a = ParticleFilter(library, similarity, particles=10, seed=1)
+    b = ParticleFilter(library, similarity, particles=10, seed=1)
     obs = observe("cup", 0.0, 0)
     a.step(obs, 370.0)
     b.step(obs, -350.0)
@@ -184,7 +190,7 @@ def test_odometry_wraps_around_360(library, similarity):
 
 
 def test_bad_observations_and_tables_are_clear_errors(library, similarity):
-    f = hd.ParticleFilter(library, similarity, particles=10, seed=0)
+    f = ParticleFilter(library, similarity, particles=10, seed=0)
     with pytest.raises(hd.HeatdataError, match="observations have 8 values, the library's pvhk descriptors 16"):
         f.step([np.ones(8)], 0.0)
     esf = hd.Descriptor(
@@ -199,17 +205,17 @@ def test_bad_observations_and_tables_are_clear_errors(library, similarity):
     with pytest.raises(hd.HeatdataError, match="observations are esf descriptors, the library's pvhk"):
         f.step([esf], 0.0)
     with pytest.raises(hd.HeatdataError, match="does not match the library"):
-        hd.ParticleFilter(library[library["azimuth"] < 300], similarity)
+        ParticleFilter(library[library["azimuth"] < 300], similarity)
     with pytest.raises(hd.HeatdataError, match="lack library object"):
         learn_similarity(library, table(objects=("cup",), seed=1))
     with pytest.raises(hd.HeatdataError, match="whole number"):
-        hd.ParticleFilter(library, similarity, particles=0)
+        ParticleFilter(library, similarity, particles=0)
     with pytest.raises(hd.HeatdataError, match="lacks column"):
-        hd.ParticleFilter(library.drop(columns="values"), similarity)
+        ParticleFilter(library.drop(columns="values"), similarity)
 
 
 def test_best_move_looks_where_the_handle_shows(library, similarity):
-    f = hd.ParticleFilter(library, similarity, particles=80, seed=2)
+    f = ParticleFilter(library, similarity, particles=80, seed=2)
     f.step(observe("mug", 270.0, 0), 0.0)  # handle hidden: cup or mug
     assert not f.converged
     # -90 deg reaches 180 (handle in view); +90 deg reaches 0 (still hidden)
@@ -238,10 +244,10 @@ def test_recognize_fixed_steps_and_the_active_policy(library, similarity):
     model = appearance_model(library)
     robot = TableRobot(model, tests[tests["object"] == "mug"], per_stop=2)
     assert robot.views(270.0) == robot.views(270.0 + 720.0) and len(robot.views(0.0)) == 2
-    fixed = recognize(hd.ParticleFilter(model, similarity, particles=60, seed=1), robot, 270.0, step=30.0)
+    fixed = recognize(ParticleFilter(model, similarity, particles=60, seed=1), robot, 270.0, step=30.0)
     assert fixed["converged"] and fixed["estimate"] == "mug" and 180.0 <= fixed["degrees"] <= 270.0
     active = recognize(
-        hd.ParticleFilter(model, similarity, particles=60, seed=1),
+        ParticleFilter(model, similarity, particles=60, seed=1),
         robot,
         270.0,
         policy="active",
@@ -249,7 +255,7 @@ def test_recognize_fixed_steps_and_the_active_policy(library, similarity):
     )
     assert active["converged"] and active["estimate"] == "mug" and active["degrees"] < fixed["degrees"]
     with pytest.raises(hd.HeatdataError, match="policy"):
-        recognize(hd.ParticleFilter(model, similarity, seed=1), robot, 0.0, policy="greedy")
+        recognize(ParticleFilter(model, similarity, seed=1), robot, 0.0, policy="greedy")
     with pytest.raises(hd.HeatdataError, match="one object"):
         TableRobot(model, tests)
 
@@ -306,7 +312,7 @@ def test_the_robot_renders_noisy_views_along_its_path(mug):
 
 def test_best_move_keeps_circling_when_no_step_can_tell_twins_apart():
     twins = pd.concat([table(objects=("cup",)), table(objects=("cup",)).assign(object="twin")])
-    f = hd.ParticleFilter(
+    f = ParticleFilter(
         twins,
         learn_similarity(
             twins, table(objects=("cup",), seed=1).pipe(lambda t: pd.concat([t, t.assign(object="twin")]))
@@ -325,7 +331,7 @@ def test_best_move_keeps_circling_when_no_step_can_tell_twins_apart():
 
 
 def test_best_move_does_not_return_to_views_already_seen(library, similarity):
-    f = hd.ParticleFilter(library, similarity, particles=80, seed=2)
+    f = ParticleFilter(library, similarity, particles=80, seed=2)
     f.step(observe("mug", 270.0, 0), 0.0)
     f.step(observe("mug", 180.0, 1), -90.0)  # the handle seen: now at -90 by odometry
     assert f.visited == [0.0, 270.0]
@@ -335,14 +341,14 @@ def test_best_move_does_not_return_to_views_already_seen(library, similarity):
 def test_a_run_stops_before_travelling_past_max_degrees(library, similarity):
     twins_tests = views_every_3_degrees()
     robot = TableRobot(appearance_model(library), twins_tests[twins_tests["object"] == "cup"])
-    f = hd.ParticleFilter(library, similarity, particles=30, seed=0)
+    f = ParticleFilter(library, similarity, particles=30, seed=0)
     result = recognize(f, robot, 0.0, step=45.0, max_degrees=100.0)
     assert result["degrees"] <= 100.0
 
 
 def test_newcomers_start_at_the_survivors_mean_or_least_weight(library, similarity):
     for rule, summary in (("mean", np.mean), ("least", np.min)):
-        f = hd.ParticleFilter(library, similarity, particles=60, seed=3, newcomer=rule)
+        f = ParticleFilter(library, similarity, particles=60, seed=3, newcomer=rule)
         f.step(observe("mug", 270.0, 10), 0.0)
         best = f.labels()[0]
         survivors = int((f.labels() == best).sum())
@@ -350,14 +356,14 @@ def test_newcomers_start_at_the_survivors_mean_or_least_weight(library, similari
         assert survivors < f.n  # the survivors come first, then the newcomers
         np.testing.assert_allclose(f.weights[survivors:], summary(f.weights[:survivors]))
     with pytest.raises(hd.HeatdataError, match="newcomer is 'mean' or 'least'"):
-        hd.ParticleFilter(library, similarity, newcomer="max")
+        ParticleFilter(library, similarity, newcomer="max")
 
 
 def test_newcomers_start_anywhere_in_their_labels_cell_or_at_its_view(library, similarity):
     lopsided = pd.DataFrame({"object": "a", "azimuth": [0.0, 90.0, 120.0]})
     np.testing.assert_allclose(_label_cells(lopsided), [[120, 45], [45, 15], [15, 120]])
     for rule in ("cell", "view"):
-        f = hd.ParticleFilter(library, similarity, particles=60, seed=3, repopulate=rule)
+        f = ParticleFilter(library, similarity, particles=60, seed=3, repopulate=rule)
         f.step(observe("mug", 270.0, 10), 0.0)
         best = f.labels()[0]
         survivors = int((f.labels() == best).sum())
@@ -367,7 +373,7 @@ def test_newcomers_start_anywhere_in_their_labels_cell_or_at_its_view(library, s
         assert (offset <= 15.0 + 1e-9).all()  # the library is 30 deg apart: a cell is +-15 deg
         assert (offset > 0.5).any() if rule == "cell" else (offset == 0).all()
     with pytest.raises(hd.HeatdataError, match="repopulate is 'cell' or 'view'"):
-        hd.ParticleFilter(library, similarity, repopulate="near")
+        ParticleFilter(library, similarity, repopulate="near")
 
 
 def test_the_exhaustive_filter_is_the_exact_bayes_posterior(library):
@@ -401,7 +407,7 @@ def test_the_exhaustive_filter_is_the_exact_bayes_posterior(library):
 
 
 def test_the_unknown_hypothesis_is_bayes_on_the_confidences(library, similarity):
-    for belief in (ExhaustiveFilter(library), hd.ParticleFilter(library, similarity, particles=20, seed=0)):
+    for belief in (ExhaustiveFilter(library), ParticleFilter(library, similarity, particles=20, seed=0)):
         assert belief.unknown == 0.0 and belief.log_unknown is None  # the thesis's filter: none
         belief.expect_unknown(0.5)
         belief.step(observe("mug", 120.0, 0), 0.0)

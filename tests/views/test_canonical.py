@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 import heatdata as hd
 from heatdata.core.geometry import rotation_between
+from heatdata.descriptors import source_vertex
 
 
 def bumpy_view(shift=(0.0, 0.0)) -> hd.View:
@@ -51,7 +52,7 @@ def test_turning_the_camera_turns_the_canonical_frame_with_it(tilt, pan):
     # roll two smallest rotations leave (below 1 mm on this 12 cm surface): distance from the axis and depth agree
     assert np.allclose(np.hypot(a[:, 0], a[:, 1]), np.hypot(b[:, 0], b[:, 1]), atol=1e-3)
     assert np.allclose(a[:, 2], b[:, 2], atol=1e-3)
-    assert hd.source_vertex(view, "center") == hd.source_vertex(other, "center")
+    assert source_vertex(view, "center") == source_vertex(other, "center")
     assert set(view.boundary) == set(other.boundary)
 
 
