@@ -50,3 +50,19 @@ for ax, view, ids, chosen, azimuth in zip(axes.ravel(), views["coffee-cup"], sou
 fig.suptitle("Coffee cup: 20 candidate sources per library view (grey), the one the LP keeps (star)")
 fig.tight_layout()
 plt.show()
+
+# %%
+# The gallery's thumbnail: one panel of the figure above, drawn to be read at a thumbnail's size.
+# sphinx_gallery_thumbnail_number = 2
+thumbnail, ax = plt.subplots(figsize=(4, 2.8))
+view, ids, chosen = views["coffee-cup"][0], sources["coffee-cup"][0], choice[0]
+p, loop = view.pixels, np.append(view.boundary, view.boundary[0])
+ax.tripcolor(p[:, 0], p[:, 1], view.faces, np.zeros(view.n_vertices), cmap="Greys", vmin=-1, vmax=3)
+ax.plot(p[ids, 0], p[ids, 1], "o", color="grey", ms=5)
+ax.plot(*p[ids[chosen]], "*", color="red", ms=22, mec="black")
+ax.plot(p[loop, 0], p[loop, 1], color="tab:cyan", lw=1.5)
+ax.set_aspect("equal")
+ax.invert_yaxis()
+ax.set_axis_off()
+thumbnail.tight_layout()
+plt.show()

@@ -80,3 +80,19 @@ for k, (title, meshes) in enumerate(panels):
     ax.set_title(title, fontsize=10)
 fig.tight_layout()
 plt.show()
+
+# %%
+# The gallery's thumbnail: one panel of the figure above, drawn to be read at a thumbnail's size.
+# sphinx_gallery_thumbnail_number = 2
+thumbnail = plt.figure(figsize=(4, 2.8))
+ax = thumbnail.add_subplot(projection="3d")
+((model, colours),) = panels[1][1]  # the stitched model: the halves and the strip between them
+draw(ax, model, colours)
+middle, half = (model.vertices.min(0) + model.vertices.max(0)) / 2, np.ptp(model.vertices, axis=0).max() / 2
+ax.set(xlim=(middle[0] - half, middle[0] + half), ylim=(middle[1] - half, middle[1] + half))
+ax.set(zlim=(middle[2] - half, middle[2] + half))
+ax.view_init(elev=20, azim=-60, vertical_axis="y")
+ax.set_box_aspect(None, zoom=1.8)
+ax.set_axis_off()
+thumbnail.tight_layout()
+plt.show()

@@ -84,3 +84,16 @@ ax.legend(fontsize=7)
 fig.suptitle(f"The robot circles the {true_object}")
 fig.tight_layout()
 plt.show()
+
+# %%
+# The gallery's thumbnail: one panel of the figure above, drawn to be read at a thumbnail's size.
+# sphinx_gallery_thumbnail_number = 2
+thumbnail, ax = plt.subplots(figsize=(4, 2.8))
+for o in objects:
+    ax.plot(stops, [h[0][o] for h in history], "-o", color=colours[o], lw=2.5, ms=8)
+ax.set_ylim(-0.02, 1.02)
+ax.set_xticks(stops)
+ax.set_yticks([0, 1])
+ax.set_title(f"the {true_object}, stop by stop", fontsize=14)
+thumbnail.tight_layout()
+plt.show()

@@ -55,3 +55,13 @@ for k, (spec, ax) in enumerate(zip(specs, axes)):
 fig.suptitle("4 library views per object, 18 test views between them")
 fig.tight_layout()
 plt.show()
+
+# %%
+# The gallery's thumbnail: one panel of the figure above, drawn to be read at a thumbnail's size.
+# sphinx_gallery_thumbnail_number = 2
+thumbnail, ax = plt.subplots(figsize=(4, 2.8))
+ax.imshow(counts, cmap="Blues", vmin=0, vmax=len(test_azimuths))  # the last descriptor's confusion matrix
+ax.set_axis_off()
+ax.set_title(f"{precision:.0%} recognized", fontsize=16)
+thumbnail.tight_layout()
+plt.show()

@@ -46,3 +46,16 @@ for column, row in enumerate(rows.to_dict("records")):
 fig.suptitle("Temperature at t_s = 1/lambda_2 after a pulse at the star; the PVHK along the boundary below")
 fig.tight_layout()
 plt.show()
+
+# %%
+# The gallery's thumbnail: one panel of the figure above, drawn to be read at a thumbnail's size.
+# sphinx_gallery_thumbnail_number = 2
+thumbnail, ax = plt.subplots(figsize=(4, 2.8))
+ax.tripcolor(p[:, 0], p[:, 1], view.faces, temperature, shading="gouraud", cmap="inferno")
+ax.plot(p[loop, 0], p[loop, 1], color="cyan", lw=1.5)
+ax.plot(*p[d.source], "*", color="lime", ms=18, mec="black")
+ax.set_aspect("equal")
+ax.invert_yaxis()
+ax.set_axis_off()
+thumbnail.tight_layout()
+plt.show()

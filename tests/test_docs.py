@@ -57,6 +57,9 @@ def test_every_gallery_example_ran_in_under_thirty_seconds_and_drew_a_picture(si
     for example in EXAMPLES:
         page = (work / "docs/gallery" / f"{example.stem}.rst").read_text()
         assert list((work / "html/_images").glob(f"sphx_glr_{example.stem}_*.png")), f"{example.name} drew nothing"
+        # its thumbnail is a figure of its own, drawn to be read at that size, not the whole figure shrunk
+        assert "# sphinx_gallery_thumbnail_number = 2" in example.read_text(), f"{example.name}: no thumbnail figure"
+        assert list((work / "html/_images").glob(f"sphx_glr_{example.stem}_002.png")), f"{example.name}: one figure"
         took = re.search(r"Total running time of the script:\*\* \((\d+) minutes ([\d.]+) seconds\)", page)
         assert took, f"{example.name}: no running time recorded"
         seconds = 60 * int(took.group(1)) + float(took.group(2))
