@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import heatdata as hd
-from heatdata.core.distances import Nearest, NearestPair, mhd, mhd_matrix, nearest_pair_mhd
+from heatdata.core.distances import Nearest, NearestPair, mhd, mhd_matrix, nearest_pair_mhd, weighted_mhd
 from heatdata.descriptors.sources import candidate_descriptors, candidate_sources
 from heatdata.recognition.metrics import confusion_matrix, precision_by
 from heatdata.recognition.nearest import classify_candidates, nearest_neighbors
@@ -118,3 +118,32 @@ def test_recognition_takes_the_descriptor_lists_the_api_returns(disc, square):
         classify_candidates(candidates, library + hd.describe(disc, [hd.DescriptorSpec("esf")]), ["a"] * 3)
     with pytest.raises(hd.HeatdataError, match="candidates: nothing to stack"):
         classify_candidates([], library, ["disc", "square"])
+
+
+def test_weighted_mhd_reduces_to_mhd_and_ignores_zero_weight_points():
+    rng = np.random.default_rng(0)
+    z1, z2 = rng.random(32), rng.random(32)
+    ones = np.ones(32)
+    assert weighted_mhd(z1, z2, ones, ones) == pytest.approx(mhd(z1, z2))
+    spike = z1.copy()
+    spike[10] += 5.0
+    w = ones.copy()
+    w[10] = 0.0
+    assert weighted_mhd(spike, z1, w, w) < 1e-12 < mhd(spike, z1)
+    weights = rng.random((3, 32)) + 0.1
+    queries, library = rng.random((3, 32)), rng.random((4, 32))
+    lib_w = rng.random((4, 32)) + 0.1
+    matrix = mhd_matrix(queries, library, query_weights=weights, library_weights=lib_w, dtype=np.float64)
+    for i in range(3):
+        for j in range(4):
+            assert matrix[i, j] == pytest.approx(weighted_mhd(queries[i], library[j], weights[i], lib_w[j]))
+
+
+def test_distances_refuse_nan_and_bad_weights():
+    z = np.ones(8)
+    with pytest.raises(hd.HeatdataError, match="NaN"):
+        mhd_matrix(np.array([[np.nan] * 8]), z[None])
+    with pytest.raises(hd.HeatdataError, match="non-negative"):
+        weighted_mhd(z, z, -z, z)
+    with pytest.raises(hd.HeatdataError, match="both"):
+        mhd_matrix(z[None], z[None], query_weights=z[None])

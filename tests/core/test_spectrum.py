@@ -8,7 +8,10 @@ import scipy.sparse.linalg as sla
 from conftest import grid_mesh, square_view
 
 import heatdata as hd
-from heatdata.core.spectrum import HeatOperator, eigen_spectrum, krylov_heat, lambda2, laplacian
+from heatdata.core.spectrum import HeatOperator, eigen_spectrum, heat_model, krylov_heat, lambda2, laplacian
+from heatdata.descriptors import (
+    heat_operator,
+)
 
 
 def test_laplacian_rows_sum_to_zero_and_symmetric(square):
@@ -140,3 +143,11 @@ def test_tiny_mesh_krylov_space_becomes_invariant_and_is_exact():
     pulse = np.zeros(view.n_vertices)
     pulse[0] = 1.0
     assert np.allclose(got, sla.expm_multiply(-t * L, pulse) * view.n_vertices, atol=1e-9)
+
+
+def test_a_shifted_factorization_gives_the_same_heat():
+    op = heat_operator(square_view(15))
+    times = np.array([1e-6, 1e-5, 1e-4])
+    base = heat_model(op, 112, times, max_steps=200)(times)
+    early = heat_model(op.shifted(1e6), 112, times)(times)
+    assert np.allclose(base, early, atol=1e-6)

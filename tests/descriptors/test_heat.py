@@ -1,15 +1,26 @@
-"""PVHK and C-PVHK: analytic cases, options and bad input."""
+"""The heat kinds (heatdata.descriptors.heat): PVHK, C-PVHK and FT-PVHK, time scales, part weights and the global
+derivative (thesis ch. 2-3, 5), on analytic cases and against dense references."""
 
 import logging
 
 import numpy as np
 import pytest
+import scipy.linalg
 import scipy.sparse.linalg as sla
-from conftest import grid_mesh
+from conftest import grid_mesh, square_view
+from lattices import lattice_view, squares
 
 import heatdata as hd
-from heatdata.core.spectrum import laplacian
-from heatdata.descriptors import heat_kernel, sample_boundary, source_vertex
+import heatdata.descriptors.heat as descriptors
+from heatdata.core.spectrum import lambda2, laplacian
+from heatdata.descriptors import (
+    global_derivative,
+    heat_operator,
+    object_time_scale,
+    part_weights,
+    source_vertex,
+    view_time_scale,
+)
 from heatdata.descriptors.boundary import color_rates
 
 
@@ -42,50 +53,6 @@ def test_eigen_and_krylov_methods_agree(mug):
     thesis = hd.pvhk(view, 64, method="eigen", modes=30)
     assert np.max(np.abs(fast.values - thesis.values)) < 1e-6
     assert fast.lambda2 == pytest.approx(thesis.lambda2, rel=1e-9)
-
-
-def test_source_rules():
-    vertices, faces = grid_mesh(15, 15)
-    vertices[:, 2] += 0.5 * vertices[:, 0] + 0.01 * (vertices[:, 0] ** 2 + vertices[:, 1] ** 2)
-    vertices[:, :2] += 0.004  # the optical axis is off the grid centre
-    view = hd.View.from_arrays(vertices, faces)
-    closest = source_vertex(view, "closest")
-    center = source_vertex(view, "center")
-    assert closest == np.argmin(np.linalg.norm(view.vertices, axis=1))  # eq. 2.7
-    # eq. 2.8 in the camera frame turned to face the segment: its image's bounding box centred on the optical axis
-    turned = view.vertices @ view.canonical_rotation.T
-    image = turned[:, :2] / turned[:, 2:]
-    assert np.allclose(image.min(axis=0) + image.max(axis=0), 0.0, atol=1e-5)
-    assert center == np.argmin(np.hypot(turned[:, 0], turned[:, 1]))
-    assert closest != center
-    with pytest.raises(hd.ViewError, match="source rule"):
-        source_vertex(view, "nearest")
-    with pytest.raises(hd.ViewError, match="not in"):
-        source_vertex(view, 10_000)
-
-
-def test_samples_none_gives_one_value_per_boundary_vertex(disc):
-    d = hd.pvhk(disc, samples=None)
-    assert d.values.shape == disc.boundary.shape
-    assert d.positions[0] == 0.0 and np.all(np.diff(d.positions) > 0) and d.positions[-1] < 1.0
-
-
-def test_arclength_samples_interpolate_per_vertex_values(disc):
-    full = hd.pvhk(disc, samples=None)
-    sampled = hd.pvhk(disc, samples=32)
-    closed_pos = np.append(full.positions, 1.0)
-    closed_val = np.append(full.values, full.values[0])
-    assert np.allclose(sampled.values, np.interp(sampled.positions, closed_pos, closed_val))
-
-
-def test_polar_samples_follow_the_angle(square):
-    view = square
-    temps = view.planar[view.boundary, 0]  # value = x coordinate of the boundary point
-    values, positions = sample_boundary(view, view.boundary, temps, 8, "polar")
-    theta = 2 * np.pi * positions
-    # rays at 0, 45, 90 ... deg cross the square's boundary where x = r cos(theta)
-    assert values[0] > 0 and values[4] < 0 and abs(values[2]) < 1e-9 and abs(values[6]) < 1e-9
-    assert np.allclose(values[[1, 3, 5, 7]], values[0] * np.sign(np.cos(theta[[1, 3, 5, 7]])), atol=1e-9)
 
 
 def test_constant_color_rates_give_the_plain_pvhk(mug):
@@ -150,39 +117,59 @@ def test_several_components_keep_the_source_component(caplog):
     assert np.allclose(d.values, alone.values, atol=1e-9)
 
 
-def test_describe_shares_work_and_matches_single_calls(mug):
-    view = hd.render_view(mug, 200.0, 30.0, 1.4, seed=6)
-    specs = [hd.DescriptorSpec("pvhk", 64, s, p) for s in ("closest", "center") for p in ("arclength", "polar")]
-    specs.append(hd.DescriptorSpec("c-pvhk", 64, "center", "polar", "c3"))
-    together = hd.describe(view, specs)
-    for spec, d in zip(specs, together, strict=True):
-        if spec.kind == "pvhk":
-            alone = hd.pvhk(view, 64, spec.source, sampling=spec.sampling)
-        else:
-            alone = hd.c_pvhk(view, 64, "c3", spec.source, sampling=spec.sampling)
-        assert np.array_equal(d.values, alone.values)
-    assert specs[-1].name == "c-pvhk/polar/center/64/c3"
+def test_bottleneck_drops_lambda2_about_tenfold():
+    alone = lambda2(heat_operator(lattice_view(squares(False))))
+    joined = lambda2(heat_operator(lattice_view(squares(True))))
+    assert 5 < alone / joined < 30  # the thesis's example: 9e-3 -> 8.4e-4, a factor 10.7
 
 
-def test_descriptor_spec_validation():
-    with pytest.raises(hd.SpecError, match="kind"):
-        hd.DescriptorSpec("shot")
-    with pytest.raises(hd.SpecError, match="color_map"):
-        hd.DescriptorSpec("c-pvhk")
-    with pytest.raises(hd.SpecError, match="sampling"):
-        hd.DescriptorSpec(sampling="random")
+def test_global_derivative_is_largest_on_the_small_part():
+    view = lattice_view(squares(True))
+    delta = global_derivative(view, source=0)
+    small = view.vertices[:, 0] > 12 * 0.002  # right of the bottleneck's middle
+    assert delta[small].mean() > 10 * delta[~small].mean()
 
 
-def test_heat_kernel_public_api(disc):
-    temps = heat_kernel(disc, source="center", times=[1e-4, 1e-3])
-    assert temps.shape == (2, disc.n_vertices)
-    centre = source_vertex(disc, "center")
-    assert temps[0, centre] > temps[1, centre] > 1.0  # cooling at the source
-    assert np.allclose(temps.mean(axis=1), 1.0, atol=1e-9)  # heat conserved (c = 1)
+def test_global_derivative_matches_eq_5_11_by_dense_heat():
+    view = square_view(9)
+    L = heat_operator(view).L.toarray()
+    n = len(L)
+    t = 1.0 / np.sort(np.linalg.eigvalsh(L))[1]
+    heat = scipy.linalg.expm(-t * L) * n  # column i: normalized temperatures with the source at i
+    expected = 0.5 * np.einsum("ji,jk,ki->i", heat, L, heat)  # T_i^T L T_i / 2
+    np.testing.assert_allclose(global_derivative(view, source=0), expected, rtol=1e-6)
 
 
-def test_interior_source_is_farthest_from_the_outline(square, disc):
-    assert source_vertex(disc, "interior") == 0  # the disc's centre
-    s = source_vertex(square, "interior")
-    assert np.allclose(square.vertices[s, :2], 0.0)  # the square's centre
-    assert s not in set(square.boundary)
+def test_part_weights_follow_the_samples_and_lie_in_0_1():
+    view = lattice_view(squares(True))
+    w = part_weights(view, samples=64, source=0)
+    assert w.shape == (64,) and np.all((w > 0) & (w <= 1))
+    assert w.min() < 0.2 and np.median(w) > 0.9  # low on the small square, ~1 on the main one
+
+
+def test_mostly_small_part_boundary_gets_unit_weights_and_a_warning(monkeypatch, caplog):
+    view = lattice_view(squares(True))
+    monkeypatch.setattr(descriptors, "MIN_MAIN_SHARE", 0.99)
+    with caplog.at_level(logging.WARNING):
+        w = part_weights(view, samples=64, source=0)
+    assert np.all(w == 1.0)
+    assert "unit weights" in caplog.text
+
+
+def test_object_time_scale_is_the_smallest_view_time_scale():
+    views = [lattice_view(squares(True), name="joined"), lattice_view(squares(False), name="alone")]
+    scales = [view_time_scale(v, source=0) for v in views]
+    assert object_time_scale(views, source=0) == min(scales) == scales[1]
+    with pytest.raises(hd.ViewError):
+        object_time_scale([])
+
+
+def test_ft_pvhk_at_t_global_is_the_pvhk(mug):
+    view = hd.render_view(mug, 30.0, 30.0, 1.0, seed=0)
+    p = hd.pvhk(view, source="center")
+    f = hd.ft_pvhk(view, time=p.time, source="center")
+    np.testing.assert_allclose(f.values, p.values, atol=1e-6)
+    assert f.kind == "ft-pvhk" and np.isnan(f.lambda2)
+    many = hd.describe(view, [hd.DescriptorSpec("ft-pvhk", 64, "center")], times=[p.time / 4, p.time])
+    assert len(many) == 2 and many[0].weights is not None
+    np.testing.assert_allclose(many[1].values, p.values, atol=1e-6)

@@ -143,3 +143,12 @@ def test_a_fitted_spec_crosses_with_its_fit():
     assert hd.DescriptorSpec.from_dict({"kind": "esf", "triplets": 2000}).name == "esf/triplets=2000"  # a config entry
     with pytest.raises(hd.SpecError, match="a mapping of kind and options"):
         hd.DescriptorSpec.from_dict(["esf"])
+
+
+def test_descriptor_spec_validation():
+    with pytest.raises(hd.SpecError, match="kind"):
+        hd.DescriptorSpec("shot")
+    with pytest.raises(hd.SpecError, match="color_map"):
+        hd.DescriptorSpec("c-pvhk")
+    with pytest.raises(hd.SpecError, match="sampling"):
+        hd.DescriptorSpec(sampling="random")
