@@ -117,6 +117,51 @@ def precision_by_size(precision: pd.DataFrame, order: list[str]) -> pd.DataFrame
     )
 
 
+def front_page(table: pd.DataFrame, primary: str, overlays: dict[str, bytes] | None = None) -> str:
+    """The report's landing summary: an HTML fragment the workflow description embeds above the rule graph.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        :func:`precision_by_size`'s table; its object rows are shown, ``primary`` first and in bold.
+    primary : str
+        The run's primary descriptor.
+    overlays : dict of str to bytes, optional
+        Scenes' overlays as PNG bytes by scene name, inlined side by side (none: the run has no scenes).
+
+    Returns
+    -------
+    str
+        ``<div class="heatdata-front">``, styled within itself.
+    """
+    import base64
+
+    rows = table[table["precision"] == "object"].drop(columns="precision")
+    rows = pd.concat([rows[rows["descriptor"] == primary], rows[rows["descriptor"] != primary]])
+    body = rows.to_html(index=False, border=0, escape=True)
+    marked = f"<td>{html.escape(primary)}</td>"
+    body = body.replace(marked, f"<td><b>{html.escape(primary)}</b></td>", 1)
+    parts = [
+        "<div class='heatdata-front'><style>.heatdata-front table{border-collapse:collapse;margin:0.5em 0}"
+        ".heatdata-front td,.heatdata-front th{border:1px solid #ccc;padding:2px 8px;text-align:right}"
+        ".heatdata-front td:first-child,.heatdata-front th:first-child{text-align:left}"
+        ".heatdata-front img{width:100%;max-width:640px;margin:0.3em 0}</style>",
+        "<h2>Object precision (%) by library views per object</h2>",
+        body,
+        f"<p>Every test view, its nearest library view; the primary descriptor, <b>{html.escape(primary)}</b>, "
+        "is the one the confusion matrices show. Class precision is in the Precision section. "
+        f"{html.escape(RENDERED_NOTE)}</p>",
+    ]
+    if overlays:
+        parts.append("<h2>Scenes: the objects found on the table, named (the Scenes section has every table)</h2>")
+        parts += [
+            f"<img alt='{html.escape(name)}' title='{html.escape(name)}' "
+            f"src='data:image/png;base64,{base64.b64encode(png).decode()}'>"
+            for name, png in overlays.items()
+        ]
+    return "".join(parts) + "</div>\n"
+
+
 def class_note(catalog: pd.DataFrame) -> list[str]:
     """The summary's lines on classes: when every class holds one object, class precision is object precision."""
     per_class = catalog.groupby("label")["object"].nunique()

@@ -1,4 +1,4 @@
-"""The report's pages: the measured ablation table."""
+"""The report's pages: the landing summary and the measured ablation table."""
 
 import pandas as pd
 import pytest
@@ -6,7 +6,7 @@ from conftest import ROOT
 
 import heatdata as hd
 from heatdata.io.tables import ABLATION_COLUMNS, read_ablation
-from heatdata.reporting.pages import ablation_page
+from heatdata.reporting.pages import ablation_page, front_page, precision_by_size
 
 
 def documented_ablation_rows() -> list[list[str]]:
@@ -46,3 +46,23 @@ def test_a_bad_ablation_table_is_an_error_naming_the_file(tmp_path):
     (tmp_path / "empty.csv").write_text("factor,measured,effect,command\n")
     with pytest.raises(hd.HeatdataError, match="no rows"):
         read_ablation(tmp_path / "empty.csv")
+
+
+def test_the_landing_summary_shows_object_precision_primary_first_and_the_scenes():
+    precision = pd.DataFrame(
+        [
+            {"descriptor": name, "library_size": size, "level": level, "group": group, "precision": value}
+            for name, value in (("pvhk", 0.5), ("hgd<b>", 0.875))
+            for size in (5, 40)
+            for level in ("object", "class")
+            for group in ("all", "cup")
+        ]
+    )
+    table = precision_by_size(precision, ["pvhk", "hgd<b>"])
+    page = front_page(table, "hgd<b>", {"scene-000": b"png bytes"})
+    assert page.startswith("<div class='heatdata-front'>") and page.rstrip().endswith("</div>")
+    assert "<b>hgd&lt;b&gt;</b>" in page and "<b>" not in page.replace("<b>hgd&lt;b&gt;</b>", "")  # escaped, bold
+    assert page.index("hgd&lt;b&gt;") < page.index("pvhk") and "<td>class</td>" not in page  # object rows only
+    assert page.count("<tr>") == 2 and "87.5" in page and "5 views" in page and "40 views" in page
+    assert "title='scene-000' src='data:image/png;base64,cG5nIGJ5dGVz'" in page and "not real sensor data" in page
+    assert "<img" not in front_page(table, "pvhk")  # no scenes, no overlays

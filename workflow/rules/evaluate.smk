@@ -90,6 +90,26 @@ rule report_figures:
         "../scripts/report_figures.py"
 
 
+rule front_page:
+    input:
+        precision=f"{RESULTS}/evaluation/precision.csv",
+        overlays=[f"{RESULTS}/scenes/overlays/{scene}.png" for scene in list(SCENES["scenes"])[:3]],
+    output:
+        report(f"{RESULTS}/figures/front.html", caption="../report/front.rst", category="Run"),
+    params:
+        primary=config["primary_descriptor"],
+        order=[s.name for s in SPECS],
+    log:
+        f"{RESULTS}/logs/front_page.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/front_page.tsv"
+    resources:
+        mem_mb=500,
+        runtime=5,
+    script:
+        "../scripts/front_page.py"
+
+
 rule ablation:
     input:
         config["ablation"] or [],
