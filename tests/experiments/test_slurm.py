@@ -140,7 +140,7 @@ def test_the_dag_runs_on_slurm_through_the_profile(slurm, tmp_path):
     assert result.returncode == 0, (result.stdout + result.stderr)[-4000:]
     submitted = (result.stdout + result.stderr).count("has been submitted with SLURM jobid")
     # every job but `all`, the per-object ones in the profile's job groups: catalog, two groups of the 2 render and
-    # 2 surface jobs, one of the 2 describe jobs, collect, classify, library, evaluate and report_figures
-    assert submitted == 9
+    # 2 surface jobs, one of the 2 describe jobs, collect, classify, library, evaluate, report_figures and front_page
+    assert submitted == 10
     predictions, _ = read_table(workdir / "results" / "evaluation" / "predictions.parquet")
     assert predictions["correct"].mean() > 0.8
