@@ -118,7 +118,7 @@ def precision_by_size(precision: pd.DataFrame, order: list[str]) -> pd.DataFrame
 
 
 def front_page(table: pd.DataFrame, primary: str, overlays: dict[str, bytes] | None = None) -> str:
-    """The report's landing summary: an HTML fragment the workflow description embeds above the rule graph.
+    """The report's landing summary: an HTML fragment the workflow description embeds beside the rule graph.
 
     Parameters
     ----------
@@ -127,7 +127,7 @@ def front_page(table: pd.DataFrame, primary: str, overlays: dict[str, bytes] | N
     primary : str
         The run's primary descriptor.
     overlays : dict of str to bytes, optional
-        Scenes' overlays as PNG bytes by scene name, inlined side by side (none: the run has no scenes).
+        Scenes' overlays as PNG bytes by scene name, inlined one under another (none: the run has no scenes).
 
     Returns
     -------
