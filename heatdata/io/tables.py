@@ -335,7 +335,7 @@ def _matrix(file: pq.ParquetFile, column: str, path: str | Path) -> np.ndarray |
     None when its rows differ in length or one is null.
 
     Each row group is decoded through a reader of its own (``path`` opened again) and without arrow's thread pool:
-    a Parquet file reader is not thread-safe, and four threads sharing ``file`` hung within 250 reads of a 20-group
+    a Parquet file reader is not thread-safe, and four threads sharing ``file`` hung within 300 reads of a 20-group
     table.
     """
     import concurrent.futures

@@ -107,7 +107,7 @@ def test_a_matrix_column_reads_as_one_array_in_row_groups(tmp_path, groups):
 
 
 def test_a_matrix_column_of_many_row_groups_reads_again_and_again(tmp_path):
-    # the row groups are decoded side by side; through one shared reader this hung within 250 reads in three tries
+    # the row groups are decoded side by side; through one shared reader this hung within 300 reads in three tries
     # of three, so the reads run in a child process that must finish in time
     script = f"""
 import numpy as np, pandas as pd, pyarrow as pa
