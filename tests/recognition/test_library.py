@@ -80,8 +80,9 @@ def test_a_sequence_gathers_evidence_and_checks_its_moves(library_file, models):
         assert set(steps[-1].posterior) == set(OBJECTS)
         assert sum(steps[-1].posterior.values()) + steps[-1].unknown == pytest.approx(1.0)
     # the exact filter gathers the evidence; the particle filter's convergence is tested on curves with known
-    # answers (test_multiview.py): here, on three frames of an 8-view PVHK library, it follows the mug's particles
-    # to the coffee cup's, whose views all look alike, for most seeds (as before the canonical frame, 1 to 9 in 10)
+    # answers (tests/recognition/multiview/test_filters.py): here, on three frames of an 8-view PVHK library, it
+    # follows the mug's particles to the coffee cup's, whose views all look alike, for most seeds (as before the
+    # canonical frame, 1 to 9 in 10)
     assert steps[-1].estimate == "beer-mug" and steps[-1].posterior["beer-mug"] > 0.9
     with pytest.raises(HeatdataError, match="3 frames need 2 moves"):
         library.recognize_sequence(frames, [90.0, 90.0, 90.0])

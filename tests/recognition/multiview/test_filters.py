@@ -1,124 +1,19 @@
-"""Multi-view recognition (thesis ch. 4) on small synthetic libraries with known answers.
-
-The library: a cup and a mug whose curves are identical except where the mug's handle
-shows (azimuths 90-180 deg), the ambiguity of thesis Fig. 4.2-4.3.
-"""
+"""The particle filter of Algorithm 4.1 and the exact filter beside it (heatdata.recognition.multiview.filters)."""
 
 import numpy as np
 import pandas as pd
 import pytest
+from cupmug import ANGLES, SAMPLES, cup_mug, cup_mug_similarity, observe, table, views_every_3_degrees
 
 import heatdata as hd
-from heatdata.core.distances import mhd
-from heatdata.experiments.multiview import ambiguous_starts, multiview_trials
-from heatdata.recognition.multiview.appearance import (
-    angle_gap,
-    appearance_model,
-    learn_similarity,
-    set_distance,
-    similarity_matrix,
-)
+from heatdata.recognition.multiview.appearance import angle_gap, appearance_model, learn_similarity
 from heatdata.recognition.multiview.filters import (
     ExhaustiveFilter,
     ParticleFilter,
     _label_cells,
     stochastic_universal_sampling,
 )
-from heatdata.recognition.multiview.robot import TableRobot, recognize, robot_views
-
-ANGLES = np.arange(0.0, 360.0, 30.0)
-SAMPLES = 16
-
-
-def curve(obj: str, azimuth: float, noise: float = 0.0, rng=None) -> np.ndarray:
-    x = np.arange(SAMPLES) / SAMPLES
-    values = 1.0 + 0.1 * np.cos(2 * np.pi * x) + 0.02 * np.cos(np.radians(azimuth))
-    if obj == "mug" and 90 <= azimuth % 360 <= 180:
-        values = values + 0.3 * np.exp(-(((x - 0.5) / 0.08) ** 2))  # the handle
-    if noise:
-        values = values + rng.normal(0, noise, SAMPLES)
-    return values
-
-
-def table(objects=("cup", "mug"), copies: int = 2, noise: float = 0.002, seed: int = 0) -> pd.DataFrame:
-    rng = np.random.default_rng(seed)
-    return pd.DataFrame(
-        [
-            {"object": o, "azimuth": a, "kind": "pvhk", "values": curve(o, a, noise, rng)}
-            for o in objects
-            for a in ANGLES
-            for _ in range(copies)
-        ]
-    )
-
-
-@pytest.fixture(scope="module")
-def library():
-    return table(seed=0)
-
-
-@pytest.fixture(scope="module")
-def similarity(library):
-    return learn_similarity(library, table(seed=1))
-
-
-def observe(obj, azimuth, seed):
-    rng = np.random.default_rng(seed)
-    return [curve(obj, azimuth, 0.002, rng) for _ in range(2)]
-
-
-def test_set_distance_is_eq_4_4():
-    assert set_distance(np.array([[1.0, 2.0], [3.0, 0.5]])) == pytest.approx(1.5)
-    assert set_distance(np.array([[1.0, 3.0]])) == pytest.approx(1.0)  # min(1, 1 + 3): sets of other sizes
-
-
-def test_alpha_is_the_mean_leave_one_out_distance_eq_4_5():
-    rows = pd.DataFrame({"object": "a", "azimuth": 0.0, "values": [np.zeros(8), np.full(8, 0.1)]})
-    model = appearance_model(pd.concat([rows, rows.assign(azimuth=90.0)]))
-    first = mhd(np.zeros(8), np.full(8, 0.1))
-    np.testing.assert_allclose(model.alpha, [first, first])
-    single = appearance_model(
-        pd.DataFrame(
-            {"object": "a", "azimuth": [0.0, 90.0, 180.0], "values": [np.zeros(8), np.full(8, 0.1), np.full(8, 0.3)]}
-        )
-    )
-    # one view per angle: the distance to the nearest neighbouring angle
-    np.testing.assert_allclose(single.alpha, [first, first, mhd(np.full(8, 0.1), np.full(8, 0.3))])
-    assert appearance_model(rows, alpha=0.08).alpha.tolist() == [0.08]
-
-
-def test_alpha_learned_from_independent_views_is_their_mean_distance_to_the_library_view():
-    library = pd.DataFrame({"object": "a", "azimuth": [0.0, 180.0], "values": [np.zeros(8), np.ones(8)]})
-    views = pd.DataFrame(
-        {"object": "a", "azimuth": [2.0, 358.0, 181.0], "values": [np.full(8, 0.1), np.full(8, 0.3), np.full(8, 1.2)]}
-    )
-    model = appearance_model(library, views=views)
-    expected = [
-        (mhd(np.zeros(8), np.full(8, 0.1)) + mhd(np.zeros(8), np.full(8, 0.3))) / 2,
-        mhd(np.ones(8), np.full(8, 1.2)),
-    ]
-    np.testing.assert_allclose(model.alpha, expected, rtol=1e-6)  # mhd_matrix works in float32 chunks
-    two = pd.concat([library, library.assign(object="b")])
-    similarity = learn_similarity(two, pd.concat([views, views.assign(object="b")]))
-    f = ParticleFilter(two, similarity, particles=4, seed=0)
-    np.testing.assert_allclose(f.model.alpha, expected * 2, rtol=1e-6)  # the filter takes the learned alpha
-    assert ParticleFilter(two, similarity, particles=4, alpha=0.5, seed=0).model.alpha.tolist() == [0.5] * 4
-
-
-def test_similarity_is_high_between_look_alike_views(library, similarity):
-    model = appearance_model(library)
-    mu = similarity_matrix(model, similarity)
-    at = {(o, a): k for k, (o, a) in enumerate(zip(model.labels["object"], model.labels["azimuth"]))}
-    assert mu[at["mug", 0.0], at["cup", 0.0]] > 0.5 * mu[at["mug", 0.0], at["mug", 0.0]]  # handle hidden
-    assert mu[at["mug", 120.0], at["cup", 120.0]] < 1e-6 * mu[at["mug", 120.0], at["mug", 120.0]]  # handle seen
-    assert list(similarity.columns) == [
-        "object",
-        "azimuth",
-        "similar_object",
-        "similar_azimuth",
-        "similarity",
-        "similar_alpha",
-    ]
+from heatdata.recognition.multiview.robot import TableRobot, recognize
 
 
 def test_a_library_of_one_object_converges_at_once():
@@ -129,7 +24,8 @@ def test_a_library_of_one_object_converges_at_once():
     assert f.converged and f.estimate == "cup"
 
 
-def test_the_true_object_keeps_particles_while_ambiguous_then_wins(library, similarity):
+def test_the_true_object_keeps_particles_while_ambiguous_then_wins():
+    library, similarity = cup_mug(), cup_mug_similarity()
     f = ParticleFilter(library, similarity, particles=60, seed=3)
     azimuth = 270.0
     f.step(observe("mug", azimuth, 10), 0.0)
@@ -145,7 +41,9 @@ def test_the_true_object_keeps_particles_while_ambiguous_then_wins(library, simi
     assert f.converged and f.estimate == "mug" and azimuth >= 90.0
 
 
-def test_the_baseline_bootstrap_replaces_particles_near_survivors_and_is_seeded(library, similarity):
+def test_the_baseline_bootstrap_replaces_particles_near_survivors_and_is_seeded():
+    library, similarity = cup_mug(), cup_mug_similarity()
+
     def bootstrapped(seed):
         f = ParticleFilter(library, similarity, particles=40, bootstrap="angular", seed=seed)
         f.object = np.repeat([f.objects.index("mug"), f.objects.index("cup")], 20)
@@ -167,7 +65,8 @@ def test_the_baseline_bootstrap_replaces_particles_near_survivors_and_is_seeded(
     assert not np.array_equal(f.azimuth, bootstrapped(6)[0].azimuth)
 
 
-def test_an_unexplained_observation_restarts_instead_of_dividing_by_zero(library, similarity):
+def test_an_unexplained_observation_restarts_instead_of_dividing_by_zero():
+    library, similarity = cup_mug(), cup_mug_similarity()
     f = ParticleFilter(library, similarity, particles=30, seed=0)
     f.object[:] = f.objects.index("cup")  # every particle on the cup: none explains the handle
     f.step(observe("mug", 120.0, 1), 0.0)
@@ -177,7 +76,8 @@ def test_an_unexplained_observation_restarts_instead_of_dividing_by_zero(library
     assert np.isfinite(f.log_w).all() and f.weights.sum() == pytest.approx(1.0)
 
 
-def test_odometry_wraps_around_360(library, similarity):
+def test_odometry_wraps_around_360():
+    library, similarity = cup_mug(), cup_mug_similarity()
     a = ParticleFilter(library, similarity, particles=10, seed=1)
     b = ParticleFilter(library, similarity, particles=10, seed=1)
     obs = observe("cup", 0.0, 0)
@@ -189,7 +89,8 @@ def test_odometry_wraps_around_360(library, similarity):
         a.step(obs, float("nan"))
 
 
-def test_bad_observations_and_tables_are_clear_errors(library, similarity):
+def test_bad_observations_and_tables_are_clear_errors():
+    library, similarity = cup_mug(), cup_mug_similarity()
     f = ParticleFilter(library, similarity, particles=10, seed=0)
     with pytest.raises(hd.HeatdataError, match="observations have 8 values, the library's pvhk descriptors 16"):
         f.step([np.ones(8)], 0.0)
@@ -214,7 +115,8 @@ def test_bad_observations_and_tables_are_clear_errors(library, similarity):
         ParticleFilter(library.drop(columns="values"), similarity)
 
 
-def test_best_move_looks_where_the_handle_shows(library, similarity):
+def test_best_move_looks_where_the_handle_shows():
+    library, similarity = cup_mug(), cup_mug_similarity()
     f = ParticleFilter(library, similarity, particles=80, seed=2)
     f.step(observe("mug", 270.0, 0), 0.0)  # handle hidden: cup or mug
     assert not f.converged
@@ -226,88 +128,6 @@ def test_stochastic_universal_sampling_is_proportional():
     rng = np.random.default_rng(0)
     counts = np.bincount(stochastic_universal_sampling(np.array([1.0, 0.0, 3.0]), 8, rng), minlength=3)
     assert counts.tolist() == [2, 0, 6]
-
-
-def views_every_3_degrees(objects=("cup", "mug"), seed=4) -> pd.DataFrame:
-    rng = np.random.default_rng(seed)
-    return pd.DataFrame(
-        [
-            {"object": o, "azimuth": a, "kind": "pvhk", "values": curve(o, a, 0.002, rng)}
-            for o in objects
-            for a in np.arange(1.5, 360.0, 3.0)
-        ]
-    )
-
-
-def test_recognize_fixed_steps_and_the_active_policy(library, similarity):
-    tests = views_every_3_degrees()
-    model = appearance_model(library)
-    robot = TableRobot(model, tests[tests["object"] == "mug"], per_stop=2)
-    assert robot.views(270.0) == robot.views(270.0 + 720.0) and len(robot.views(0.0)) == 2
-    fixed = recognize(ParticleFilter(model, similarity, particles=60, seed=1), robot, 270.0, step=30.0)
-    assert fixed["converged"] and fixed["estimate"] == "mug" and 180.0 <= fixed["degrees"] <= 270.0
-    active = recognize(
-        ParticleFilter(model, similarity, particles=60, seed=1),
-        robot,
-        270.0,
-        policy="active",
-        candidates=(-90.0, -30.0, 30.0, 90.0),
-    )
-    assert active["converged"] and active["estimate"] == "mug" and active["degrees"] < fixed["degrees"]
-    with pytest.raises(hd.HeatdataError, match="policy"):
-        recognize(ParticleFilter(model, similarity, seed=1), robot, 0.0, policy="greedy")
-    with pytest.raises(hd.HeatdataError, match="one object"):
-        TableRobot(model, tests)
-
-
-def test_ambiguous_starts_are_the_mugs_hidden_handle_views(library):
-    starts = ambiguous_starts(library, views_every_3_degrees(), count=3)
-    mug = starts[starts["object"] == "mug"]
-    assert len(starts) == 6 and not mug["azimuth"].between(90, 180).any()
-    assert (mug["nearest_other"] == "cup").all()
-
-
-def test_trials_cover_every_setting(library, similarity):
-    starts = pd.DataFrame({"object": ["mug"], "azimuth": [270.0]})
-    trials = multiview_trials(
-        library,
-        similarity,
-        views_every_3_degrees(),
-        starts,
-        particles=(10, 30),
-        policies=("fixed", "active"),
-        repetitions=2,
-        step=30.0,
-    )
-    # 2 particle counts x (2 bootstraps fixed + similarity active) x 2 repetitions, and one exhaustive run
-    assert len(trials) == 2 * 3 * 2 + 1
-    exact = trials[trials["bootstrap"] == "exhaustive"].iloc[0]
-    assert exact["particles"] == 2 * 360 and exact["policy"] == "fixed" and exact["identified"]
-    assert {"correct", "degrees", "comparisons", "exhaustive"} <= set(trials.columns)
-    particles = trials[trials["bootstrap"] != "exhaustive"]
-    assert (particles["comparisons"] == particles["particles"] * particles["stops"]).all()
-    assert exact["comparisons"] == exact["exhaustive"]
-    assert (trials["exhaustive"] == 24 * trials["stops"]).all()
-    again = multiview_trials(
-        library,
-        similarity,
-        views_every_3_degrees(),
-        starts,
-        particles=(10, 30),
-        policies=("fixed", "active"),
-        repetitions=2,
-        step=30.0,
-    )
-    pd.testing.assert_frame_equal(trials.drop(columns="seconds"), again.drop(columns="seconds"))
-
-
-def test_the_robot_renders_noisy_views_along_its_path(mug):
-    spec = hd.DescriptorSpec("pvhk", 16, "center", "polar")
-    path = robot_views(mug, 30.0, [15.0, -45.0], spec, per_stop=2)
-    assert [move for _, move in path] == [0.0, 15.0, -45.0]
-    first, _ = path[0]
-    assert len(first) == 2 and all(len(d.values) == 16 for d in first)
-    assert not np.array_equal(first[0].values, first[1].values)  # two noise draws per stop
 
 
 def test_best_move_keeps_circling_when_no_step_can_tell_twins_apart():
@@ -330,7 +150,8 @@ def test_best_move_keeps_circling_when_no_step_can_tell_twins_apart():
     assert f.best_move([15.0]) == 15.0  # nothing new in reach: keep circling anyway
 
 
-def test_best_move_does_not_return_to_views_already_seen(library, similarity):
+def test_best_move_does_not_return_to_views_already_seen():
+    library, similarity = cup_mug(), cup_mug_similarity()
     f = ParticleFilter(library, similarity, particles=80, seed=2)
     f.step(observe("mug", 270.0, 0), 0.0)
     f.step(observe("mug", 180.0, 1), -90.0)  # the handle seen: now at -90 by odometry
@@ -338,15 +159,8 @@ def test_best_move_does_not_return_to_views_already_seen(library, similarity):
     assert f.best_move([90.0, -90.0]) == -90.0  # +90 goes back to the first stop
 
 
-def test_a_run_stops_before_travelling_past_max_degrees(library, similarity):
-    twins_tests = views_every_3_degrees()
-    robot = TableRobot(appearance_model(library), twins_tests[twins_tests["object"] == "cup"])
-    f = ParticleFilter(library, similarity, particles=30, seed=0)
-    result = recognize(f, robot, 0.0, step=45.0, max_degrees=100.0)
-    assert result["degrees"] <= 100.0
-
-
-def test_newcomers_start_at_the_survivors_mean_or_least_weight(library, similarity):
+def test_newcomers_start_at_the_survivors_mean_or_least_weight():
+    library, similarity = cup_mug(), cup_mug_similarity()
     for rule, summary in (("mean", np.mean), ("least", np.min)):
         f = ParticleFilter(library, similarity, particles=60, seed=3, newcomer=rule)
         f.step(observe("mug", 270.0, 10), 0.0)
@@ -359,7 +173,8 @@ def test_newcomers_start_at_the_survivors_mean_or_least_weight(library, similari
         ParticleFilter(library, similarity, newcomer="max")
 
 
-def test_newcomers_start_anywhere_in_their_labels_cell_or_at_its_view(library, similarity):
+def test_newcomers_start_anywhere_in_their_labels_cell_or_at_its_view():
+    library, similarity = cup_mug(), cup_mug_similarity()
     lopsided = pd.DataFrame({"object": "a", "azimuth": [0.0, 90.0, 120.0]})
     np.testing.assert_allclose(_label_cells(lopsided), [[120, 45], [45, 15], [15, 120]])
     for rule in ("cell", "view"):
@@ -376,7 +191,8 @@ def test_newcomers_start_anywhere_in_their_labels_cell_or_at_its_view(library, s
         ParticleFilter(library, similarity, repopulate="near")
 
 
-def test_the_exhaustive_filter_is_the_exact_bayes_posterior(library):
+def test_the_exhaustive_filter_is_the_exact_bayes_posterior():
+    library = cup_mug()
     model = appearance_model(library)
     f = ExhaustiveFilter(model, resolution=30.0)  # start azimuths on the library's own angles
     assert len(f.object) == 2 * 12 and f.posterior() == {"cup": 0.5, "mug": 0.5}
@@ -406,7 +222,8 @@ def test_the_exhaustive_filter_is_the_exact_bayes_posterior(library):
         recognize(f, robot, 0.0, policy="active")
 
 
-def test_the_unknown_hypothesis_is_bayes_on_the_confidences(library, similarity):
+def test_the_unknown_hypothesis_is_bayes_on_the_confidences():
+    library, similarity = cup_mug(), cup_mug_similarity()
     for belief in (ExhaustiveFilter(library), ParticleFilter(library, similarity, particles=20, seed=0)):
         assert belief.unknown == 0.0 and belief.log_unknown is None  # the thesis's filter: none
         belief.expect_unknown(0.5)
