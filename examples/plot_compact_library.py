@@ -35,17 +35,23 @@ costs = consecutive_costs(candidates["coffee-cup"])  # eq. 6.6 between neighbour
 choice, total = select_sources(combined_costs(costs, rho["coffee-cup"], alpha=0.75))  # eq. 6.11 by LP
 print("the coffee cup's compact library: candidate", choice.tolist(), "of each view; cost", round(total, 4))
 
-fig, axes = plt.subplots(2, 4, figsize=(12, 6))
-for ax, view, ids, chosen, azimuth in zip(axes.ravel(), views["coffee-cup"], sources["coffee-cup"], choice, azimuths):
-    p = view.pixels
+
+def draw_sources(ax, view, ids, chosen, scale=1.0):
+    """A library view in grey, its candidate sources (dots) and the one the LP keeps (star); ``scale`` enlarges
+    the marks."""
+    p, loop = view.pixels, np.append(view.boundary, view.boundary[0])
     ax.tripcolor(p[:, 0], p[:, 1], view.faces, np.zeros(view.n_vertices), cmap="Greys", vmin=-1, vmax=3)
-    ax.plot(p[ids, 0], p[ids, 1], "o", color="grey", ms=3)
-    ax.plot(*p[ids[chosen]], "*", color="red", ms=14, mec="black")
-    loop = np.append(view.boundary, view.boundary[0])
-    ax.plot(p[loop, 0], p[loop, 1], color="tab:cyan", lw=0.8)
+    ax.plot(p[ids, 0], p[ids, 1], "o", color="grey", ms=3 * scale)
+    ax.plot(*p[ids[chosen]], "*", color="red", ms=14 * scale, mec="black")
+    ax.plot(p[loop, 0], p[loop, 1], color="tab:cyan", lw=0.8 * scale)
     ax.set_aspect("equal")
     ax.invert_yaxis()
     ax.set_axis_off()
+
+
+fig, axes = plt.subplots(2, 4, figsize=(12, 6))
+for ax, view, ids, chosen, azimuth in zip(axes.ravel(), views["coffee-cup"], sources["coffee-cup"], choice, azimuths):
+    draw_sources(ax, view, ids, chosen)
     ax.set_title(f"azimuth {azimuth} deg: candidate {chosen}", fontsize=9)
 fig.suptitle("Coffee cup: 20 candidate sources per library view (grey), the one the LP keeps (star)")
 fig.tight_layout()
@@ -55,14 +61,6 @@ plt.show()
 # The gallery's thumbnail: one panel of the figure above, drawn to be read at a thumbnail's size.
 # sphinx_gallery_thumbnail_number = 2
 thumbnail, ax = plt.subplots(figsize=(4, 2.8))
-view, ids, chosen = views["coffee-cup"][0], sources["coffee-cup"][0], choice[0]
-p, loop = view.pixels, np.append(view.boundary, view.boundary[0])
-ax.tripcolor(p[:, 0], p[:, 1], view.faces, np.zeros(view.n_vertices), cmap="Greys", vmin=-1, vmax=3)
-ax.plot(p[ids, 0], p[ids, 1], "o", color="grey", ms=5)
-ax.plot(*p[ids[chosen]], "*", color="red", ms=22, mec="black")
-ax.plot(p[loop, 0], p[loop, 1], color="tab:cyan", lw=1.5)
-ax.set_aspect("equal")
-ax.invert_yaxis()
-ax.set_axis_off()
+draw_sources(ax, views["coffee-cup"][0], sources["coffee-cup"][0], choice[0], scale=1.6)
 thumbnail.tight_layout()
 plt.show()

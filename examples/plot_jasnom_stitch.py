@@ -64,8 +64,10 @@ panels = [
         [(result.model, face_colours((halves[0], "tab:blue"), (halves[1], "tab:orange"), (result.strip_faces, "red")))],
     ),
 ]
-for k, (title, meshes) in enumerate(panels):
-    ax = fig.add_subplot(1, 2, k + 1, projection="3d")
+
+
+def show(ax, meshes):
+    """(model, face colours) pairs drawn in one cube around them, seen from the same side as every panel."""
     for model, colours in meshes:
         draw(ax, model, colours)
     points = np.vstack([m.vertices for m, _ in meshes])
@@ -77,6 +79,11 @@ for k, (title, meshes) in enumerate(panels):
     )
     ax.view_init(elev=20, azim=-60, vertical_axis="y")
     ax.set_axis_off()
+
+
+for k, (title, meshes) in enumerate(panels):
+    ax = fig.add_subplot(1, 2, k + 1, projection="3d")
+    show(ax, meshes)
     ax.set_title(title, fontsize=10)
 fig.tight_layout()
 plt.show()
@@ -86,13 +93,7 @@ plt.show()
 # sphinx_gallery_thumbnail_number = 2
 thumbnail = plt.figure(figsize=(4, 2.8))
 ax = thumbnail.add_subplot(projection="3d")
-((model, colours),) = panels[1][1]  # the stitched model: the halves and the strip between them
-draw(ax, model, colours)
-middle, half = (model.vertices.min(0) + model.vertices.max(0)) / 2, np.ptp(model.vertices, axis=0).max() / 2
-ax.set(xlim=(middle[0] - half, middle[0] + half), ylim=(middle[1] - half, middle[1] + half))
-ax.set(zlim=(middle[2] - half, middle[2] + half))
-ax.view_init(elev=20, azim=-60, vertical_axis="y")
+show(ax, panels[1][1])  # the stitched model: the halves and the strip between them
 ax.set_box_aspect(None, zoom=1.8)
-ax.set_axis_off()
 thumbnail.tight_layout()
 plt.show()
