@@ -2,6 +2,7 @@
 
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -93,34 +94,40 @@ def test_concatenate_and_read_part_of_a_table(tmp_path):
 
 
 MATRIX_SCHEMA = pa.schema([("name", pa.string()), ("values", pa.list_(pa.float64())), ("extra", pa.list_(pa.string()))])
+VALUES = np.arange(60, dtype=np.float64).reshape(20, 3)
+
+
+def write_matrix(path, row_group_size: int, metadata: dict | None = None) -> pd.DataFrame:
+    """:data:`VALUES` as a table of rows v0 .. v19 with an extra list column, in row groups of ``row_group_size``."""
+    frame = pd.DataFrame({"name": [f"v{k}" for k in range(20)], "values": list(VALUES), "extra": [["x"]] * 20})
+    write_table(frame, path, MATRIX_SCHEMA, metadata, row_group_size=row_group_size)
+    return frame
 
 
 @pytest.mark.parametrize("groups", [1, 3, 100])
 def test_a_matrix_column_reads_as_one_array_in_row_groups(tmp_path, groups):
-    values = np.arange(60, dtype=np.float64).reshape(20, 3)
-    frame = pd.DataFrame({"name": [f"v{k}" for k in range(20)], "values": list(values), "extra": [["x"]] * 20})
-    write_table(frame, tmp_path / "m.parquet", MATRIX_SCHEMA, {"seed": 1}, row_group_size=max(1, 20 // groups))
+    frame = write_matrix(tmp_path / "m.parquet", max(1, 20 // groups), {"seed": 1})
     back, matrix, meta = read_matrix_table(tmp_path / "m.parquet", "values", schema=MATRIX_SCHEMA, skip=("extra",))
-    assert np.array_equal(matrix, values) and meta["seed"] == 1 and list(back.columns) == ["name", "values"]
+    assert np.array_equal(matrix, VALUES) and meta["seed"] == 1 and list(back.columns) == ["name", "values"]
     assert all(np.shares_memory(row, matrix) for row in back["values"])  # the frame's rows are views of the array
     assert list(back["name"]) == list(frame["name"])
 
 
 def test_a_matrix_column_of_many_row_groups_reads_again_and_again(tmp_path):
     # the row groups are decoded side by side; through one shared reader this hung within 300 reads in three tries
-    # of three, so the reads run in a child process that must finish in time
-    script = f"""
-import numpy as np, pandas as pd, pyarrow as pa
-from heatdata.io.tables import read_matrix_table, write_table
-MATRIX_SCHEMA = pa.schema([("name", pa.string()), ("values", pa.list_(pa.float64())), ("extra", pa.list_(pa.string()))])
-values = np.arange(60, dtype=np.float64).reshape(20, 3)
-frame = pd.DataFrame({{"name": list("abcdefghijklmnopqrst"), "values": list(values), "extra": [["x"]] * 20}})
-write_table(frame, {str(tmp_path / "m.parquet")!r}, MATRIX_SCHEMA, row_group_size=1)
+    # of three, so the reads run in a child process (beside this file, to import its table) that must finish in time
+    write_matrix(tmp_path / "m.parquet", 1)
+    script = """
+import sys
+import numpy as np
+from test_tables import MATRIX_SCHEMA, VALUES
+from heatdata.io.tables import read_matrix_table
 for _ in range(1000):
-    _, matrix, _ = read_matrix_table({str(tmp_path / "m.parquet")!r}, "values", schema=MATRIX_SCHEMA, skip=("extra",))
-    assert np.array_equal(matrix, values)
+    _, matrix, _ = read_matrix_table(sys.argv[1], "values", schema=MATRIX_SCHEMA, skip=("extra",))
+    assert np.array_equal(matrix, VALUES)
 """
-    subprocess.run([sys.executable, "-c", script], check=True, timeout=90)
+    child = [sys.executable, "-c", script, tmp_path / "m.parquet"]
+    subprocess.run(child, check=True, timeout=90, cwd=Path(__file__).parent)
 
 
 def test_a_ragged_matrix_column_reads_row_by_row(tmp_path):
@@ -133,14 +140,12 @@ def test_a_ragged_matrix_column_reads_row_by_row(tmp_path):
 
 
 def test_a_matrix_column_iterates_as_one_array_a_row_group_at_a_time(tmp_path):
-    values = np.arange(60, dtype=np.float64).reshape(20, 3)
-    frame = pd.DataFrame({"name": [f"v{k}" for k in range(20)], "values": list(values), "extra": [["x"]] * 20})
-    write_table(frame, tmp_path / "m.parquet", MATRIX_SCHEMA, row_group_size=7)
+    write_matrix(tmp_path / "m.parquet", 7)
     odd = [("name", "in", [f"v{k}" for k in range(1, 20, 2)])]
     parts = list(iter_matrix_table(tmp_path / "m.parquet", "values", columns=["name", "values"], filters=odd))
     assert [len(rows) for rows, _ in parts] == [3, 4, 3]  # groups of 7, 7 and 6 rows, every other one kept
     assert all(list(rows.columns) == ["name"] for rows, _ in parts)
-    assert np.array_equal(np.concatenate([matrix for _, matrix in parts]), values[1::2])
+    assert np.array_equal(np.concatenate([matrix for _, matrix in parts]), VALUES[1::2])
     assert [name for rows, _ in parts for name in rows["name"]] == [f"v{k}" for k in range(1, 20, 2)]
     ragged = pd.DataFrame({"name": ["a", "b"], "values": [np.ones(3), np.ones(2)], "extra": [[], []]})
     write_table(ragged, tmp_path / "r.parquet", MATRIX_SCHEMA)
