@@ -29,7 +29,7 @@ def child(frame: str, library_path: str) -> None:
     stages = {}
     import heatdata as hd
     from heatdata.views.depth import read_depth_frame
-    from heatdata.views.segment import segment_frame
+    from heatdata.segmentation.segment import segment_frame
 
     stages["import heatdata"] = time.perf_counter() - START
     tic = time.perf_counter()

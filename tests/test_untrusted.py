@@ -24,7 +24,7 @@ from heatdata.cli import main
 from heatdata.io import files
 from heatdata.io.sh3f import MAX_MEMBER_BYTES, sh3f_catalog, sh3f_entries
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, write_table
-from heatdata.views.clouds import read_organized_cloud
+from heatdata.frames.clouds import read_organized_cloud
 from heatdata.views.depth import read_depth, read_intrinsics, write_depth
 
 KINECT = {"fx": 580.0, "fy": 580.0, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480}
@@ -405,7 +405,7 @@ def test_every_writing_command_refuses_an_unwritable_output_before_the_work(tmp_
     for name in (  # the commands import these when they run
         "experiments.demo.describe_and_classify",
         "views.render.render_view",
-        "views.clouds.read_organized_cloud",
+        "frames.clouds.read_organized_cloud",
         "jasnom.seam.stitch",
     ):
         monkeypatch.setattr(f"heatdata.{name}", lambda *a, **k: pytest.fail("the work started"))

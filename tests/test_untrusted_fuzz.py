@@ -24,7 +24,7 @@ from PIL import Image
 
 import heatdata as hd
 from heatdata.io.sh3f import sh3f_entries
-from heatdata.views.clouds import read_organized_cloud
+from heatdata.frames.clouds import read_organized_cloud
 from heatdata.views.depth import read_depth, read_intrinsics
 
 EXAMPLES = int(os.environ.get("HEATDATA_FUZZ_EXAMPLES", "100"))

@@ -97,7 +97,7 @@ def add_render(sub) -> None:
 def cmd_view_from_depth(args: argparse.Namespace) -> None:
     """A view from real data: a depth image (16-bit PNG in mm, float .npy in m) with intrinsics, or an organized
     cloud (PCD, range-map PLY); written as a .npz view, a coloured .ply, or both."""
-    from heatdata.views.clouds import read_frame
+    from heatdata.frames.clouds import read_frame
 
     inputs = [args.input, args.intrinsics, args.rgb, args.mask]
     outs = [check_output(p, inputs=inputs, suffixes=(".npz", ".ply"), what="the view") for p in args.out]

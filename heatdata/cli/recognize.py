@@ -46,7 +46,7 @@ def _read_frame(frame: dict, args: argparse.Namespace):
         from heatdata.views.view import View
 
         return View.load(frame["depth"])
-    from heatdata.views.clouds import read_frame
+    from heatdata.frames.clouds import read_frame
 
     return read_frame(
         frame["depth"],
@@ -66,10 +66,10 @@ def _scene(frame: dict, args: argparse.Namespace, library):
     A depth image (its readings in ``--mask`` or ``--depth-range``, when given) or an organized cloud is segmented
     into the objects on its support plane, or into the one object it holds; a saved view is one object as it is.
     """
+    from heatdata.frames.clouds import CLOUD_SUFFIXES
     from heatdata.reporting.figures.scenes import frame_image
-    from heatdata.views.clouds import CLOUD_SUFFIXES
-    from heatdata.views.depth import read_depth_frame, read_image
-    from heatdata.views.segment import SegmentSettings, segment_points, segment_view
+    from heatdata.segmentation.segment import SegmentSettings, segment_points, segment_view
+    from heatdata.views.depth import read_depth_frame, read_image, read_intrinsics
 
     settings = SegmentSettings(max_depth_jump=args.max_depth_jump)
     path = Path(frame["depth"])
@@ -82,9 +82,10 @@ def _scene(frame: dict, args: argparse.Namespace, library):
     if suffix in CLOUD_SUFFIXES:
         if frame["mask"] or args.depth_range:
             _read_frame(frame, args)  # refuses them, as for every cloud
-        from heatdata.views.clouds import read_cloud_grid
+        from heatdata.frames.clouds import read_cloud_grid
 
-        points, colors, intrinsics = read_cloud_grid(path, scale=args.scale)
+        camera = read_intrinsics(frame["intrinsics"]) if frame["intrinsics"] else None
+        points, colors, intrinsics = read_cloud_grid(path, scale=args.scale, intrinsics=camera)
         segmentation = segment_points(points, intrinsics, colors, settings, name=path.stem)
         answer = library.recognize_segments(segmentation, k=args.k, threshold=args.threshold, pose=not args.no_pose)
         return answer, frame_image(points[..., 2], colors), intrinsics

@@ -65,7 +65,7 @@ from heatdata.io.models import Model
 from heatdata.jasnom.cost import ScanSurface
 from heatdata.typing import StrPath
 from heatdata.views.depth import nearest_readings, pixels_of
-from heatdata.views.segment import SegmentSettings, segment_frame
+from heatdata.segmentation.segment import SegmentSettings, segment_frame
 
 log = logging.getLogger(__name__)
 
@@ -95,7 +95,7 @@ class TableScan:
     Attributes
     ----------
     model : Model
-        The object's view (:func:`heatdata.views.segment.segment_frame`'s largest segment).
+        The object's view (:func:`heatdata.segmentation.segment.segment_frame`'s largest segment).
     plane : (4,) float64
         The table ``a, b, c, d``, unit normal towards the camera (and the object).
     depth : (h, w) float64
@@ -189,7 +189,7 @@ class TableContact:
     ----------
     planes : (2, 4) float64
         ``a, b, c, d`` of each scan's table plane, unit normal towards the object (a point's
-        height above it is ``n . x + d``), as :class:`heatdata.views.segment.Segmentation`
+        height above it is ``n . x + d``), as :class:`heatdata.segmentation.segment.Segmentation`
         gives it.
     points : tuple of two (m, 3) float64
         Samples of each scan's surface (face centroids).

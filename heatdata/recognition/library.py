@@ -53,7 +53,7 @@ from heatdata.recognition.pose import STARTS, Pose, Surface, depth_image, estima
 from heatdata.typing import StrPath
 from heatdata.version import __version__
 from heatdata.views.depth import view_from_depth
-from heatdata.views.segment import Segment, Segmentation, SegmentSettings, segment_frame
+from heatdata.segmentation.segment import Segment, Segmentation, SegmentSettings, segment_frame
 from heatdata.views.view import View, has_colour
 
 log = logging.getLogger(__name__)
@@ -623,7 +623,7 @@ class Library:
     ) -> SceneRecognition:
         """Every object of a depth frame: the support plane, the objects on it, and what each is nearest.
 
-        The frame is segmented (:func:`heatdata.views.segment.segment_frame`: the plane by RANSAC, clusters by
+        The frame is segmented (:func:`heatdata.segmentation.segment.segment_frame`: the plane by RANSAC, clusters by
         DBSCAN) and each segment's view recognized (:meth:`recognize`); what a robot needs of each, where it is
         and what it is, is a :class:`Detection`. A frame of one isolated object (no support plane) gives one
         detection, as :meth:`recognize` does for its view.
@@ -675,7 +675,7 @@ class Library:
         pose: bool = True,
         exact: bool = False,
     ) -> SceneRecognition:
-        """:meth:`recognize_scene` of a frame already segmented (:func:`heatdata.views.segment.segment_points`).
+        """:meth:`recognize_scene` of a frame already segmented (:func:`heatdata.segmentation.segment.segment_points`).
 
         Parameters
         ----------

@@ -25,7 +25,7 @@ from heatdata.experiments.scenes import (
     write_scene,
 )
 from heatdata.recognition.answers import Detection, Match, Recognition
-from heatdata.views.segment import segment_frame
+from heatdata.segmentation.segment import segment_frame
 
 OBJECTS = ["beer-mug", "milk-carton", "bread", "cupcake", "coffee-cup", "speaker-small"]
 

@@ -14,7 +14,7 @@ from PIL import Image
 import heatdata as hd
 from heatdata.experiments.captures import find_captures
 from heatdata.experiments.views import capture_view_table
-from heatdata.views.clouds import fit_intrinsics
+from heatdata.frames.clouds import fit_intrinsics
 from heatdata.views.depth import back_project, grid_faces, nearest_readings, pixels_of
 
 FACE = Path(pymeshlab.__file__).parent / "tests/sample_meshes/rangemaps/face000.ply"  # a real range scan

@@ -3,16 +3,21 @@
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 
 import numpy as np
 
 from heatdata.errors import ViewError
+from heatdata.frames.pcd import read_pcd
+from heatdata.frames.range_grid import is_range_grid, read_range_grid
 from heatdata.io.files import require_file
 from heatdata.io.models import checked_faces
 from heatdata.typing import StrPath
-from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view, read_depth
-from heatdata.views.view import MAX_IMAGE_PIXELS, View
+from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view, read_depth, read_intrinsics
+from heatdata.views.view import MAX_IMAGE_PIXELS, View, check_intrinsics
+
+log = logging.getLogger(__name__)
 
 
 def fit_intrinsics(points: np.ndarray) -> dict:
@@ -38,6 +43,7 @@ def read_organized_cloud(
     path: StrPath,
     *,
     scale: float = 1.0,
+    intrinsics: dict | None = None,
     max_depth_jump: float = MAX_DEPTH_JUMP,
     view_id: str | None = None,
     object_id: str = "",
@@ -48,11 +54,13 @@ def read_organized_cloud(
     Parameters
     ----------
     path : str or Path
-        ``.pcd`` (ASCII or binary; fields ``x y z``, optionally ``rgb``; NaN = no reading)
-        or ``.ply`` whose header holds a VCG ``camera`` element (MeshLab's range maps): its
-        vertices are put back on their pixel grid by the camera.
+        ``.pcd`` (DATA ascii, binary or binary_compressed; fields ``x y z``, optionally ``rgb``/``rgba`` and any
+        others; NaN = no reading), ``.ply`` whose header holds a VCG ``camera`` element (MeshLab's range maps): its
+        vertices are put back on their pixel grid by the camera, or a Cyberware ``range_grid`` ``.ply``.
     scale : float
         File units to metres (PCL writes metres; MeshLab range maps are often millimetres).
+    intrinsics : dict, optional
+        The camera's, for an unorganized PCD (:func:`read_cloud_grid`).
 
     Returns
     -------
@@ -60,7 +68,7 @@ def read_organized_cloud(
         Triangulated by :func:`grid_view`, intrinsics fitted to the grid.
     """
     path = Path(path)
-    points, colors, intrinsics = read_cloud_grid(path, scale=scale)
+    points, colors, intrinsics = read_cloud_grid(path, scale=scale, intrinsics=intrinsics)
     return grid_view(
         points,
         colors,
@@ -73,15 +81,21 @@ def read_organized_cloud(
     )
 
 
-def read_cloud_grid(path: StrPath, *, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray | None, dict]:
+def read_cloud_grid(
+    path: StrPath, *, scale: float = 1.0, intrinsics: dict | None = None
+) -> tuple[np.ndarray, np.ndarray | None, dict]:
     """An organized cloud's grid of points, its colours and the intrinsics fitted to the grid.
 
     Parameters
     ----------
     path : str or Path
-        ``.pcd`` or a range-map ``.ply`` (:func:`read_organized_cloud`).
+        ``.pcd`` (any DATA kind), a range-map ``.ply`` (:func:`read_organized_cloud`) or a Cyberware
+        ``range_grid`` ``.ply`` (:func:`heatdata.frames.range_grid.read_range_grid`).
     scale : float
         File units to metres.
+    intrinsics : dict, optional
+        The camera's: an unorganized PCD (HEIGHT 1) is put back on its pixels (:func:`on_pixels`), and an organized
+        one is checked against them.
 
     Returns
     -------
@@ -95,107 +109,91 @@ def read_cloud_grid(path: StrPath, *, scale: float = 1.0) -> tuple[np.ndarray, n
     if path.stat().st_size > MAX_CLOUD_BYTES:
         raise ViewError(f"{path}: {path.stat().st_size / 2**20:.0f} MB, above the cap of {MAX_CLOUD_BYTES >> 20} MB")
     if path.suffix.lower() == ".pcd":
-        points, colors = _read_pcd(path)
+        points, colors = _read_pcd(path, intrinsics)
+    elif path.suffix.lower() == ".ply" and is_range_grid(path):
+        points, colors = read_range_grid(path)
     elif path.suffix.lower() == ".ply":
         points, colors = _read_range_ply(path)
     else:
         raise ViewError(f"{path}: unsupported organized cloud {path.suffix!r} (.pcd or a range-map .ply)")
     points = points * float(scale)
+    if intrinsics is not None and path.suffix.lower() == ".pcd":
+        return points, colors, check_intrinsics(intrinsics, points.shape[:2], str(path))
     return points, colors, fit_intrinsics(points)
 
 
 MAX_CLOUD_BYTES = 256 * 2**20  # an ASCII cloud of a full MAX_IMAGE_PIXELS grid (about 60 bytes a point), with room
 
-PCD_TYPES = {
-    ("F", 4): "<f4",
-    ("F", 8): "<f8",
-    ("U", 1): "u1",
-    ("U", 2): "<u2",
-    ("U", 4): "<u4",
-    ("I", 1): "i1",
-    ("I", 2): "<i2",
-    ("I", 4): "<i4",
-}
 
-
-def _read_pcd(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
-    raw = path.read_bytes()
-    header, position = {}, 0
-    while True:
-        end = raw.find(b"\n", position)
-        if end < 0:
-            raise ViewError(f"{path}: the PCD header has no DATA line")
-        line = raw[position:end].decode("ascii", "replace").strip()
-        position = end + 1
-        if not line or line.startswith("#"):
-            continue
-        key, *values = line.split()
-        header[key.upper()] = values
-        if key.upper() == "DATA":
-            break
-    try:
-        fields, sizes, types = header["FIELDS"], [int(s) for s in header["SIZE"]], header["TYPE"]
-        counts = [int(c) for c in header.get("COUNT", ["1"] * len(fields))]
-        width, height, data = int(header["WIDTH"][0]), int(header["HEIGHT"][0]), header["DATA"][0].lower()
-    except (KeyError, ValueError, IndexError) as error:
-        raise ViewError(f"{path}: not a PCD header ({error})") from error
-    if not len(fields) == len(sizes) == len(types) == len(counts):
-        raise ViewError(
-            f"{path}: the PCD header gives {len(fields)} FIELDS, {len(sizes)} SIZE, {len(types)} TYPE and "
-            f"{len(counts)} COUNT entries; they must match"
-        )
-    if height <= 1:
-        raise ViewError(f"{path}: the cloud is not organized (HEIGHT {height}): a view needs its pixel grid")
-    if not (width >= 1 and width * height <= MAX_IMAGE_PIXELS) or min(counts) < 1:
-        raise ViewError(
-            f"{path}: a {width}x{height} grid with counts {counts} is not read "
-            f"(at most {MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel)"
-        )
-    if not {"x", "y", "z"} <= set(fields):
-        raise ViewError(f"{path}: the cloud has no x y z fields ({' '.join(fields)})")
-    if len(set(fields)) < len(fields):
-        raise ViewError(f"{path}: a field is named twice in FIELDS {' '.join(fields)}")
-    if any(c != 1 for f, c in zip(fields, counts) if f in ("x", "y", "z", "rgb", "rgba")):
-        raise ViewError(f"{path}: x, y, z and rgb must be one number each (COUNT {' '.join(map(str, counts))})")
-    unknown = [f"{f} {t}{s}" for f, s, t in zip(fields, sizes, types) if (t, s) not in PCD_TYPES]
-    if unknown:
-        raise ViewError(f"{path}: PCD field types not read: {', '.join(unknown)}")
-    dtype = np.dtype(
-        [(f, PCD_TYPES[(t, s)], (c,) if c > 1 else ()) for f, s, t, c in zip(fields, sizes, types, counts)]
-    )
-    if data == "ascii":
-        try:
-            table = np.loadtxt(raw[position:].decode("ascii").splitlines(), ndmin=2)
-        except (ValueError, UnicodeDecodeError) as error:
-            raise ViewError(f"{path}: the PCD's ASCII data are not rows of numbers ({error})") from None
-        if table.shape[1] != sum(counts):
-            raise ViewError(f"{path}: the PCD's rows have {table.shape[1]} numbers, its header {sum(counts)} fields")
-        cloud = np.zeros(len(table), dtype)
-        column = 0
-        for f, c in zip(fields, counts):
-            cloud[f] = table[:, column] if c == 1 else table[:, column : column + c]
-            column += c
-    elif data == "binary":
-        if len(raw) - position < dtype.itemsize * width * height:
+def _read_pcd(path: Path, intrinsics: dict | None) -> tuple[np.ndarray, np.ndarray | None]:
+    """A PCD's grid of points and colours: an organized cloud's own grid, or an unorganized cloud put back on the
+    pixels of ``intrinsics`` (:func:`on_pixels`)."""
+    cloud = read_pcd(path)
+    if cloud.organized:
+        if intrinsics is not None and (intrinsics["width"], intrinsics["height"]) != cloud.points.shape[1::-1]:
             raise ViewError(
-                f"{path}: truncated: {len(raw) - position} bytes of data for {width}x{height} points of "
-                f"{dtype.itemsize} bytes"
+                f"{path}: an organized {cloud.points.shape[1]}x{cloud.points.shape[0]} cloud, but the intrinsics are "
+                f"for {intrinsics['width']}x{intrinsics['height']} pixels"
             )
-        cloud = np.frombuffer(raw, dtype, count=width * height, offset=position)
-    else:
-        raise ViewError(f"{path}: PCD DATA {data} is not read (save it as ascii or binary)")
-    if len(cloud) != width * height:
-        raise ViewError(f"{path}: {len(cloud)} points for a {width}x{height} grid")
-    points = np.stack([cloud[a].astype(np.float64) for a in "xyz"], axis=-1).reshape(height, width, 3)
-    colors = None
-    if "rgb" in fields or "rgba" in fields:
-        packed = cloud["rgb" if "rgb" in fields else "rgba"]
-        packed = packed.view(np.uint32) if packed.dtype.kind == "f" else packed.astype(np.uint32)
-        colors = (
-            np.stack([(packed >> 16) & 255, (packed >> 8) & 255, packed & 255], axis=-1).reshape(height, width, 3)
-            / 255.0
+        return cloud.points, cloud.colors
+    if intrinsics is None:
+        raise ViewError(
+            f"{path}: an unorganized cloud (HEIGHT 1) has no pixel grid: give the camera's intrinsics "
+            "(--intrinsics) to put its points back on their pixels"
         )
-    return points, colors
+    colors = None if cloud.colors is None else cloud.colors[0]
+    return on_pixels(cloud.points[0], colors, intrinsics, str(path))
+
+
+def on_pixels(
+    points: np.ndarray, colors: np.ndarray | None, intrinsics: dict, name: str
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """An unorganized cloud in the camera's frame put back on the camera's pixels: each point on the pixel it
+    projects to, the nearest where two share one.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+        Camera-frame points (z forward), NaN for no reading.
+    colors : (n, 3) float in [0, 1], optional
+    intrinsics : dict
+        ``fx, fy, cx, cy, width, height``.
+    name : str
+        For messages.
+
+    Returns
+    -------
+    points : (height, width, 3) float64
+        NaN where no point falls.
+    colors : (height, width, 3) float64 or None
+    """
+    k = check_intrinsics(intrinsics, name=name)
+    points = np.asarray(points, np.float64)
+    finite = np.isfinite(points).all(axis=1) & (points[:, 2] > 0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = np.round(k["fx"] * points[:, 0] / points[:, 2] + k["cx"])
+        v = np.round(k["fy"] * points[:, 1] / points[:, 2] + k["cy"])
+    inside = finite & (u >= 0) & (u < k["width"]) & (v >= 0) & (v < k["height"])
+    if not inside.any():
+        raise ViewError(f"{name}: no point of the cloud falls inside the image of these intrinsics")
+    if inside.sum() < 0.9 * finite.sum():
+        log.warning(
+            "%s: %d of %d points fall outside the image of these intrinsics",
+            name,
+            int(finite.sum() - inside.sum()),
+            int(finite.sum()),
+        )
+    index = np.flatnonzero(inside)
+    index = index[np.argsort(-points[index, 2], kind="stable")]  # far first: the nearest is written last
+    cells = v[index].astype(np.int64) * k["width"] + u[index].astype(np.int64)
+    grid = np.full((k["height"] * k["width"], 3), np.nan)
+    grid[cells] = points[index]
+    colour_grid = None
+    if colors is not None:
+        colour_grid = np.full((k["height"] * k["width"], 3), 0.5)
+        colour_grid[cells] = np.asarray(colors, np.float64)[index]
+        colour_grid = colour_grid.reshape(k["height"], k["width"], 3)
+    return grid.reshape(k["height"], k["width"], 3), colour_grid
 
 
 CAMERA_FIELDS = [f"view_p{a}" for a in "xyz"] + [f"{a}_axis{b}" for a in "xyz" for b in "xyz"]
@@ -285,7 +283,8 @@ def read_frame(
     path : str or Path
         A 16-bit PNG (millimetres) or float ``.npy`` (metres), or a ``.pcd`` or range-map ``.ply``.
     intrinsics_path, rgb_path, mask_path : str or Path, optional
-        A depth image's intrinsics (needed), colour image and mask; a cloud carries its own grid and colours.
+        A depth image's intrinsics (needed), colour image and mask; a cloud carries its own colours, and its own
+        grid unless it is unorganized (then the intrinsics put it on its pixels).
     depth_range : (near, far) metres, optional
         A depth image's segmentation when there is no mask.
     scale : float
@@ -299,12 +298,13 @@ def read_frame(
         The view in the camera's frame.
     """
     if Path(path).suffix.lower() in CLOUD_SUFFIXES:
-        if intrinsics_path or rgb_path or mask_path or depth_range:
+        if rgb_path or mask_path or depth_range:
             raise ViewError(
-                f"{path}: an organized cloud carries its own grid and colours; --intrinsics, "
-                "--rgb, --mask and --depth-range are for depth images"
+                f"{path}: a cloud carries its own colours and is segmented as a whole; --rgb, --mask and "
+                "--depth-range are for depth images"
             )
-        return read_organized_cloud(path, scale=scale, max_depth_jump=max_depth_jump)
+        intrinsics = read_intrinsics(intrinsics_path) if intrinsics_path else None
+        return read_organized_cloud(path, scale=scale, intrinsics=intrinsics, max_depth_jump=max_depth_jump)
     return read_depth(
         path,
         intrinsics_path,

@@ -11,7 +11,7 @@ import trimesh
 import heatdata as hd
 from heatdata.experiments.scenes import TABLE_HEIGHT, box_model, object_pose, room
 from heatdata.views.render import Placement, camera_pose, render_scene
-from heatdata.views.segment import SegmentSettings, segment_frame
+from heatdata.segmentation.segment import SegmentSettings, segment_frame
 from heatdata.views.view import KINECT_INTRINSICS
 
 
@@ -113,11 +113,13 @@ def test_an_empty_frame_is_a_clear_error():
         segment_frame(np.ones((240, 320)), KINECT_INTRINSICS)
 
 
-def test_objects_touching_each_other_form_one_segment():
-    frame = table_scene([(BOX, -0.03, 0.0, 0.0), (CAN, 0.07, 0.0, 0.0)], sensor="ideal")
+@pytest.mark.parametrize("sensor", ["ideal", "kinect"])
+def test_objects_touching_each_other_are_cut_apart_at_their_concave_seam(sensor):
+    frame = table_scene([(BOX, -0.03, 0.0, 0.0), (CAN, 0.07, 0.0, 0.0)], sensor=sensor)
     found = segment_frame(frame.depth, frame.intrinsics, frame.rgb)
-    assert len(found.segments) == 1
-    assert set(np.unique(frame.labels[found.segments[0].mask])) >= {FURNITURE, FURNITURE + 1}
+    assert len(found.segments) == 2
+    for label, segment in zip((FURNITURE, FURNITURE + 1), sorted(found.segments, key=lambda s: s.centroid[0])):
+        assert iou(segment.mask, (frame.labels == label) & np.isfinite(frame.depth)) > 0.8
 
 
 def test_an_object_by_the_wall_keeps_to_itself():

@@ -1,0 +1,154 @@
+"""Surfaces of an organized grid split where objects meet: at depth steps and at concave creases (the step that
+separates objects that touch, stand on each other or occlude each other)."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+CUT_BAND = 1  # pixels around a crease or a step also taken out, so that a crease with gaps still cuts
+CORE_PIXELS = 50  # a piece of surface between cuts smaller than this is no object's core (a speck of noise)
+STEP_BAND = 2  # pixels beside a depth step kept with the surface they border
+
+
+def _shift(array: np.ndarray, dv: int, du: int, fill=np.nan) -> np.ndarray:
+    """``array`` moved so that pixel (v, u) holds the value at (v + dv, u + du); ``fill`` beyond the edge."""
+    out = np.full_like(array, fill)
+    h, w = array.shape[:2]
+    src_v = slice(max(dv, 0), h + min(dv, 0))
+    src_u = slice(max(du, 0), w + min(du, 0))
+    dst_v = slice(max(-dv, 0), h + min(-dv, 0))
+    dst_u = slice(max(-du, 0), w + min(-du, 0))
+    out[dst_v, dst_u] = array[src_v, src_u]
+    return out
+
+
+def continuous(z: np.ndarray, z_other: np.ndarray, max_jump: float, steps: int = 1) -> np.ndarray:
+    """Whether two depths ``steps`` pixels apart lie on one surface (relative step below ``max_jump`` a pixel)."""
+    with np.errstate(invalid="ignore"):
+        return np.abs(z - z_other) <= max_jump * steps * 0.5 * (z + z_other)
+
+
+def grid_normals(points: np.ndarray, max_jump: float, reach: int = 2, smooth: int = 5) -> np.ndarray:
+    """(h, w, 3) unit normals of an organized grid, towards the camera, NaN where unknown.
+
+    Central differences ``reach`` pixels either side (where the surface is continuous), averaged over a
+    ``smooth`` x ``smooth`` window of the pixels that have one.
+    """
+    z = points[..., 2]
+    tangents = []
+    for dv, du in ((0, reach), (reach, 0)):
+        ahead, behind = _shift(points, dv, du), _shift(points, -dv, -du)
+        ok = continuous(ahead[..., 2], z, max_jump, reach) & continuous(behind[..., 2], z, max_jump, reach)
+        tangents.append(np.where(ok[..., None], ahead - behind, np.nan))
+    normals = np.cross(tangents[0], tangents[1])
+    known = np.isfinite(normals).all(axis=2)
+    normals[~known] = 0.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        normals /= np.linalg.norm(normals, axis=2, keepdims=True)
+    normals[~known] = 0.0
+    summed = np.stack([ndimage.uniform_filter(normals[..., i], smooth, mode="constant") for i in range(3)], axis=2)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        summed /= np.linalg.norm(summed, axis=2, keepdims=True)
+    summed[~known] = np.nan
+    facing = np.einsum("ijk,ijk->ij", summed, points) > 0
+    summed[facing] *= -1.0
+    return summed
+
+
+def creases(
+    points: np.ndarray, normals: np.ndarray, region: np.ndarray, max_jump: float, angle: float, reach: int = 3
+) -> np.ndarray:
+    """(h, w) bool: pixels on a concave crease sharper than ``angle`` degrees (LCCP's convexity criterion, Stein
+    et al. 2014: two surface points are concave when their normals turn towards each other,
+    ``(n_a - n_b) . (p_a - p_b) < 0``), tested between pixels ``reach`` apart on either side of each pixel."""
+    limit = 2.0 * np.sin(np.radians(angle) / 2.0)
+    found = np.zeros(region.shape, bool)
+    for dv, du in ((0, reach), (reach, 0), (reach, reach), (reach, -reach)):
+        pa, pb = _shift(points, dv, du), _shift(points, -dv, -du)
+        na, nb = _shift(normals, dv, du), _shift(normals, -dv, -du)
+        ok = continuous(pa[..., 2], pb[..., 2], max_jump, 2 * reach)
+        d = pa - pb
+        with np.errstate(invalid="ignore", divide="ignore"):
+            d /= np.linalg.norm(d, axis=2, keepdims=True)
+            concave = np.einsum("ijk,ijk->ij", na - nb, d) < -limit
+        found |= ok & concave
+    return found & region
+
+
+def steps(points: np.ndarray, region: np.ndarray, max_jump: float) -> np.ndarray:
+    """(h, w) bool: region pixels beside a depth step (a neighbour in the region off their surface)."""
+    z = np.where(region, points[..., 2], np.nan)
+    found = np.zeros(region.shape, bool)
+    for dv, du in ((0, 1), (1, 0), (0, -1), (-1, 0)):
+        other = _shift(z, dv, du)
+        with np.errstate(invalid="ignore"):
+            found |= np.isfinite(other) & ~continuous(z, other, max_jump)
+    return found & region
+
+
+def reaching(points: np.ndarray, candidates: np.ndarray, inside: np.ndarray, max_jump: float) -> np.ndarray:
+    """(h, w) bool: the ``candidates`` pixels on a surface (connected without a depth step) that has a pixel
+    ``inside``, and the pixels beside its steps (the step's own pixels, on either side of it)."""
+    pieces, _ = ndimage.label(candidates & ~steps(points, candidates, max_jump))
+    keep = np.zeros(pieces.max() + 1, bool)
+    keep[pieces[inside]] = True
+    keep[0] = False
+    kept = keep[pieces]
+    _, (rows, cols) = ndimage.distance_transform_edt(~kept, return_indices=True)
+    near = ndimage.binary_dilation(kept, iterations=STEP_BAND)
+    return candidates & (kept | (near & kept[rows, cols]))
+
+
+def split_surfaces(
+    points: np.ndarray, region: np.ndarray, seeds: np.ndarray, settings, *, concave: bool = True
+) -> np.ndarray:
+    """(h, w) int: the ``region``'s pixels labelled by object (0: none), split where objects meet.
+
+    Like LCCP (Stein et al., CVPR 2014), which cuts a scene's surface where two patches meet at a concave
+    angle, but on the frame's pixel grid rather than supervoxels: the pixels on a concave crease sharper than
+    ``settings.concavity`` degrees (:func:`creases`) or beside a depth step (:func:`steps`), and a band of
+    :data:`CUT_BAND` pixels around them, are taken out; the rest's connected pieces of at least
+    :data:`CORE_PIXELS` are the objects' cores, each holding a pixel of ``seeds`` (the workspace, not only an
+    object's foot); then every pixel of the region joins its nearest core when it lies within
+    ``settings.cluster_distance`` of that core's nearest pixel.
+
+    Parameters
+    ----------
+    points : (h, w, 3) float64
+        Camera-frame points, NaN where there is no reading.
+    region : (h, w) bool
+        The pixels to label (the workspace and the objects' feet).
+    seeds : (h, w) bool
+        The pixels a core must reach (the workspace above the feet).
+    settings : SegmentSettings
+        ``concavity``, ``cluster_distance`` and ``max_depth_jump``.
+    concave : bool
+        Whether to cut at concave creases too (on a support plane), or at depth steps only (a frame of one object
+        has no neighbour to meet: its handle's or its inside's crease is its own).
+
+    Returns
+    -------
+    (h, w) int64
+    """
+    jump = settings.max_depth_jump
+    cut = steps(points, region, jump)
+    if concave:
+        normals = grid_normals(np.where(region[..., None], points, np.nan), jump)
+        cut |= creases(points, normals, region, jump, settings.concavity)
+    cut = ndimage.binary_dilation(cut, iterations=CUT_BAND)
+    cores, _ = ndimage.label(region & ~cut)
+    sizes = np.bincount(cores.ravel())
+    reached = np.zeros(len(sizes), bool)
+    reached[cores[seeds]] = True
+    keep = (sizes >= CORE_PIXELS) & reached
+    keep[0] = False
+    cores = np.where(keep[cores], cores, 0)
+    if not cores.any():
+        return cores
+    _, (rows, cols) = ndimage.distance_transform_edt(cores == 0, return_indices=True)
+    with np.errstate(invalid="ignore"):
+        gap = np.linalg.norm(points - points[rows, cols], axis=2)
+    labels = np.where(region & (gap <= settings.cluster_distance), cores[rows, cols], 0)
+    _, labels = np.unique(labels, return_inverse=True)
+    return labels.reshape(region.shape)
