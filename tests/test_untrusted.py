@@ -21,10 +21,10 @@ from PIL import Image
 
 import heatdata as hd
 from heatdata.cli import main
+from heatdata.frames.clouds import read_organized_cloud
 from heatdata.io import files
 from heatdata.io.sh3f import MAX_MEMBER_BYTES, sh3f_catalog, sh3f_entries
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, write_table
-from heatdata.frames.clouds import read_organized_cloud
 from heatdata.views.depth import read_depth, read_intrinsics, write_depth
 
 KINECT = {"fx": 580.0, "fy": 580.0, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480}

@@ -23,8 +23,8 @@ from hypothesis import strategies as st
 from PIL import Image
 
 import heatdata as hd
-from heatdata.io.sh3f import sh3f_entries
 from heatdata.frames.clouds import read_organized_cloud
+from heatdata.io.sh3f import sh3f_entries
 from heatdata.views.depth import read_depth, read_intrinsics
 
 EXAMPLES = int(os.environ.get("HEATDATA_FUZZ_EXAMPLES", "100"))

@@ -24,6 +24,7 @@ from heatdata.cli.arguments import (
 )
 from heatdata.cli.demo import add_demo
 from heatdata.cli.recognize import add_index, add_recognize
+from heatdata.cli.segment import add_segment
 from heatdata.cli.stitch import add_stitch
 from heatdata.descriptors import (
     COLOR_KIND,
@@ -95,12 +96,14 @@ def add_render(sub) -> None:
 
 
 def cmd_view_from_depth(args: argparse.Namespace) -> None:
-    """A view from real data: a depth image (16-bit PNG in mm, float .npy in m) with intrinsics, or an organized
-    cloud (PCD, range-map PLY); written as a .npz view, a coloured .ply, or both."""
+    """A view from real data: a depth image (16-bit PNG in mm, float .npy in m) with intrinsics, or a cloud (PCD of
+    any DATA kind, unorganized ones with --intrinsics; a range-map or range-grid PLY); written as a .npz view, a
+    coloured .ply mesh and/or a .pcd cloud that PCL reads (binary_compressed, with colour)."""
     from heatdata.frames.clouds import read_frame
+    from heatdata.frames.pcd import write_view_pcd
 
     inputs = [args.input, args.intrinsics, args.rgb, args.mask]
-    outs = [check_output(p, inputs=inputs, suffixes=(".npz", ".ply"), what="the view") for p in args.out]
+    outs = [check_output(p, inputs=inputs, suffixes=(".npz", ".ply", ".pcd"), what="the view") for p in args.out]
     if len({p.resolve() for p in outs}) < len(outs):
         raise HeatdataError(f"{' '.join(map(str, outs))}: an output is given twice")
     view = read_frame(
@@ -112,7 +115,10 @@ def cmd_view_from_depth(args: argparse.Namespace) -> None:
         scale=args.scale,
         max_depth_jump=args.max_depth_jump,
     )
-    view.write(outs)
+    view.write([p for p in outs if p.suffix.lower() != ".pcd"])
+    for out in outs:
+        if out.suffix.lower() == ".pcd":
+            write_view_pcd(view, out)
     _print_view(view, outs, args.json)
 
 
@@ -130,7 +136,7 @@ def add_view_from_depth(sub) -> None:
         type=Path,
         required=True,
         action="append",
-        help="output .npz view and/or .ply mesh with colours (repeatable)",
+        help="output .npz view, .ply mesh with colours and/or .pcd cloud (repeatable)",
     )
     frame_arguments(depth)
     depth.add_argument("--json", action="store_true", help="print JSON for programs")
@@ -392,8 +398,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
     sub = parser.add_subparsers(dest="command", required=True)
 
-    for add in (add_demo, add_render, add_view_from_depth, add_stitch, add_describe, add_classify, add_recognize,
-                add_index, add_kinds, add_import_sh3f):  # fmt: skip
+    for add in (add_demo, add_render, add_view_from_depth, add_segment, add_stitch, add_describe, add_classify,
+                add_recognize, add_index, add_kinds, add_import_sh3f):  # fmt: skip
         add(sub)
     for command in sub.choices.values():  # -v after the command too: heatdata recognize ... -v
         command.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS, help="debug logging")

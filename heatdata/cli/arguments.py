@@ -72,7 +72,9 @@ def number(low: float | None = None, *, high: float | None = None, positive: boo
 
 def frame_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of a depth frame or an organized cloud (view-from-depth, recognize)."""
-    parser.add_argument("--intrinsics", type=Path, help="JSON or YAML: fx, fy, cx, cy, width, height (depth images)")
+    parser.add_argument(
+        "--intrinsics", type=Path, help="JSON or YAML: fx, fy, cx, cy, width, height (depth images, unorganized PCDs)"
+    )
     parser.add_argument("--rgb", type=Path, help="colour image registered to the depth image")
     parser.add_argument("--mask", type=Path, help="image whose non-zero pixels are the object's")
     parser.add_argument(

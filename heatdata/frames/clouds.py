@@ -313,3 +313,43 @@ def read_frame(
         depth_range=depth_range,
         max_depth_jump=max_depth_jump,
     )
+
+
+def read_frame_grid(
+    path: StrPath,
+    intrinsics_path: StrPath | None = None,
+    rgb_path: StrPath | None = None,
+    *,
+    scale: float = 1.0,
+) -> tuple[np.ndarray, np.ndarray | None, dict]:
+    """A sensor's frame as an organized grid of camera-frame points, before segmentation: a depth image with its
+    intrinsics and colour, or a cloud (:func:`read_cloud_grid`; an unorganized PCD needs the intrinsics).
+
+    Parameters
+    ----------
+    path : str or Path
+        A 16-bit PNG (millimetres) or float ``.npy`` (metres), or a ``.pcd`` or ``.ply`` cloud.
+    intrinsics_path : str or Path, optional
+        JSON or YAML ``fx, fy, cx, cy, width, height``: needed by a depth image and an unorganized PCD.
+    rgb_path : str or Path, optional
+        A depth image's colour (a cloud carries its own).
+    scale : float
+        A cloud's units to metres.
+
+    Returns
+    -------
+    points : (h, w, 3) float64
+        Metres, NaN where there is no reading.
+    colors : (h, w, 3) float64 in [0, 1] or uint8, or None
+    intrinsics : dict
+    """
+    from heatdata.views.depth import back_project, checked_depth, read_depth_frame
+
+    if Path(path).suffix.lower() in CLOUD_SUFFIXES:
+        if rgb_path:
+            raise ViewError(f"{path}: a cloud carries its own colours; --rgb is for depth images")
+        intrinsics = read_intrinsics(intrinsics_path) if intrinsics_path else None
+        return read_cloud_grid(path, scale=scale, intrinsics=intrinsics)
+    depth, rgb, intrinsics = read_depth_frame(path, intrinsics_path, rgb_path)
+    depth, k = checked_depth(depth, intrinsics, str(path))
+    return back_project(depth, k), rgb, k

@@ -12,7 +12,7 @@ import numpy as np
 from heatdata.errors import ViewError
 from heatdata.io.files import atomic
 from heatdata.typing import StrPath
-from heatdata.views.view import MAX_IMAGE_PIXELS
+from heatdata.views.view import MAX_IMAGE_PIXELS, View
 
 log = logging.getLogger(__name__)
 
@@ -157,3 +157,29 @@ def write_pcd(
     with atomic(path) as temporary:
         cloud.save(temporary, encoding=Encoding(data))
     return Path(path)
+
+
+def write_view_pcd(view: View, path: StrPath) -> Path:
+    """A view as the organized cloud a sensor would have given: each vertex on its pixel of the view's camera, NaN
+    on the other pixels, with its colour (:func:`write_pcd`, binary_compressed).
+
+    Parameters
+    ----------
+    view : View
+        Camera-frame vertices with intrinsics.
+    path : str or Path
+        The ``.pcd`` to write.
+
+    Returns
+    -------
+    Path
+    """
+    k = view.intrinsics
+    pixels = np.round(view.pixels).astype(np.int64)
+    inside = (pixels[:, 0] >= 0) & (pixels[:, 0] < k["width"]) & (pixels[:, 1] >= 0) & (pixels[:, 1] < k["height"])
+    points = np.full((int(k["height"]), int(k["width"]), 3), np.nan)
+    colors = np.zeros(points.shape)
+    order = np.flatnonzero(inside)[np.argsort(-view.vertices[inside, 2], kind="stable")]  # the nearest written last
+    points[pixels[order, 1], pixels[order, 0]] = view.vertices[order]
+    colors[pixels[order, 1], pixels[order, 0]] = np.clip(view.colors[order], 0.0, 1.0)
+    return write_pcd(path, points, colors)

@@ -63,9 +63,9 @@ from heatdata.core.geometry import rotation_between
 from heatdata.errors import StitchError
 from heatdata.io.models import Model
 from heatdata.jasnom.cost import ScanSurface
+from heatdata.segmentation.segment import SegmentSettings, segment_frame
 from heatdata.typing import StrPath
 from heatdata.views.depth import nearest_readings, pixels_of
-from heatdata.segmentation.segment import SegmentSettings, segment_frame
 
 log = logging.getLogger(__name__)
 

@@ -50,10 +50,10 @@ from heatdata.recognition.index import (
 )
 from heatdata.recognition.library_check import check_library, shortened, spec_of
 from heatdata.recognition.pose import STARTS, Pose, Surface, depth_image, estimate_pose
+from heatdata.segmentation.segment import Segment, Segmentation, SegmentSettings, segment_frame
 from heatdata.typing import StrPath
 from heatdata.version import __version__
 from heatdata.views.depth import view_from_depth
-from heatdata.segmentation.segment import Segment, Segmentation, SegmentSettings, segment_frame
 from heatdata.views.view import View, has_colour
 
 log = logging.getLogger(__name__)

@@ -370,3 +370,26 @@ def _segment(
         extent=diameter(view.vertices, plane),
         notes=notes,
     )
+
+
+def label_image(segmentation: Segmentation, shape: tuple[int, int]) -> np.ndarray:
+    """(h, w) uint16: 0 for no object (the support plane, the background, no reading), 1..N for the segments in
+    their order (largest first).
+
+    Parameters
+    ----------
+    segmentation : Segmentation
+        A frame's segments (each with its mask).
+    shape : (h, w)
+        The frame's size.
+
+    Returns
+    -------
+    (h, w) uint16
+    """
+    labels = np.zeros(shape, np.uint16)
+    for number, segment in enumerate(segmentation.segments, start=1):
+        if segment.mask is None:
+            raise ViewError(f"{segment.view.name}: a view given whole has no pixels in a frame to label")
+        labels[segment.mask & (labels == 0)] = number
+    return labels

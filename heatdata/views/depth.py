@@ -1,4 +1,4 @@
-"""Views from depth images, real or rendered, and back (thesis 2.1, 2.3); organized clouds: :mod:`heatdata.frames.clouds`.
+"""Views from depth images, real or rendered, and back (thesis 2.1, 2.3); clouds: :mod:`heatdata.frames.clouds`.
 
 A partial view is the triangle mesh of an organized depth grid: neighbouring valid pixels
 are joined unless their depths differ by more than ``max_depth_jump`` times their mean

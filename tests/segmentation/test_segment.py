@@ -10,8 +10,8 @@ import trimesh
 
 import heatdata as hd
 from heatdata.experiments.scenes import TABLE_HEIGHT, box_model, object_pose, room
-from heatdata.views.render import Placement, camera_pose, render_scene
 from heatdata.segmentation.segment import SegmentSettings, segment_frame
+from heatdata.views.render import Placement, camera_pose, render_scene
 from heatdata.views.view import KINECT_INTRINSICS
 
 

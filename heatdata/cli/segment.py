@@ -1,0 +1,108 @@
+"""``heatdata segment``: a frame's objects as a label image, the segmentation that ``recognize`` uses."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from heatdata.cli.arguments import dump_json, number
+from heatdata.errors import HeatdataError
+from heatdata.io.files import atomic, check_output
+
+
+def cmd_segment(args: argparse.Namespace) -> None:
+    """Segment a frame into the objects on its support plane: a 16-bit label image of the frame's size (0 for no
+    object, 1..N for the objects, largest first), a line per object, and an overlay picture with --overlay."""
+    from PIL import Image
+
+    from heatdata.frames.clouds import read_frame_grid
+    from heatdata.segmentation.segment import label_image, segment_points
+    from heatdata.segmentation.settings import SegmentSettings
+
+    inputs = [args.frame, args.intrinsics, args.rgb]
+    out = check_output(args.out, inputs=inputs, suffixes=(".png",), what="the label image")
+    overlay = None if args.overlay is None else check_output(args.overlay, inputs=inputs, suffixes=(".png",))
+    if overlay is not None and overlay.resolve() == out.resolve():
+        raise HeatdataError(f"{out}: the label image and the overlay are one file")
+    settings = SegmentSettings(
+        cluster_distance=args.cluster_distance,
+        min_pixels=args.min_pixels,
+        concavity=args.concavity,
+        max_depth_jump=args.max_depth_jump,
+    )
+    points, colors, intrinsics = read_frame_grid(args.frame, args.intrinsics, args.rgb, scale=args.scale)
+    found = segment_points(points, intrinsics, colors, settings, name=Path(args.frame).stem)
+    labels = label_image(found, points.shape[:2])
+    with atomic(out) as temporary:
+        Image.fromarray(labels).save(temporary, format="PNG")
+    if overlay is not None:
+        from heatdata.reporting.figures.scenes import Mark, frame_image, save_overlay
+
+        marks = [Mark(s.mask, s.bbox, str(n)) for n, s in enumerate(found.segments, start=1)]
+        save_overlay(overlay, frame_image(points[..., 2], colors), marks)
+    rows = [
+        {
+            "label": n,
+            "pixels": s.pixels,
+            "bbox": list(s.bbox),
+            "centroid": [round(float(c), 4) for c in s.centroid],
+            "extent": round(float(s.extent), 4),
+            "notes": s.notes,
+        }
+        for n, s in enumerate(found.segments, start=1)
+    ]
+    if args.json:
+        plane = None if found.plane is None else [round(float(c), 6) for c in found.plane]
+        print(dump_json({"labels": str(out), "plane": plane, "segments": rows, "notes": found.notes}))
+        return
+    print(f"{out}: {len(rows)} object(s) in a {points.shape[1]}x{points.shape[0]} frame")
+    for row in rows:
+        x, y, z = row["centroid"]
+        notes = f"  ({'; '.join(row['notes'])})" if row["notes"] else ""
+        where = f"({x:+.3f}, {y:+.3f}, {z:.3f}) m"
+        print(f"  {row['label']:3d}: {row['pixels']:7,} px at {where}, {row['extent']:.3f} m across{notes}")
+    for note in found.notes:
+        print(f"  {note}")
+
+
+def add_segment(sub) -> None:
+    """The ``segment`` command's arguments."""
+    from heatdata.segmentation.settings import SegmentSettings
+    from heatdata.views.depth import MAX_DEPTH_JUMP
+
+    defaults = SegmentSettings()
+    parser = sub.add_parser("segment", help="a frame's objects as a label image", description=cmd_segment.__doc__)
+    parser.add_argument("frame", type=Path, help="depth image (.png 16-bit mm, .npy float m) or cloud (.pcd, .ply)")
+    parser.add_argument("-o", "--out", type=Path, required=True, help="the 16-bit label image to write (.png)")
+    parser.add_argument(
+        "--intrinsics", type=Path, help="JSON or YAML: fx, fy, cx, cy, width, height (depth images, unorganized PCDs)"
+    )
+    parser.add_argument("--rgb", type=Path, help="colour image registered to the depth image")
+    parser.add_argument("--overlay", type=Path, help="also draw the objects over the frame (.png)")
+    parser.add_argument("--scale", type=number(positive=True), default=1.0, help="cloud units to metres (default 1)")
+    parser.add_argument(
+        "--cluster-distance",
+        type=number(positive=True),
+        default=defaults.cluster_distance,
+        help=f"metres: a reading this near an object's surface joins it (default {defaults.cluster_distance})",
+    )
+    parser.add_argument(
+        "--min-pixels",
+        type=number(3, whole=True),
+        default=defaults.min_pixels,
+        help=f"smaller objects are dropped, and said so (default {defaults.min_pixels})",
+    )
+    parser.add_argument(
+        "--concavity",
+        type=number(positive=True, high=179.0),
+        default=defaults.concavity,
+        help=f"degrees: surfaces meeting at a sharper concave crease are two objects (default {defaults.concavity:g})",
+    )
+    parser.add_argument(
+        "--max-depth-jump",
+        type=number(positive=True),
+        default=MAX_DEPTH_JUMP,
+        help=f"relative depth step between two objects (default {MAX_DEPTH_JUMP})",
+    )
+    parser.add_argument("--json", action="store_true", help="print JSON for programs")
+    parser.set_defaults(func=cmd_segment)
