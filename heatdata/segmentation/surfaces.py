@@ -9,6 +9,9 @@ from scipy import ndimage
 CUT_BAND = 1  # pixels around a crease or a step also taken out, so that a crease with gaps still cuts
 CORE_PIXELS = 50  # a piece of surface between cuts smaller than this is no object's core (a speck of noise)
 STEP_BAND = 2  # pixels beside a depth step kept with the surface they border
+NORMAL_REACH = 2  # pixels either side a normal's differences span
+NORMAL_WINDOW = 5  # pixels: the window a normal is averaged over (a Kinect's depth steps are quantized)
+CREASE_REACH = 3  # pixels either side of a pixel whose normals and positions tell a crease
 
 
 def _shift(array: np.ndarray, dv: int, du: int, fill=np.nan) -> np.ndarray:
@@ -29,7 +32,9 @@ def continuous(z: np.ndarray, z_other: np.ndarray, max_jump: float, steps: int =
         return np.abs(z - z_other) <= max_jump * steps * 0.5 * (z + z_other)
 
 
-def grid_normals(points: np.ndarray, max_jump: float, reach: int = 2, smooth: int = 5) -> np.ndarray:
+def grid_normals(
+    points: np.ndarray, max_jump: float, reach: int = NORMAL_REACH, smooth: int = NORMAL_WINDOW
+) -> np.ndarray:
     """(h, w, 3) unit normals of an organized grid, towards the camera, NaN where unknown.
 
     Central differences ``reach`` pixels either side (where the surface is continuous), averaged over a
@@ -57,7 +62,12 @@ def grid_normals(points: np.ndarray, max_jump: float, reach: int = 2, smooth: in
 
 
 def creases(
-    points: np.ndarray, normals: np.ndarray, region: np.ndarray, max_jump: float, angle: float, reach: int = 3
+    points: np.ndarray,
+    normals: np.ndarray,
+    region: np.ndarray,
+    max_jump: float,
+    angle: float,
+    reach: int = CREASE_REACH,
 ) -> np.ndarray:
     """(h, w) bool: pixels on a concave crease sharper than ``angle`` degrees (LCCP's convexity criterion, Stein
     et al. 2014: two surface points are concave when their normals turn towards each other,
@@ -131,24 +141,41 @@ def split_surfaces(
     -------
     (h, w) int64
     """
+    labels = np.zeros(region.shape, np.int64)
+    rows, cols = np.nonzero(region)
+    if len(rows) == 0:
+        return labels
+    pad = 2 * CREASE_REACH + NORMAL_WINDOW  # the window the normals and creases look through
+    window = (
+        slice(max(rows.min() - pad, 0), rows.max() + pad + 1),
+        slice(max(cols.min() - pad, 0), cols.max() + pad + 1),
+    )
+    labels[window] = _split(points[window], region[window], seeds[window], settings, concave)
+    return labels
+
+
+def _split(points: np.ndarray, region: np.ndarray, seeds: np.ndarray, settings, concave: bool) -> np.ndarray:
+    """:func:`split_surfaces` in the window around the region."""
     jump = settings.max_depth_jump
     cut = steps(points, region, jump)
     if concave:
         normals = grid_normals(np.where(region[..., None], points, np.nan), jump)
         cut |= creases(points, normals, region, jump, settings.concavity)
     cut = ndimage.binary_dilation(cut, iterations=CUT_BAND)
-    cores, _ = ndimage.label(region & ~cut)
-    sizes = np.bincount(cores.ravel())
+    cores, count = ndimage.label(region & ~cut)
+    sizes = np.bincount(cores.ravel(), minlength=count + 1)
     reached = np.zeros(len(sizes), bool)
     reached[cores[seeds]] = True
     keep = (sizes >= CORE_PIXELS) & reached
     keep[0] = False
-    cores = np.where(keep[cores], cores, 0)
+    number = np.where(keep, np.cumsum(keep), 0)  # the kept cores numbered 1..K
+    cores = number[cores]
     if not cores.any():
         return cores
     _, (rows, cols) = ndimage.distance_transform_edt(cores == 0, return_indices=True)
     with np.errstate(invalid="ignore"):
         gap = np.linalg.norm(points - points[rows, cols], axis=2)
     labels = np.where(region & (gap <= settings.cluster_distance), cores[rows, cols], 0)
-    _, labels = np.unique(labels, return_inverse=True)
-    return labels.reshape(region.shape)
+    used = np.bincount(labels.ravel(), minlength=int(keep.sum()) + 1) > 0
+    used[0] = False
+    return np.where(used, np.cumsum(used), 0)[labels]  # a core that kept no pixel leaves no gap in the numbers

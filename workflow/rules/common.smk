@@ -12,6 +12,7 @@ from heatdata.errors import ConfigError
 from heatdata.experiments.config import (CONFUSION_PATTERN, check_numbers, check_results, check_stages,
                                          confusion_labels, descriptor_specs, multiview_descriptor, run_captures,
                                          run_catalog, run_scenes, stitched_objects)
+from heatdata.experiments.real_frames import frame_files, real_frame_folders
 from heatdata.io.catalog import catalog_sizes
 from snakemake.exceptions import WorkflowError
 
@@ -37,6 +38,7 @@ try:
     check_stages(config, OBJECTS, SPECS)
     CAPTURES = run_captures(config, OBJECTS)  # object -> its captured frames
     SCENES = run_scenes(config, OBJECTS, SPECS)  # the scenes' objects, the libraries that recognize them
+    REAL_FRAMES = real_frame_folders(config["real_frames"]["folders"])  # name -> folder of labelled frames
 except ConfigError as exc:
     raise WorkflowError(f"config error: {exc}") from None
 # the descriptors by file name (pvhk/polar/center/64 -> pvhk_polar_center_64): the classify jobs' wildcard
