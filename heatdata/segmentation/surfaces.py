@@ -7,6 +7,8 @@ import numpy as np
 from scipy import ndimage
 
 CUT_BAND = 1  # pixels around a crease or a step also taken out, so that a crease with gaps still cuts
+GROW_STEPS = 8  # pixels the labels grow over what the nearest core left (the cut's band and the creases' reach)
+NEAR_PIXELS = 3  # pixels apart, at most, two pieces are looked at for joining where there is no support plane
 CORE_PIXELS = 50  # a piece of surface between cuts smaller than this is no object's core (a speck of noise)
 STEP_BAND = 2  # pixels beside a depth step kept with the surface they border
 NORMAL_REACH = 2  # pixels either side a normal's differences span
@@ -176,6 +178,50 @@ def _split(points: np.ndarray, region: np.ndarray, seeds: np.ndarray, settings, 
     with np.errstate(invalid="ignore"):
         gap = np.linalg.norm(points - points[rows, cols], axis=2)
     labels = np.where(region & (gap <= settings.cluster_distance), cores[rows, cols], 0)
+    labels = _grow(labels, points, region, jump)  # the rest (whose nearest core lies across a step) by their surface
+    if not concave:
+        labels = _join_near(labels, points, settings.cluster_distance)
     used = np.bincount(labels.ravel(), minlength=int(keep.sum()) + 1) > 0
     used[0] = False
     return np.where(used, np.cumsum(used), 0)[labels]  # a core that kept no pixel leaves no gap in the numbers
+
+
+def _join_near(labels: np.ndarray, points: np.ndarray, distance: float) -> np.ndarray:
+    """``labels`` with pieces joined that come within ``distance`` of each other (pixels up to :data:`NEAR_PIXELS`
+    apart): one object's pieces parted by a depth step (a cup's inside seen over its rim), as a Euclidean clustering
+    joins them, where no support plane says that two objects may meet."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    count = int(labels.max()) + 1
+    if count <= 2:
+        return labels
+    pairs = []
+    for reach in range(1, NEAR_PIXELS + 1):
+        for dv, du in ((0, reach), (reach, 0), (reach, reach), (reach, -reach)):
+            other = _shift(labels.astype(np.float64), dv, du, fill=0).astype(np.int64)
+            apart = (labels > 0) & (other > 0) & (labels != other)
+            with np.errstate(invalid="ignore"):
+                apart &= np.linalg.norm(points - _shift(points, dv, du), axis=2) <= distance
+            pairs.append(np.column_stack([labels[apart], other[apart]]))
+    joined = np.concatenate(pairs)
+    graph = sp.coo_matrix((np.ones(len(joined)), (joined[:, 0], joined[:, 1])), shape=(count, count))
+    _, component = connected_components(graph, directed=False)
+    return np.where(labels > 0, component[labels] + 1, 0)  # renumbered by the caller
+
+
+def _grow(labels: np.ndarray, points: np.ndarray, region: np.ndarray, max_jump: float) -> np.ndarray:
+    """``labels`` grown over the region's unlabelled pixels, a pixel a step for :data:`GROW_STEPS` steps, each taking
+    a neighbour's label across no depth step: a pixel whose nearest core in the image lies across a step (the wall
+    seen beside a can) joins the surface it lies on."""
+    labels = labels.copy()
+    z = np.where(region, points[..., 2], np.nan)
+    for _ in range(GROW_STEPS):
+        open_ = region & (labels == 0)
+        if not open_.any():
+            break
+        for dv, du in ((0, 1), (1, 0), (0, -1), (-1, 0)):
+            other = _shift(labels.astype(np.float64), dv, du, fill=0).astype(np.int64)
+            take = open_ & (labels == 0) & (other > 0) & continuous(z, _shift(z, dv, du), max_jump)
+            labels[take] = other[take]
+    return labels

@@ -34,9 +34,7 @@ def test_a_folder_of_the_real_frame_is_read_and_scored():
     assert frame.name == "learn20" and frame.category == "stacked" and frame.depth.shape == (480, 640)
     assert np.isnan(frame.depth).any() and set(np.unique(frame.truth)) == {0, 2, 3}
     scores = score_folder(MOSD)
-    assert scores[["frame", "objects", "found", "leftovers", "of_nothing"]].values.tolist() == [
-        ["learn20", 2, 2, 0, 0]
-    ]
+    assert scores[["frame", "objects", "found", "leftovers", "of_nothing"]].values.tolist() == [["learn20", 2, 2, 0, 0]]
 
 
 def test_categories_sum_their_frames_and_the_worst_frames_miss_most():

@@ -87,6 +87,19 @@ def test_a_frame_of_one_isolated_object_has_no_plane_and_one_segment(mug):
     assert any("no support plane" in note for note in found.notes)
 
 
+def test_an_isolated_cup_seen_into_is_one_segment_not_a_crash(catalog):
+    # its inside, seen over the rim, is parted from its outside by a depth step; with no support plane no neighbour
+    # can meet it, so the pieces within the cluster distance are one object (this view crashed the plane's search)
+    cup = hd.load_catalog_model(catalog[catalog["object"] == "plastic-cup"].iloc[0])
+    view = hd.render_view(cup, azimuth=159.0, seed=902)
+    depth = np.full((480, 640), np.nan)
+    pixels = np.round(view.pixels).astype(int)
+    depth[pixels[:, 1], pixels[:, 0]] = view.vertices[:, 2]
+    found = segment_frame(depth, KINECT_INTRINSICS)
+    assert found.plane is None and len(found.segments) == 1
+    assert found.segments[0].pixels >= 0.98 * np.isfinite(depth).sum()
+
+
 def test_a_box_alone_is_not_its_own_support_plane():
     big = solid("crate", trimesh.creation.box(extents=(0.45, 0.3, 0.45)), (0.6, 0.6, 0.3))
     frame = table_scene([(big, 0.0, 0.0, 30.0)], wall=False, distance=1.2)

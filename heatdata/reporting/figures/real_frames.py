@@ -19,9 +19,7 @@ def _colours(ids: np.ndarray) -> np.ndarray:
     return picture
 
 
-def draw_frames(
-    rows: list[tuple[LabelledFrame, np.ndarray, SegmentationScore]], path: StrPath
-) -> None:
+def draw_frames(rows: list[tuple[LabelledFrame, np.ndarray, SegmentationScore]], path: StrPath) -> None:
     """A row per frame: the colour image (or the depth), the truth's objects and the segments, titled with what was
     found.
 
