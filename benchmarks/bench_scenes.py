@@ -28,8 +28,8 @@ def child(frame: str, library_path: str) -> None:
     """The cold path, stage by stage, in this fresh process; prints the stages' seconds as JSON."""
     stages = {}
     import heatdata as hd
-    from heatdata.views.depth import read_depth_frame
     from heatdata.segmentation.segment import segment_frame
+    from heatdata.views.depth import read_depth_frame
 
     stages["import heatdata"] = time.perf_counter() - START
     tic = time.perf_counter()

@@ -486,10 +486,11 @@ PCD_HEADER = (
     "text, message",
     [
         (PCD_HEADER + "POINTS 16\nDATA binary\n" + "\0" * 40, "truncated: 40 bytes"),
+        (PCD_HEADER + "DATA binary\n" + "\0" * 192, "no POINTS line"),
         (PCD_HEADER + "POINTS 16\nDATA ascii\n" + "0 0\n" * 16, "rows have 2 numbers"),
-        (PCD_HEADER.replace("SIZE 4 4 4", "SIZE 4 4") + "DATA ascii\n" + "0 0 1\n" * 16, "2 SIZE"),
-        (PCD_HEADER + "DATA ascii\n" + "a b c\n" * 16, "not rows of numbers"),
-        (PCD_HEADER.replace("WIDTH 4", "WIDTH 999999999") + "DATA binary\n", "is not read"),
+        (PCD_HEADER.replace("SIZE 4 4 4", "SIZE 4 4") + "POINTS 16\nDATA ascii\n" + "0 0 1\n" * 16, "2 SIZE"),
+        (PCD_HEADER + "POINTS 16\nDATA ascii\n" + "a b c\n" * 16, "not rows of numbers"),
+        (PCD_HEADER.replace("WIDTH 4", "WIDTH 999999999") + "POINTS 16\nDATA binary\n", "is not read"),
     ],
 )
 def test_bad_pcd_files_are_one_line(tmp_path, caplog, text, message):

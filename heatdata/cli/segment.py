@@ -40,27 +40,27 @@ def cmd_segment(args: argparse.Namespace) -> None:
 
         marks = [Mark(s.mask, s.bbox, str(n)) for n, s in enumerate(found.segments, start=1)]
         save_overlay(overlay, frame_image(points[..., 2], colors), marks)
-    rows = [
-        {
-            "label": n,
-            "pixels": s.pixels,
-            "bbox": list(s.bbox),
-            "centroid": [round(float(c), 4) for c in s.centroid],
-            "extent": round(float(s.extent), 4),
-            "notes": s.notes,
-        }
-        for n, s in enumerate(found.segments, start=1)
-    ]
     if args.json:
+        rows = [
+            {
+                "label": n,
+                "pixels": s.pixels,
+                "bbox": list(s.bbox),
+                "centroid": [round(float(c), 4) for c in s.centroid],
+                "extent": round(float(s.extent), 4),
+                "notes": s.notes,
+            }
+            for n, s in enumerate(found.segments, start=1)
+        ]
         plane = None if found.plane is None else [round(float(c), 6) for c in found.plane]
         print(dump_json({"labels": str(out), "plane": plane, "segments": rows, "notes": found.notes}))
         return
-    print(f"{out}: {len(rows)} object(s) in a {points.shape[1]}x{points.shape[0]} frame")
-    for row in rows:
-        x, y, z = row["centroid"]
-        notes = f"  ({'; '.join(row['notes'])})" if row["notes"] else ""
-        where = f"({x:+.3f}, {y:+.3f}, {z:.3f}) m"
-        print(f"  {row['label']:3d}: {row['pixels']:7,} px at {where}, {row['extent']:.3f} m across{notes}")
+    print(f"{out}: {len(found.segments)} object(s) in a {points.shape[1]}x{points.shape[0]} frame")
+    for n, segment in enumerate(found.segments, start=1):
+        x, y, z = segment.centroid
+        notes = f"  ({'; '.join(segment.notes)})" if segment.notes else ""
+        where = f"({x:+.3f}, {y:+.3f}, {z:.3f}) m, {segment.extent:.3f} m across"
+        print(f"  {n:3d}: {segment.pixels:7,} px at {where}{notes}")
     for note in found.notes:
         print(f"  {note}")
 

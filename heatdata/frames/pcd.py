@@ -59,25 +59,41 @@ def read_pcd(path: StrPath) -> PcdCloud:
         One line naming the file and the problem: not a PCD header, an unknown DATA kind, truncated or corrupt
         data, ``POINTS`` that is not ``WIDTH x HEIGHT``, no ``x y z`` fields, more than ``MAX_IMAGE_PIXELS`` points.
     """
-    import pydantic
     from pypcd4 import PointCloud
 
     path = Path(path)
-    header = _header(path)
+    header, offset = _header(path)
+    fields, sizes, types, counts = (header.get(key, []) for key in ("FIELDS", "SIZE", "TYPE", "COUNT"))
+    counts = counts or ["1"] * len(fields)
+    if not len(fields) == len(sizes) == len(types) == len(counts):
+        raise ViewError(
+            f"{path}: the PCD header gives {len(fields)} FIELDS, {len(sizes)} SIZE, {len(types)} TYPE and "
+            f"{len(counts)} COUNT entries; they must match"
+        )
+    if "POINTS" not in header:
+        raise ViewError(f"{path}: the PCD header has no POINTS line (PCL writes one: WIDTH x HEIGHT)")
     try:
         width, height, count = (int(header.get(key, ["?"])[0]) for key in ("WIDTH", "HEIGHT", "POINTS"))
+        itemsize = sum(int(size) * int(times) for size, times in zip(sizes, counts))
     except ValueError:
-        raise ViewError(f"{path}: the PCD header's WIDTH, HEIGHT or POINTS is not a whole number") from None
+        raise ViewError(
+            f"{path}: the PCD header's WIDTH, HEIGHT, POINTS, SIZE or COUNT is not a whole number"
+        ) from None
+    if not 0 < width * height <= MAX_IMAGE_PIXELS:
+        raise ViewError(f"{path}: a {width}x{height} grid is not read (1 to {MAX_IMAGE_PIXELS} points, a 4K frame)")
     if width * height != count:
         raise ViewError(f"{path}: the PCD header says {count} POINTS for a grid of WIDTH {width} x HEIGHT {height}")
-    if not 0 < count <= MAX_IMAGE_PIXELS:
-        raise ViewError(f"{path}: {count} points; a frame holds 1 to {MAX_IMAGE_PIXELS} (a 4K sensor's pixels)")
     data = header.get("DATA", ["?"])[0].lower()
     if data not in ("ascii", "binary", "binary_compressed"):
         raise ViewError(f"{path}: PCD DATA {data!r} is not a kind PCL writes (ascii, binary, binary_compressed)")
+    available = path.stat().st_size - offset
+    if data == "binary" and available < itemsize * count:
+        raise ViewError(f"{path}: truncated: {available} bytes of data for {width}x{height} points of {itemsize} bytes")
     try:
         cloud = PointCloud.from_path(path)
-    except (pydantic.ValidationError, ValueError, RuntimeError, TypeError, KeyError, OSError, EOFError) as error:
+    except (ValueError, RuntimeError, TypeError, KeyError, OSError, EOFError) as error:  # pydantic's: a ValueError
+        if data == "ascii":
+            raise ViewError(f"{path}: {_ascii_problem(path, offset, len(fields), counts)}") from None
         reason = str(error).splitlines()[0] if str(error) else type(error).__name__
         raise ViewError(f"{path}: cannot read the PCD ({data} data: {reason})") from None
     except Exception as error:  # the LZF decoder and struct raise their own kinds on a damaged stream
@@ -102,8 +118,9 @@ def read_pcd(path: StrPath) -> PcdCloud:
     return PcdCloud(points, colors, others, organized=height > 1)
 
 
-def _header(path: Path) -> dict[str, list[str]]:
-    """The PCD header's lines up to ``DATA`` as a mapping (checked before pypcd4 reads the data)."""
+def _header(path: Path) -> tuple[dict[str, list[str]], int]:
+    """The PCD header's lines up to ``DATA`` as a mapping, and where the data start (checked before pypcd4 reads
+    the data)."""
     header: dict[str, list[str]] = {}
     with open(path, "rb") as file:
         for _ in range(64):
@@ -116,8 +133,26 @@ def _header(path: Path) -> dict[str, list[str]]:
             key, *values = text.split()
             header[key.upper()] = values
             if key.upper() == "DATA":
-                return header
+                return header, file.tell()
     raise ViewError(f"{path}: not a PCD file (no DATA line in its header)")
+
+
+def _ascii_problem(path: Path, offset: int, fields: int, counts: list[str]) -> str:
+    """Why ASCII PCD data do not read: rows of the wrong length, or not numbers."""
+    numbers = sum(int(c) for c in counts)
+    with open(path, "rb") as file:
+        file.seek(offset)
+        for line in file:
+            row = line.split()
+            if not row:
+                continue
+            if len(row) != numbers:
+                return f"the PCD's ASCII rows have {len(row)} numbers, its header {numbers} for {fields} fields"
+            try:
+                [float(value) for value in row]
+            except ValueError:
+                return f"the PCD's ASCII data are not rows of numbers (a row reads {line[:60]!r})"
+    return "the PCD's ASCII data do not read as its header describes"
 
 
 def write_pcd(

@@ -36,11 +36,12 @@ import logging
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy import ndimage
 
 from heatdata.errors import ViewError
 from heatdata.segmentation.plane import PLANE_POINTS, depth_scale, diameter, refined_plane, support_plane
 from heatdata.segmentation.settings import SegmentSettings
-from heatdata.segmentation.surfaces import reaching, split_surfaces
+from heatdata.segmentation.surfaces import join_small, reaching, split_surfaces
 from heatdata.views.depth import back_project, checked_depth, checked_rgb, cut_depth, grid_view
 from heatdata.views.view import MIN_VERTICES, View, check_intrinsics, has_colour
 
@@ -285,7 +286,12 @@ def _clusters(
             notes.append(f"dropped {count} readings in the workspace: fewer than {settings.min_pixels}")
         return []
     labels = split_surfaces(points, workspace | footing, workspace, settings, concave=plane is not None)
+    if plane is not None:  # a piece smaller than an object's least area is part of its neighbour
+        labels = join_small(
+            labels, points, settings.max_depth_jump, settings.piece_area * intrinsics["fx"] * intrinsics["fy"]
+        )
     sizes = np.bincount(labels.ravel())
+    windows = ndimage.find_objects(labels)  # each label's box: its mask is made there, not over the whole frame
     segments: list[Segment] = []
     flat = 0
     small = []
@@ -294,9 +300,9 @@ def _clusters(
             if sizes[label]:
                 small.append(int(sizes[label]))
             continue
-        segment = _segment(
-            points, colors, labels == label, plane, settings, f"{name}/{len(segments)}", intrinsics, isolated
-        )
+        window = windows[label - 1]
+        pixels = (labels[window] == label, window)
+        segment = _segment(points, colors, pixels, plane, settings, f"{name}/{len(segments)}", intrinsics, isolated)
         if segment is None:
             flat += 1
             continue
@@ -317,19 +323,22 @@ def _clusters(
 def _segment(
     points: np.ndarray,
     colors: np.ndarray | None,
-    mask: np.ndarray,
+    pixels: tuple[np.ndarray, tuple[slice, slice]],
     plane: np.ndarray | None,
     settings: SegmentSettings,
     view_id: str,
     intrinsics: dict,
     isolated: bool,
 ) -> Segment | None:
-    """The :class:`Segment` of the pixels ``mask``; None for a flat background surface (not in a frame of one
-    isolated object, where a flat cluster is the object's face)."""
+    """The :class:`Segment` of the ``pixels`` (a mask of a window of the frame, and the window); None for a flat
+    background surface (not in a frame of one isolated object, where a flat cluster is the object's face)."""
     import open3d as o3d
 
-    cloud = points[mask]
-    if diameter(cloud, plane) > settings.plane_size and not isolated:
+    inside, box = pixels
+    cloud = points[box][inside]
+    # its box's diagonal bounds its diameter: most segments are too small to be a wall without the hull
+    wide = float(np.linalg.norm(np.ptp(cloud, axis=0))) > settings.plane_size
+    if wide and not isolated and diameter(cloud, plane) > settings.plane_size:
         o3d.utility.random.seed(settings.seed)
         tolerance = settings.plane_distance * float(np.median(depth_scale(cloud)))
         flat = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(cloud))
@@ -337,16 +346,16 @@ def _segment(
         if len(refined_plane(cloud, model, tolerance)[1]) >= FLAT_SHARE * len(cloud):
             return None
     notes = []
-    height, width = mask.shape
-    rows, cols = np.nonzero(mask)
-    u0, v0, u1, v1 = int(cols.min()), int(rows.min()), int(cols.max()), int(rows.max())
+    height, width = points.shape[:2]
+    v0, v1, u0, u1 = box[0].start, box[0].stop - 1, box[1].start, box[1].stop - 1  # find_objects' tight box
     if u0 == 0 or v0 == 0 or u1 == width - 1 or v1 == height - 1:
         notes.append("cut by the image border: part of the object is outside the frame")
-    window = (slice(v0, v1 + 1), slice(u0, u1 + 1))  # the view's vertices are camera coordinates: crop freely
-    grid = np.where(mask[window][..., None], points[window], np.nan)
+    mask = np.zeros((height, width), bool)
+    mask[box] = inside
+    grid = np.where(inside[..., None], points[box], np.nan)  # the view's vertices are camera coordinates: crop freely
     try:
         view = grid_view(
-            grid, None if colors is None else colors[window], max_depth_jump=settings.max_depth_jump,
+            grid, None if colors is None else colors[box], max_depth_jump=settings.max_depth_jump,
             components="all", intrinsics=intrinsics, view_id=view_id,
         )  # fmt: skip
     except ViewError as exc:
@@ -364,7 +373,7 @@ def _segment(
     return Segment(
         view=view,
         mask=mask,
-        pixels=int(mask.sum()),
+        pixels=int(inside.sum()),
         bbox=(u0, v0, u1, v1),
         centroid=cloud.mean(axis=0),
         extent=diameter(view.vertices, plane),

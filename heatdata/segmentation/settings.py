@@ -32,6 +32,9 @@ class SegmentSettings:
     concavity : float
         Degrees: surfaces meeting at a concave crease sharper than this are two objects (LCCP's concavity
         tolerance; Stein et al., CVPR 2014, use 10 on supervoxels).
+    piece_area : float
+        Square metres, as the camera sees it: a piece cut off smaller than this joins the neighbour it shares the
+        longest border with (a mug's handle, a dish's lid; LCCP's minimum segment size).
     min_pixels : int
         Clusters with fewer readings are dropped.
     max_depth_jump : float
@@ -47,12 +50,13 @@ class SegmentSettings:
     max_height: float = 1.0
     cluster_distance: float = 0.015
     concavity: float = 20.0
+    piece_area: float = 0.004
     min_pixels: int = 300
     max_depth_jump: float = MAX_DEPTH_JUMP
     seed: int = 0
 
     def __post_init__(self) -> None:
-        lengths = ("plane_distance", "plane_size", "max_height", "cluster_distance", "max_depth_jump")
+        lengths = ("plane_distance", "plane_size", "max_height", "cluster_distance", "max_depth_jump", "piece_area")
         bad = [name for name in lengths if not _positive(getattr(self, name))]
         if not (_positive(self.concavity) and self.concavity < 180):
             bad.append("concavity (degrees in (0, 180))")

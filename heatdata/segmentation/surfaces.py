@@ -160,9 +160,10 @@ def _split(points: np.ndarray, region: np.ndarray, seeds: np.ndarray, settings, 
     """:func:`split_surfaces` in the window around the region."""
     jump = settings.max_depth_jump
     cut = steps(points, region, jump)
-    if concave:
-        normals = grid_normals(np.where(region[..., None], points, np.nan), jump)
-        cut |= creases(points, normals, region, jump, settings.concavity)
+    if concave:  # in single precision: a millimetre at a metre is far above its rounding, and half the memory to move
+        single = points.astype(np.float32)
+        normals = grid_normals(np.where(region[..., None], single, np.float32(np.nan)), jump)
+        cut |= creases(single, normals, region, jump, settings.concavity)
     cut = ndimage.binary_dilation(cut, iterations=CUT_BAND)
     cores, count = ndimage.label(region & ~cut)
     sizes = np.bincount(cores.ravel(), minlength=count + 1)
@@ -225,3 +226,50 @@ def _grow(labels: np.ndarray, points: np.ndarray, region: np.ndarray, max_jump: 
             take = open_ & (labels == 0) & (other > 0) & continuous(z, _shift(z, dv, du), max_jump)
             labels[take] = other[take]
     return labels
+
+
+def join_small(labels: np.ndarray, points: np.ndarray, max_jump: float, area: float) -> np.ndarray:
+    """``labels`` with each piece smaller than ``area`` joined to the neighbour it shares the longest border with
+    on one surface (no depth step), smallest first: LCCP's minimum segment size (Stein et al. 2014), which gives a
+    mug its handle back and a dish its lid.
+
+    Parameters
+    ----------
+    labels : (h, w) int
+        Pieces 1..N, 0 for none.
+    points : (h, w, 3) float64
+        Camera-frame points.
+    max_jump : float
+        The relative depth step that parts two surfaces.
+    area : float
+        In pixels at 1 m: a piece's area is the sum of its pixels' squared depths (each pixel's footprint, facing
+        the camera, is ``z^2 / (fx fy)``), so ``area`` is square metres times ``fx fy``.
+
+    Returns
+    -------
+    (h, w) int64
+    """
+    count = int(labels.max()) + 1
+    if count <= 2:
+        return labels
+    border = np.zeros((count, count), np.int64)
+    for dv, du in ((0, 1), (1, 0)):
+        other = _shift(labels.astype(np.float64), dv, du, fill=0).astype(np.int64)
+        touching = (labels > 0) & (other > 0) & (labels != other)
+        touching &= continuous(points[..., 2], _shift(points, dv, du)[..., 2], max_jump)
+        np.add.at(border, (labels[touching], other[touching]), 1)
+    border += border.T
+    footprint = np.bincount(labels.ravel(), weights=np.nan_to_num(points[..., 2]).ravel() ** 2, minlength=count)
+    into = np.arange(count)
+    for piece in np.argsort(footprint):
+        if piece == 0 or footprint[piece] >= area or not border[piece].any():
+            continue
+        target = int(np.argmax(border[piece]))
+        into[into == piece] = target
+        border[target] += border[piece]
+        border[:, target] += border[:, piece]
+        border[target, target] = 0
+        border[piece] = 0
+        border[:, piece] = 0
+        footprint[target] += footprint[piece]
+    return into[labels]
