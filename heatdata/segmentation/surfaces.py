@@ -164,6 +164,8 @@ def _split(points: np.ndarray, region: np.ndarray, seeds: np.ndarray, settings, 
         single = points.astype(np.float32)
         normals = grid_normals(np.where(region[..., None], single, np.float32(np.nan)), jump)
         cut |= creases(single, normals, region, jump, settings.concavity)
+        # and the region's own edge, where no normal is known: two objects' outlines would join them there
+        cut |= region & ~ndimage.binary_erosion(region)
     cut = ndimage.binary_dilation(cut, iterations=CUT_BAND)
     cores, count = ndimage.label(region & ~cut)
     sizes = np.bincount(cores.ravel(), minlength=count + 1)
