@@ -623,10 +623,10 @@ class Library:
     ) -> SceneRecognition:
         """Every object of a depth frame: the support plane, the objects on it, and what each is nearest.
 
-        The frame is segmented (:func:`heatdata.segmentation.segment.segment_frame`: the plane by RANSAC, clusters by
-        DBSCAN) and each segment's view recognized (:meth:`recognize`); what a robot needs of each, where it is
-        and what it is, is a :class:`Detection`. A frame of one isolated object (no support plane) gives one
-        detection, as :meth:`recognize` does for its view.
+        The frame is segmented (:func:`heatdata.segmentation.segment.segment_frame`: the plane by RANSAC, surfaces
+        cut at depth steps and concave creases) and each segment's view recognized (:meth:`recognize`); what a
+        robot needs of each, where it is and what it is, is a :class:`Detection`. A frame of one isolated object
+        (no support plane) gives one detection, as :meth:`recognize` does for its view.
 
         Parameters
         ----------

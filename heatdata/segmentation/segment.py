@@ -3,31 +3,33 @@ leaves outside its scope, as PCL's ``3d_rec_framework`` global pipeline does it)
 
 :func:`segment_frame` reads a depth frame (and its colour) the way a tabletop pipeline does:
 
-1. **planes**: up to :data:`MAX_PLANES` planes by RANSAC (open3d's ``segment_plane``, seeded, every sample drawn,
-   then refit by least squares to its inliers, so that a frame is segmented the same every time), each holding at
-   least ``plane_share`` of the readings; a **support plane** spans at least ``plane_size`` metres and has (almost)
-   nothing hanging below its edges (an object's own face has: a box's top its sides, a chair's seat its legs). Of
-   these, those facing up in the image (the normal within 60 deg of the image's up) come first (a table before the
-   wall behind it; a camera looking straight down has no other), and of them the highest that anything stands on
-   is the support (a table before the floor beneath it), else the largest (a bare table);
-2. **the workspace**: the readings between ``min_height`` and ``max_height`` above the support plane whose foot on
-   it lies inside the plane's outline (the convex hull of its inliers): not the wall behind the table, not the
-   floor beyond it. Without a support plane (a frame of one isolated object, as the library's views are) every
+1. **planes** (:func:`heatdata.segmentation.plane.support_plane`): up to three planes by RANSAC (open3d's
+   ``segment_plane``, seeded, every sample drawn, then refit by least squares to its inliers, so that a frame is
+   segmented the same every time), each holding at least ``plane_share`` of the readings; a **support plane** spans
+   at least ``plane_size`` metres and has (almost) nothing hanging below its edges (an object's own face has: a
+   box's top its sides, a chair's seat its legs). Of these, those facing up in the image come first (a table before
+   the wall behind it), a plane standing a little above a wider one is an object's top (a book, a tray) and not the
+   support, and of the rest the highest that anything stands on is the support (a table before the floor beneath
+   it), else the largest (a bare table);
+2. **the workspace**: the readings between ``min_height`` and ``max_height`` above the support plane on surfaces
+   that reach inside the plane's outline (the convex hull of its facing pieces): not the wall behind the table, not
+   the floor beyond it. Without a support plane (a frame of one isolated object, as the library's views are) every
    reading is in the workspace; and when nothing stands on the support plane of a frame whose readings cover less
    than half the image, the plane was an object's own face (a chair's seat) and the frame is segmented without it;
-3. **clusters** of the workspace's points (open3d's ``cluster_dbscan``, ``cluster_distance`` apart at most, or three
-   pixels' spacing in a far or coarse frame);
-   clusters under ``min_pixels`` are dropped (speckle, flying pixels), and so is a cluster that is one flat surface
-   wider than ``plane_size`` (a wall seen without a table), but in a frame of one isolated object (readings on less
-   than half the image), where it is the object's face;
-4. each cluster becomes a :class:`heatdata.View`, triangulated from its own pixels as a depth frame is
+3. **surfaces cut where objects meet** (:func:`heatdata.segmentation.surfaces.split_surfaces`): at depth steps and,
+   on a support plane, at concave creases sharper than ``concavity`` (LCCP's criterion on the pixel grid), pieces
+   smaller than ``piece_area`` joined back to their neighbour (a mug's handle); without a support plane, pieces
+   within ``cluster_distance`` of each other are one object. Segments under ``min_pixels`` are dropped and said so,
+   and so is a segment that is one flat surface wider than ``plane_size`` (a wall seen without a table), but in a
+   frame of one isolated object (readings on less than half the image), where it is the object's face;
+4. each segment becomes a :class:`heatdata.View`, triangulated from its own pixels as a depth frame is
    (:func:`heatdata.views.depth.grid_view`), with every connected piece kept but specks below
    :data:`heatdata.views.view.MIN_VERTICES` vertices.
 
 What a user should know about a segment is in its ``notes``: cut by the image border, in several pieces, and (the
-library adds this) larger than any object it holds, which is what objects touching each other look like: they form
-one segment. What the frame as a whole showed (no support plane, a plane seen edge-on, clusters dropped) is in the
-:class:`Segmentation`'s ``notes``.
+library adds this) larger than any object it holds, which is what objects touching without a concave seam look like:
+they form one segment. What the frame as a whole showed (no support plane, a plane seen edge-on, segments dropped
+and why) is in the :class:`Segmentation`'s ``notes``.
 """
 
 from __future__ import annotations

@@ -108,3 +108,19 @@ def test_a_bad_pcd_is_one_clear_line_naming_the_file(tmp_path, content, message)
     with pytest.raises(hd.ViewError, match=message) as error:
         read_pcd(path)
     assert str(path) in str(error.value) and "\n" not in str(error.value)
+
+
+def test_view_from_depth_writes_a_pcd_of_the_frame_as_the_sensor_gave_it(tmp_path):
+    from heatdata.cli import main
+
+    out = tmp_path / "view.pcd"
+    args = [str(MOSD / "learn20.depth.png"), "--intrinsics", str(MOSD / "intrinsics.json")]
+    assert main(["view-from-depth", *args, "--rgb", str(MOSD / "learn20.rgb.png"), "-o", str(out)]) == 0
+    cloud = read_pcd(out)
+    assert cloud.organized and cloud.points.shape == (480, 640, 3) and cloud.colors is not None
+    view = hd.read_depth(MOSD / "learn20.depth.png", MOSD / "intrinsics.json", MOSD / "learn20.rgb.png")
+    on = np.isfinite(cloud.points).all(axis=2)
+    assert on.sum() == view.n_vertices  # each vertex on its own pixel, NaN elsewhere
+    pixels = np.round(view.pixels).astype(int)
+    assert np.allclose(cloud.points[pixels[:, 1], pixels[:, 0]], view.vertices, atol=1e-6)
+    assert np.allclose(cloud.colors[pixels[:, 1], pixels[:, 0]], view.colors, atol=1 / 255)
