@@ -17,6 +17,7 @@ HANGING_DEPTH = 0.05  # m: readings this far below a plane and under its edges h
 HANGING_MARGIN = 0.02  # m: feet this near a plane's outline, either side, are along its edge (the outline stops short)
 HANGING_SHARE = 0.1  # a support plane has at most this many readings hanging below it, per reading on it
 EDGE_ON = 10.0  # degrees: a support plane seen at a median angle below this is seen edge-on
+RANSAC_SAMPLES = 250  # every one drawn; 500 scored the same on 56 real and 100 rendered frames, in twice the time
 REFINE_STEPS = 5  # least-squares refinements of a RANSAC plane, at most
 REGION_PIXELS = 20  # pixels of the RANSAC sample: smaller pieces of a plane are not its outline's
 STANDS_ON = 0.3  # m: a plane this little above a wider one is an object's top standing on it (a book, a tray)
@@ -95,7 +96,9 @@ def support_plane(
         if free.sum() < 3:
             break
         remaining = np.flatnonzero(free)
-        model, _ = cloud.select_by_index(remaining).segment_plane(settings.plane_distance, 3, 500, probability=1.0)
+        model, _ = cloud.select_by_index(remaining).segment_plane(
+            settings.plane_distance, 3, RANSAC_SAMPLES, probability=1.0
+        )
         plane, chosen = refined_plane(sampled[remaining], model, settings.plane_distance)
         if len(chosen) < settings.plane_share * len(sampled):
             break

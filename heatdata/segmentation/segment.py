@@ -290,7 +290,7 @@ def _clusters(
     labels = split_surfaces(points, workspace | footing, workspace, settings, concave=plane is not None)
     if plane is not None:  # a piece smaller than an object's least area is part of its neighbour
         labels = join_small(
-            labels, points, settings.max_depth_jump, settings.piece_area * intrinsics["fx"] * intrinsics["fy"]
+            labels, points, settings.cluster_distance, settings.piece_area * intrinsics["fx"] * intrinsics["fy"]
         )
     sizes = np.bincount(labels.ravel())
     windows = ndimage.find_objects(labels)  # each label's box: its mask is made there, not over the whole frame

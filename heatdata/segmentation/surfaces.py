@@ -3,6 +3,8 @@ separates objects that touch, stand on each other or occlude each other)."""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 import numpy as np
 from scipy import ndimage
 
@@ -199,14 +201,7 @@ def _join_near(labels: np.ndarray, points: np.ndarray, distance: float) -> np.nd
     count = int(labels.max()) + 1
     if count <= 2:
         return labels
-    pairs = []
-    for reach in range(1, NEAR_PIXELS + 1):
-        for dv, du in ((0, reach), (reach, 0), (reach, reach), (reach, -reach)):
-            other = _shift(labels.astype(np.float64), dv, du, fill=0).astype(np.int64)
-            apart = (labels > 0) & (other > 0) & (labels != other)
-            with np.errstate(invalid="ignore"):
-                apart &= np.linalg.norm(points - _shift(points, dv, du), axis=2) <= distance
-            pairs.append(np.column_stack([labels[apart], other[apart]]))
+    pairs = [np.column_stack(pair) for pair in _near_pairs(labels, points, distance)]
     joined = np.concatenate(pairs)
     graph = sp.coo_matrix((np.ones(len(joined)), (joined[:, 0], joined[:, 1])), shape=(count, count))
     _, component = connected_components(graph, directed=False)
@@ -230,10 +225,10 @@ def _grow(labels: np.ndarray, points: np.ndarray, region: np.ndarray, max_jump: 
     return labels
 
 
-def join_small(labels: np.ndarray, points: np.ndarray, max_jump: float, area: float) -> np.ndarray:
-    """``labels`` with each piece smaller than ``area`` joined to the neighbour it shares the longest border with
-    on one surface (no depth step), smallest first: LCCP's minimum segment size (Stein et al. 2014), which gives a
-    mug its handle back and a dish its lid.
+def join_small(labels: np.ndarray, points: np.ndarray, distance: float, area: float) -> np.ndarray:
+    """``labels`` with each piece smaller than ``area`` joined to the neighbour it lies nearest to along the longest
+    stretch (pixels up to :data:`NEAR_PIXELS` apart and within ``distance`` in space), smallest first: LCCP's
+    minimum segment size (Stein et al. 2014), which gives a mug its handle back and a loaf its slices.
 
     Parameters
     ----------
@@ -241,8 +236,8 @@ def join_small(labels: np.ndarray, points: np.ndarray, max_jump: float, area: fl
         Pieces 1..N, 0 for none.
     points : (h, w, 3) float64
         Camera-frame points.
-    max_jump : float
-        The relative depth step that parts two surfaces.
+    distance : float
+        Metres: pieces farther apart than this are not neighbours (a depth step wider than a cluster's gap).
     area : float
         In pixels at 1 m: a piece's area is the sum of its pixels' squared depths (each pixel's footprint, facing
         the camera, is ``z^2 / (fx fy)``), so ``area`` is square metres times ``fx fy``.
@@ -254,14 +249,14 @@ def join_small(labels: np.ndarray, points: np.ndarray, max_jump: float, area: fl
     count = int(labels.max()) + 1
     if count <= 2:
         return labels
+    rows, cols = np.nonzero(labels)
+    window = (slice(rows.min(), rows.max() + 1), slice(cols.min(), cols.max() + 1))  # the pieces' box
     border = np.zeros((count, count), np.int64)
-    for dv, du in ((0, 1), (1, 0)):
-        other = _shift(labels.astype(np.float64), dv, du, fill=0).astype(np.int64)
-        touching = (labels > 0) & (other > 0) & (labels != other)
-        touching &= continuous(points[..., 2], _shift(points, dv, du)[..., 2], max_jump)
-        np.add.at(border, (labels[touching], other[touching]), 1)
+    for near, other in _near_pairs(labels[window], points[window], distance):
+        np.add.at(border, (near, other), 1)
     border += border.T
-    footprint = np.bincount(labels.ravel(), weights=np.nan_to_num(points[..., 2]).ravel() ** 2, minlength=count)
+    depth = np.nan_to_num(points[window][..., 2])
+    footprint = np.bincount(labels[window].ravel(), weights=depth.ravel() ** 2, minlength=count)
     into = np.arange(count)
     for piece in np.argsort(footprint):
         if piece == 0 or footprint[piece] >= area or not border[piece].any():
@@ -275,3 +270,15 @@ def join_small(labels: np.ndarray, points: np.ndarray, max_jump: float, area: fl
         border[:, piece] = 0
         footprint[target] += footprint[piece]
     return into[labels]
+
+
+def _near_pairs(labels: np.ndarray, points: np.ndarray, distance: float) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """The labels of pixel pairs of different pieces up to :data:`NEAR_PIXELS` apart in the image (across, down and
+    diagonally) and within ``distance`` of each other in space, one pair of (k,) arrays per offset."""
+    for reach in range(1, NEAR_PIXELS + 1):
+        for dv, du in ((0, reach), (reach, 0), (reach, reach), (reach, -reach)):
+            other = _shift(labels.astype(np.float64), dv, du, fill=0).astype(np.int64)
+            apart = (labels > 0) & (other > 0) & (labels != other)
+            with np.errstate(invalid="ignore"):
+                apart &= np.linalg.norm(points - _shift(points, dv, du), axis=2) <= distance
+            yield labels[apart], other[apart]

@@ -68,10 +68,10 @@ def test_a_small_piece_joins_the_neighbour_it_borders_longest_but_not_across_a_s
     labels[25:35, 55:60] = 4  # 50 pixels inside piece 2, but 5 cm nearer: a step
     depth[25:35, 55:60] = 0.95
     area = 200.0  # pixels at 1 m
-    joined = join_small(labels, grid(depth), 0.02, area)
+    joined = join_small(labels, grid(depth), 0.015, area)
     assert (joined[25:35, 10:20] == joined[0, 0]).all()
     assert (joined[25:35, 55:60] != joined[0, -1]).all()  # parted by the step: it stays
     assert len(np.unique(joined)) == 3
     # the area is the camera's footprint: at 2 m a pixel covers four times as much, and piece 3 is large
-    far = join_small(labels, grid(2 * depth), 0.02, area)
+    far = join_small(labels, grid(2 * depth), 0.015, area)
     assert (far[25:35, 10:20] != far[0, 0]).all()
