@@ -9,7 +9,9 @@ The package's stages, each a subpackage that imports only those before it:
 
 - :mod:`heatdata.core`: mesh topology, the Laplace-Beltrami spectrum and heat, the MHD (thesis ch. 2, 3.2);
 - :mod:`heatdata.io`: models, catalogues, Sweet Home 3D libraries, Parquet tables, MakeHuman bodies;
-- :mod:`heatdata.views`: the :class:`View`, the virtual Kinect, depth frames and organized clouds;
+- :mod:`heatdata.views`: the :class:`View`, the virtual Kinect, depth frames;
+- :mod:`heatdata.frames`: frames as sensors and PCL write them (PCD, range maps and grids), and
+  :mod:`heatdata.segmentation`: a frame cut into the objects on its support plane;
 - :mod:`heatdata.descriptors`: every descriptor kind (PVHK and its family, PVST, the baselines) and heat sources;
 - :mod:`heatdata.recognition`, :mod:`heatdata.jasnom`, :mod:`heatdata.rump`: the thesis's uses of them;
 - :mod:`heatdata.experiments`: the workflow's steps; :mod:`heatdata.reporting`: figures and pages;
