@@ -108,6 +108,10 @@ def read_cloud_grid(
     path = require_file(path, "point cloud file", ViewError)
     if path.stat().st_size > MAX_CLOUD_BYTES:
         raise ViewError(f"{path}: {path.stat().st_size / 2**20:.0f} MB, above the cap of {MAX_CLOUD_BYTES >> 20} MB")
+    if intrinsics is not None and path.suffix.lower() != ".pcd":
+        raise ViewError(
+            f"{path}: a range map carries its own grid; --intrinsics is for depth images and unorganized PCDs"
+        )
     if path.suffix.lower() == ".pcd":
         points, colors = _read_pcd(path, intrinsics)
     elif path.suffix.lower() == ".ply" and is_range_grid(path):

@@ -112,7 +112,7 @@ def test_an_organized_pcd_gives_the_grid_back_with_its_intrinsics(rendered, tmp_
         np.testing.assert_allclose(view.colors[0], [200 / 255, 100 / 255, 50 / 255])
     flat = header.replace(f"WIDTH {w}\nHEIGHT {h}", f"WIDTH {w * h}\nHEIGHT 1")
     (tmp_path / "flat.pcd").write_bytes((flat + "DATA binary\n").encode() + table.tobytes())
-    with pytest.raises(hd.ViewError, match="not organized"):
+    with pytest.raises(hd.ViewError, match=r"unorganized cloud \(HEIGHT 1\) has no pixel grid"):
         hd.read_organized_cloud(tmp_path / "flat.pcd")
 
 
