@@ -71,6 +71,8 @@ def test_a_bad_folder_of_real_frames_is_a_config_error(tmp_path):
         real_frame_folders([str(MOSD), str(MOSD)])
 
 
+@pytest.mark.slow
+@pytest.mark.workflow
 def test_the_workflow_scores_the_real_frames_a_config_names(tmp_path):
     config = tiny_config(real_frames={"folders": [str(MOSD)]})
     off = snakemake(tmp_path / "off", tiny_config(), "--dry-run")
