@@ -14,7 +14,7 @@ from heatdata.frames.range_grid import is_range_grid, read_range_grid
 from heatdata.io.files import require_file
 from heatdata.io.models import checked_faces
 from heatdata.typing import StrPath
-from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view, read_depth, read_intrinsics
+from heatdata.views.depth import MAX_DEPTH_JUMP, grid_view, pixels_of, read_depth, read_intrinsics
 from heatdata.views.view import MAX_IMAGE_PIXELS, View, check_intrinsics
 
 log = logging.getLogger(__name__)
@@ -174,10 +174,7 @@ def on_pixels(
     k = check_intrinsics(intrinsics, name=name)
     points = np.asarray(points, np.float64)
     finite = np.isfinite(points).all(axis=1) & (points[:, 2] > 0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        u = np.round(k["fx"] * points[:, 0] / points[:, 2] + k["cx"])
-        v = np.round(k["fy"] * points[:, 1] / points[:, 2] + k["cy"])
-    inside = finite & (u >= 0) & (u < k["width"]) & (v >= 0) & (v < k["height"])
+    pixel, inside = pixels_of(points, k)
     if not inside.any():
         raise ViewError(f"{name}: no point of the cloud falls inside the image of these intrinsics")
     if inside.sum() < 0.9 * finite.sum():
@@ -189,7 +186,7 @@ def on_pixels(
         )
     index = np.flatnonzero(inside)
     index = index[np.argsort(-points[index, 2], kind="stable")]  # far first: the nearest is written last
-    cells = v[index].astype(np.int64) * k["width"] + u[index].astype(np.int64)
+    cells = pixel[index, 1] * k["width"] + pixel[index, 0]
     grid = np.full((k["height"] * k["width"], 3), np.nan)
     grid[cells] = points[index]
     colour_grid = None

@@ -12,6 +12,7 @@ import numpy as np
 from heatdata.errors import ViewError
 from heatdata.io.files import atomic
 from heatdata.typing import StrPath
+from heatdata.views.depth import pixels_of
 from heatdata.views.view import MAX_IMAGE_PIXELS, View
 
 log = logging.getLogger(__name__)
@@ -111,7 +112,7 @@ def read_pcd(path: StrPath) -> PcdCloud:
     if colour is not None:
         packed = np.ascontiguousarray(table[colour])
         packed = packed.view(np.uint32) if packed.dtype.itemsize == 4 else packed.astype(np.uint32)
-        colors = np.stack([(packed >> 16) & 255, (packed >> 8) & 255, packed & 255], axis=-1).reshape(*shape, 3) / 255
+        colors = PointCloud.decode_rgb(packed).reshape(*shape, 3) / 255.0
     others = {f: np.asarray(table[f]).reshape(shape) for f in names if f not in ("x", "y", "z", colour)}
     if not np.isfinite(points).all(axis=-1).any():
         raise ViewError(f"{path}: no point of the {count} has finite x y z (all NaN): an empty frame")
@@ -210,8 +211,7 @@ def write_view_pcd(view: View, path: StrPath) -> Path:
     Path
     """
     k = view.intrinsics
-    pixels = np.round(view.pixels).astype(np.int64)
-    inside = (pixels[:, 0] >= 0) & (pixels[:, 0] < k["width"]) & (pixels[:, 1] >= 0) & (pixels[:, 1] < k["height"])
+    pixels, inside = pixels_of(view.vertices, k)
     points = np.full((int(k["height"]), int(k["width"]), 3), np.nan)
     colors = np.zeros(points.shape)
     order = np.flatnonzero(inside)[np.argsort(-view.vertices[inside, 2], kind="stable")]  # the nearest written last
