@@ -3,6 +3,8 @@ PCL's ``3d_rec_framework`` finds it)."""
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from scipy.spatial import QhullError
 
@@ -74,6 +76,17 @@ class Outline:
         return inside
 
 
+class _Candidate(NamedTuple):
+    """A plane that may be the support: unit normal towards the camera and offset, outline, span (metres), sampled
+    readings standing on it, and the centre of its facing region."""
+
+    plane: np.ndarray
+    outline: Outline
+    span: float
+    standing: int
+    centre: np.ndarray
+
+
 def support_plane(
     points: np.ndarray, valid: np.ndarray, settings: SegmentSettings, notes: list[str]
 ) -> tuple[np.ndarray | None, np.ndarray, Outline | None]:
@@ -90,7 +103,7 @@ def support_plane(
     sampled = points[sample]
     cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(sampled))
     o3d.utility.random.seed(settings.seed)
-    candidates: list[tuple[np.ndarray, Outline, float, int, np.ndarray]] = []
+    candidates: list[_Candidate] = []
     free = np.ones(len(sampled), bool)
     for _ in range(MAX_PLANES):
         if free.sum() < 3:
@@ -131,7 +144,7 @@ def support_plane(
                 "an object (a box's top, a seat), not a support"
             )
             continue
-        candidates.append((plane, outline, span, standing, sampled[on].mean(axis=0)))
+        candidates.append(_Candidate(plane, outline, span, standing, sampled[on].mean(axis=0)))
     if not candidates:
         notes.append(
             f"no support plane (none holds {settings.plane_share:.0%} of the {readings} readings, spans "
@@ -140,12 +153,13 @@ def support_plane(
         return None, np.zeros(valid.shape, bool), None
     # a table before the wall behind it (its normal within 60 deg of the image's up, -y); a camera looking down
     # on its table has no other plane
-    facing_up = [c for c in candidates if -c[0][1] >= 0.5] or candidates
+    facing_up = [c for c in candidates if -c.plane[1] >= 0.5] or candidates
     # not the top of a wide flat object (a book, a tray) standing on a wider plane: the table under it
     facing_up = [c for c in facing_up if not any(_stands_on(c, other) for other in facing_up)]
     # the highest plane something stands on (a table before the floor beneath it), else the largest
-    bearing = [c for c in facing_up if c[3] > 0]
-    plane, outline, span, *_ = min(bearing, key=lambda c: c[0][3]) if bearing else max(facing_up, key=lambda c: c[2])
+    bearing = [c for c in facing_up if c.standing > 0]
+    support = min(bearing, key=lambda c: c.plane[3]) if bearing else max(facing_up, key=lambda c: c.span)
+    plane, outline, span = support.plane, support.outline, support.span
     with np.errstate(invalid="ignore"):
         inliers = valid & (np.abs(points @ plane[:3] + plane[3]) < settings.plane_distance * depth_scale(points))
     on = points[inliers][:: max(1, int(inliers.sum()) // PLANE_POINTS)]
@@ -160,12 +174,12 @@ def support_plane(
     return plane, inliers, outline
 
 
-def _stands_on(top: tuple, under: tuple) -> bool:
+def _stands_on(top: _Candidate, under: _Candidate) -> bool:
     """Whether the candidate plane ``top`` is an object's top standing on the wider, parallel plane ``under``: its
     centre less than :data:`STANDS_ON` above it."""
-    if under[2] <= top[2] or abs(top[0][:3] @ under[0][:3]) < FACING:
+    if under.span <= top.span or abs(top.plane[:3] @ under.plane[:3]) < FACING:
         return False
-    return 0.0 < float(top[4] @ under[0][:3] + under[0][3]) < STANDS_ON
+    return 0.0 < float(top.centre @ under.plane[:3] + under.plane[3]) < STANDS_ON
 
 
 def _pieces(grid: np.ndarray, max_depth_jump: float) -> np.ndarray:
