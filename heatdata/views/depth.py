@@ -287,8 +287,36 @@ def checked_rgb(rgb: np.ndarray, shape: tuple[int, int], name: str) -> np.ndarra
     return rgb
 
 
-def read_intrinsics(path) -> dict:
-    """Intrinsics from a JSON (``.json``, read as JSON) or YAML file with ``fx, fy, cx, cy, width, height``."""
+#: the keys a 3 x 3 camera matrix is read from: BOP's ``cam_K``, a YAML ``INTRINSICS:`` list (PoseCNN, YCB-Video's
+#: ``meta``) or a plain ``K``; nine numbers, row-major
+CAMERA_MATRIX_KEYS = ("cam_K", "INTRINSICS", "K")
+
+
+def read_intrinsics(path: StrPath, shape: tuple[int, int] | None = None) -> dict:
+    """A pinhole camera from a JSON (``.json``) or YAML file.
+
+    The file holds ``fx, fy, cx, cy, width, height``, or a 3 x 3 camera matrix as nine row-major numbers under
+    ``cam_K`` (BOP), ``INTRINSICS`` (YCB-Video's ``meta.yml``) or ``K``, flat or nested. A matrix carries no image
+    size: the file's ``width`` and ``height`` or, failing those, the image's ``shape`` give it.
+
+    Parameters
+    ----------
+    path : str or Path
+        The intrinsics file.
+    shape : (h, w), optional
+        The image the camera took, for a camera matrix without ``width`` and ``height``.
+
+    Returns
+    -------
+    dict
+        ``fx, fy, cx, cy`` as floats, ``width, height`` as ints (:func:`heatdata.views.view.check_intrinsics`).
+
+    Raises
+    ------
+    ViewError
+        The file is missing, unreadable or larger than 1 MB; a matrix that is not nine numbers, has skew or a last
+        row other than ``0 0 1``; no image size.
+    """
     path = require_file(path, "intrinsics file", ViewError)
     if path.stat().st_size > 1 << 20:
         raise ViewError(f"{path}: {path.stat().st_size >> 20} MB is not an intrinsics file (six numbers)")
@@ -298,8 +326,42 @@ def read_intrinsics(path) -> dict:
     except (OSError, ValueError, RecursionError, yaml.YAMLError) as error:
         raise ViewError(f"{path}: cannot read the intrinsics ({error})") from error
     if not isinstance(data, dict):
-        raise ViewError(f"{path}: the intrinsics must be a mapping of {', '.join(INTRINSIC_KEYS)}")
+        raise ViewError(
+            f"{path}: the intrinsics must be a mapping of {', '.join(INTRINSIC_KEYS)} or a camera matrix "
+            f"({' or '.join(CAMERA_MATRIX_KEYS)})"
+        )
+    matrix_key = next((key for key in CAMERA_MATRIX_KEYS if key in data), None)
+    if matrix_key is not None and not all(key in data for key in ("fx", "fy", "cx", "cy")):
+        data = {**_from_camera_matrix(data[matrix_key], f"{path}: {matrix_key}"), **_image_size(data, shape, str(path))}
     return check_intrinsics(data, name=str(path))
+
+
+def _from_camera_matrix(values, name: str) -> dict:
+    """``fx, fy, cx, cy`` of a row-major 3 x 3 camera matrix (nine numbers, flat or as three rows)."""
+    try:
+        k = np.asarray(values, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ViewError(f"{name}: a camera matrix is nine numbers, row-major") from None
+    if k.size != 9:
+        raise ViewError(f"{name}: a camera matrix is nine numbers, row-major; got {k.size}")
+    k = k.reshape(3, 3)
+    if not np.isfinite(k).all():
+        raise ViewError(f"{name}: the camera matrix holds a number that is not finite")
+    if k[0, 1] != 0 or not np.allclose(k[2], [0, 0, 1]) or k[1, 0] != 0:
+        raise ViewError(f"{name}: a pinhole camera matrix is [[fx 0 cx] [0 fy cy] [0 0 1]]; got {k.tolist()}")
+    return {"fx": k[0, 0], "fy": k[1, 1], "cx": k[0, 2], "cy": k[1, 2]}
+
+
+def _image_size(data: dict, shape: tuple[int, int] | None, name: str) -> dict:
+    """The image's ``width`` and ``height``: the file's own, else the image's ``shape`` (h, w)."""
+    if "width" in data and "height" in data:
+        return {"width": data["width"], "height": data["height"]}
+    if shape is None:
+        raise ViewError(
+            f"{name}: a camera matrix carries no image size: give width and height beside it (an unorganized cloud "
+            "has no image to take them from)"
+        )
+    return {"width": int(shape[1]), "height": int(shape[0])}
 
 
 def read_depth(
@@ -364,7 +426,7 @@ def read_depth_frame(
         raise ViewError(f"{path}: a depth image needs --intrinsics (JSON or YAML with fx, fy, cx, cy, width, height)")
     depth = read_depth_image(path)
     rgb = None if not rgb_path else read_image(rgb_path, "colour image", "RGB")
-    return depth, rgb, read_intrinsics(intrinsics_path)
+    return depth, rgb, read_intrinsics(intrinsics_path, depth.shape)
 
 
 def read_depth_image(path: StrPath) -> np.ndarray:

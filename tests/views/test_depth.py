@@ -250,3 +250,53 @@ def test_nearest_readings_take_the_smallest_depth_in_the_window_and_nan_where_th
     assert nearest[2, 0] == 2.0 and nearest[1, 1] == 1.5 and nearest[3, 3] == 1.5
     assert np.isnan(nearest[2, 4]) and np.isnan(nearest[0, 6])
     assert np.array_equal(nearest_readings(np.full((4, 4), 0.7), 5), np.full((4, 4), 0.7))
+
+
+@pytest.mark.parametrize(
+    ("name", "text"),
+    [
+        ("meta.yml", "INTRINSICS: [600.0, 0.0, 320.5, 0.0, 601.0, 240.5,\n  0.0, 0.0, 1.0]\n"),  # YCB-Video's meta
+        ("scene_camera.json", '{"cam_K": [600.0, 0, 320.5, 0, 601.0, 240.5, 0, 0, 1], "depth_scale": 1.0}'),  # BOP
+        ("k.yaml", "K: [[600.0, 0, 320.5], [0, 601.0, 240.5], [0, 0, 1]]\nwidth: 64\nheight: 48\n"),
+    ],
+)
+def test_intrinsics_are_read_from_a_camera_matrix_the_image_giving_the_size(tmp_path, name, text):
+    from heatdata.views.depth import read_intrinsics
+
+    (tmp_path / name).write_text(text)
+    k = read_intrinsics(tmp_path / name, (48, 64))
+    assert k == {"fx": 600.0, "fy": 601.0, "cx": 320.5, "cy": 240.5, "width": 64, "height": 48}
+    if name != "k.yaml":
+        with pytest.raises(hd.ViewError, match=f"{name}: a camera matrix carries no image size"):
+            read_intrinsics(tmp_path / name)
+
+
+@pytest.mark.parametrize(
+    ("matrix", "message"),
+    [
+        ("[600, 0, 320, 0, 600, 240, 0, 0]", "nine numbers, row-major; got 8"),
+        ("[600, 2, 320, 0, 600, 240, 0, 0, 1]", r"\[\[fx 0 cx\] \[0 fy cy\] \[0 0 1\]\]"),
+        ("[600, 0, 320, 0, 600, 240, 0, 0, 2]", r"\[\[fx 0 cx\]"),
+        ("[a, 0, 320, 0, 600, 240, 0, 0, 1]", "nine numbers"),
+        ("[.nan, 0, 320, 0, 600, 240, 0, 0, 1]", "not finite"),
+        ("[-600, 0, 320, 0, 600, 240, 0, 0, 1]", "a focal length in pixels is > 0"),
+    ],
+)
+def test_a_bad_camera_matrix_is_refused_in_one_line(tmp_path, matrix, message):
+    from heatdata.views.depth import read_intrinsics
+
+    (tmp_path / "meta.yml").write_text(f"INTRINSICS: {matrix}\n")
+    with pytest.raises(hd.ViewError, match=message):
+        read_intrinsics(tmp_path / "meta.yml", (480, 640))
+
+
+def test_a_depth_png_reads_with_a_camera_matrix_beside_it(rendered, tmp_path):
+    k = rendered.intrinsics
+    depth = np.zeros((k["height"], k["width"]), np.uint16)
+    pixels = np.round(rendered.pixels).astype(int)
+    depth[pixels[:, 1], pixels[:, 0]] = np.round(rendered.vertices[:, 2] * 1000).astype(np.uint16)
+    Image.fromarray(depth).save(tmp_path / "d.png")
+    matrix = [k["fx"], 0, k["cx"], 0, k["fy"], k["cy"], 0, 0, 1]
+    (tmp_path / "meta.yml").write_text(f"INTRINSICS: {matrix}\n")
+    view = hd.read_depth(tmp_path / "d.png", tmp_path / "meta.yml")
+    assert view.intrinsics == k and len(view.vertices) > 100
