@@ -56,11 +56,13 @@ log = logging.getLogger("heatdata")
 
 def cmd_render(args: argparse.Namespace) -> None:
     """Render one partial view of a model file to a .npz view file."""
+    from heatdata.io.catalog import UNITS
     from heatdata.io.models import load_model
     from heatdata.views.render import render_view
 
     out = check_output(args.out, inputs=[args.model], suffixes=(".npz",), what="the view")
-    model = load_model(args.model, size=tuple(args.size) if args.size else None, scale=args.scale)
+    size = tuple(args.size) if args.size else None
+    model = load_model(args.model, size=size, scale=args.scale * UNITS[args.units], up_axis=args.up_axis)
     view = render_view(model, args.azimuth, args.elevation, args.distance, noise=not args.no_noise, seed=args.seed)
     view.save(out)
     _print_view(view, [out], args.json)
@@ -90,6 +92,15 @@ def add_render(sub) -> None:
         help="real size in metres (width x, height y, depth z)",
     )
     render.add_argument("--scale", type=number(positive=True), default=1.0, help="file units to metres (default 1)")
+    render.add_argument(
+        "--units", choices=("m", "cm", "mm"), default="m", help="the file's units, times --scale (default m)"
+    )
+    render.add_argument(
+        "--up-axis",
+        choices=("y", "z"),
+        default="y",
+        help="the file's up axis: z for YCB, BOP and most CAD and scanner files (default y)",
+    )
     render.add_argument("--seed", type=number(0, whole=True), default=0, help="seed of the sensor noise (default 0)")
     render.add_argument("--no-noise", action="store_true", help="render without the Kinect noise of thesis 2.6.1")
     render.set_defaults(func=cmd_render)

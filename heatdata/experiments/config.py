@@ -18,7 +18,7 @@ from heatdata.descriptors import DESCRIPTORS, DescriptorSpec
 from heatdata.descriptors.base import article
 from heatdata.errors import ConfigError, HeatdataError
 from heatdata.experiments.captures import find_captures
-from heatdata.io.catalog import catalog_from_folder, color_twins, read_catalog
+from heatdata.io.catalog import catalog_from_folder, color_twins, read_catalog, with_model_defaults
 from heatdata.io.models import rigid_motion
 from heatdata.io.sh3f import sh3f_catalogs
 from heatdata.io.tables import read_ablation
@@ -139,9 +139,13 @@ def run_catalog(config: dict[str, Any]) -> pd.DataFrame:
                 classes=sh3f.get("classes", "name"),
             )
         elif config["models_dir"]:
-            table = catalog_from_folder(config["models_dir"], scale=config["models_scale"])
+            table = catalog_from_folder(
+                config["models_dir"], config["models_scale"], config["models_units"], config["models_up_axis"]
+            )
         else:
-            table = read_catalog(config["catalog"])
+            table = with_model_defaults(
+                read_catalog(config["catalog"]), config["models_units"], config["models_up_axis"]
+            )
     except ConfigError:
         raise
     except HeatdataError as exc:

@@ -15,6 +15,8 @@ height        real size along y (up), metres
 depth         real size along z, metres
 rotation      optional 9 numbers (row-major 3x3) applied before scaling
 scale         optional factor from file units to metres when no size is given
+units         optional file units when no size is given: m, cm or mm (times ``scale``)
+up_axis       optional up axis of the file: y (default) or z (YCB, BOP, most CAD files)
 hue           optional degrees by which the model's colours are turned (a colour twin, 3.4)
 name          human-readable name
 source        where the model came from (library and creator)
@@ -32,7 +34,7 @@ import pandas as pd
 
 from heatdata.errors import ModelError
 from heatdata.io.files import is_partial, require_file
-from heatdata.io.models import SUPPORTED_SUFFIXES, Model, hue_rotated, load_model
+from heatdata.io.models import SUPPORTED_SUFFIXES, UP_AXES, Model, hue_rotated, load_model
 
 CATALOG_COLUMNS = [
     "object",
@@ -47,7 +49,12 @@ CATALOG_COLUMNS = [
     "licence",
     "scale",
     "hue",
+    "units",
+    "up_axis",
 ]
+
+#: file units a catalogue, ``models_units`` or ``--units`` may name, as metres
+UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
 
 SH3F_LICENCES = {"blendswap-cc-0": "CC0-1.0"}
@@ -110,7 +117,9 @@ def read_catalog(path: str | Path) -> pd.DataFrame:
     return table
 
 
-def catalog_from_folder(models_dir: str | Path, scale: float = 1.0) -> pd.DataFrame:
+def catalog_from_folder(
+    models_dir: str | Path, scale: float = 1.0, units: str = "m", up_axis: str = "y"
+) -> pd.DataFrame:
     """A catalogue of a folder of meshes: one file per object, the class is the subfolder name.
 
     ``models_dir/mugs/red.obj`` becomes object ``mugs-red`` of class ``mugs``; files
@@ -123,6 +132,10 @@ def catalog_from_folder(models_dir: str | Path, scale: float = 1.0) -> pd.DataFr
         A folder of mesh files, optionally one subfolder per class.
     scale : float
         File units times ``scale`` are metres.
+    units : {"m", "cm", "mm"}
+        The files' units (:data:`UNITS`; times ``scale``).
+    up_axis : {"y", "z"}
+        The files' up axis (:func:`heatdata.io.models.load_model`).
 
     Returns
     -------
@@ -163,6 +176,8 @@ def catalog_from_folder(models_dir: str | Path, scale: float = 1.0) -> pd.DataFr
                 "source": str(path),
                 "licence": "",
                 "scale": scale,
+                "units": units,
+                "up_axis": up_axis,
             }
         )
     table = pd.DataFrame(rows)
@@ -260,15 +275,50 @@ def load_catalog_model(row: pd.Series | dict) -> Model:
         raise ModelError(
             f"{row['object']}: scale and hue must be numbers, got {row.get('scale')!r}, {row.get('hue')!r}"
         ) from None
+    units, up_axis = _cell(row, "units", "m", UNITS), _cell(row, "up_axis", "y", UP_AXES)
     model = load_model(
         row["path"],
         size=size,
-        scale=scale,
+        scale=scale * UNITS[units],
         rotation=rotation,
+        up_axis=up_axis,
         name=row["object"],
         label=row["label"],
     )
     return hue_rotated(model, hue, name=row["object"]) if hue % 360 else model
+
+
+def _cell(row: pd.Series | dict, column: str, default: str, allowed) -> str:
+    """A catalogue row's text cell, ``default`` where empty, refused unless one of ``allowed``."""
+    value = str(row.get(column, "") or "").strip()
+    if value in ("", "nan"):
+        return default
+    if value not in allowed:
+        raise ModelError(f"{row['object']}: {column} must be one of {', '.join(allowed)}, got {value!r}")
+    return value
+
+
+def with_model_defaults(catalog: pd.DataFrame, units: str, up_axis: str) -> pd.DataFrame:
+    """A catalogue whose rows without ``units`` or ``up_axis`` take the run's (``models_units``,
+    ``models_up_axis``); rows that name their own keep them.
+
+    Parameters
+    ----------
+    catalog : pandas.DataFrame
+        Catalogue rows (:func:`read_catalog`).
+    units : {"m", "cm", "mm"}
+    up_axis : {"y", "z"}
+
+    Returns
+    -------
+    pandas.DataFrame
+        A copy with both columns filled.
+    """
+    table = catalog.copy()
+    for column, value in (("units", units), ("up_axis", up_axis)):
+        cells = table[column].fillna("").astype(str).str.strip() if column in table else pd.Series("", table.index)
+        table[column] = cells.where(~cells.isin(["", "nan"]), value)
+    return table
 
 
 def color_twins(catalog: pd.DataFrame, objects: list[str], degrees: float) -> pd.DataFrame:

@@ -126,6 +126,13 @@ class Model:
         )
 
     @property
+    def coloured(self) -> bool:
+        """Whether the file gave the model colour: a texture, or a colour other than the :data:`DEFAULT_GREY` a
+        geometry-only file (a scanned mesh, most CAD exports) gets. Its views are then all that grey, and a library
+        compares no frame's colour with them."""
+        return bool(self.textures) or bool(np.any(self.corner_colors != np.float32(DEFAULT_GREY[0])))
+
+    @property
     def extents(self) -> np.ndarray:
         """(3,) float64: bounding-box size along x, y, z in metres."""
         return self.vertices.max(axis=0) - self.vertices.min(axis=0)
@@ -281,6 +288,7 @@ def load_model(
     size: tuple[float, float, float] | None = None,
     scale: float = 1.0,
     rotation: np.ndarray | None = None,
+    up_axis: str = "y",
     name: str | None = None,
     label: str = "",
     center: bool = True,
@@ -298,7 +306,11 @@ def load_model(
     scale : float
         Uniform factor from file units to metres, used when ``size`` is not given.
     rotation : (3, 3) float, optional
-        Rotation applied before scaling (a Sweet Home 3D ``modelRotation``).
+        Rotation applied before scaling (a Sweet Home 3D ``modelRotation``), after the turn to y up.
+    up_axis : {"y", "z"}
+        The file's up axis. heatdata's models stand on y; a z-up file (YCB, BOP and most CAD and scanner files) is
+        turned by :data:`Z_UP_TO_Y_UP` first. A y-up model that looks lying on its side (taller along z than along y
+        and x) is warned about.
     name, label : str
         Object identifier (default: the file stem) and class.
     center : bool
@@ -322,6 +334,8 @@ def load_model(
         )
     if not (np.isfinite(scale) and scale > 0):
         raise ModelError(f"{path}: scale must be a positive number, got {scale}")
+    if up_axis not in UP_AXES:
+        raise ModelError(f"{path}: up_axis must be one of {', '.join(UP_AXES)}, got {up_axis!r}")
     if rotation is not None:
         rotation = _checked_rotation(rotation, path)
     require_file(path, "model file", ModelError)
@@ -379,8 +393,11 @@ def load_model(
     for note in dict.fromkeys(texture_notes):
         repairs.append(f"{path.name}: {note}")
         log.warning("%s", repairs[-1])
+    vertices = vertices @ UP_AXES[up_axis].T
     if rotation is not None:
         vertices = vertices @ rotation.T
+    if up_axis == "y":
+        _warn_if_lying(vertices, path)
     if center:
         vertices = vertices - 0.5 * (vertices.max(axis=0) + vertices.min(axis=0))
     extents = vertices.max(axis=0) - vertices.min(axis=0)
@@ -461,6 +478,27 @@ def checked_faces(faces: ArrayLike, n_vertices: int, name: str) -> np.ndarray:
             f"(e.g. {array[outside][0]})"
         )
     return array
+
+
+#: the turn that stands a z-up file on heatdata's y: (x, y, z) -> (x, z, -y), a rotation (no mirror)
+Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+UP_AXES = {"y": np.eye(3), "z": Z_UP_TO_Y_UP}
+#: a y-up model this many times longer along z than along x and y looks like a z-up file lying down
+LYING_RATIO = 1.5
+
+
+def _warn_if_lying(vertices: np.ndarray, path: Path) -> None:
+    """Warn where a model read as y-up is :data:`LYING_RATIO` times longer along z than along x and y: a tall z-up
+    file (a bottle, a can) read without ``up_axis: z`` lies on its side in every view."""
+    extents = vertices.max(axis=0) - vertices.min(axis=0)
+    if extents[2] > LYING_RATIO * max(extents[0], extents[1]):
+        log.warning(
+            "%s: the model is %.3g along z and %.3g along y (up): if its file is z-up, as YCB, BOP and most CAD "
+            "files are, give up_axis z (heatdata render --up-axis z), or it lies on its side in every view",
+            path,
+            extents[2],
+            extents[1],
+        )
 
 
 def _checked_rotation(rotation: ArrayLike, path: Path) -> np.ndarray:

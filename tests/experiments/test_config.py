@@ -223,3 +223,15 @@ def test_the_report_sorts_confusion_figures_by_library_size_as_numbers():
         "matrix": "classes",
         "library views": "8",
     }
+
+
+def test_the_runs_units_and_up_axis_reach_every_model_that_names_none(tmp_path):
+    import trimesh
+
+    trimesh.creation.box(extents=(60.0, 60.0, 200.0)).export(tmp_path / "bottle.stl")
+    folder = checks.run_catalog(run_config(models_dir=str(tmp_path), models_units="mm", models_up_axis="z"))
+    assert folder[["units", "up_axis"]].values.tolist() == [["mm", "z"]]
+    embedded = checks.run_catalog(run_config(models_up_axis="z"))
+    assert set(embedded["up_axis"]) == {"z"} and set(embedded["units"]) == {"m"}
+    with pytest.raises(Exception, match="'x' is not one of"):
+        run_config(models_up_axis="x")

@@ -189,3 +189,40 @@ def test_colour_twin_errors(catalog):
     with_twin = pd.concat([catalog, color_twins(catalog, ["bread"], 90)])
     with pytest.raises(hd.ModelError, match="already in the catalogue"):
         color_twins(with_twin, ["bread"], 90)
+
+
+def test_a_folder_of_z_up_millimetre_models_stands_on_y_in_metres(tmp_path, caplog):
+    import trimesh
+
+    (tmp_path / "bottles").mkdir()
+    # a bottle as YCB and BOP ship it: 60 x 60 mm across, 200 mm tall along z
+    trimesh.creation.box(extents=(60.0, 60.0, 200.0)).export(tmp_path / "bottles" / "tall.stl")
+    table = catalog_from_folder(tmp_path, units="mm", up_axis="z")
+    model = hd.load_catalog_model(table.iloc[0])
+    assert np.allclose(model.extents, [0.06, 0.2, 0.06])
+    assert "lies on its side" not in caplog.text
+    lying = hd.load_catalog_model(catalog_from_folder(tmp_path, units="mm").iloc[0])
+    assert np.allclose(lying.extents, [0.06, 0.06, 0.2])
+    assert "lies on its side" in caplog.text and "up_axis z" in caplog.text
+
+
+def test_a_catalogues_rows_keep_their_own_up_axis_and_units_and_take_the_runs_elsewhere(tmp_path):
+    from heatdata.io.catalog import with_model_defaults
+
+    table = pd.DataFrame({"object": ["a", "b", "c"], "up_axis": ["", "y", None], "units": ["mm", "", "nan"]})
+    filled = with_model_defaults(table, units="cm", up_axis="z")
+    assert filled["up_axis"].tolist() == ["z", "y", "z"]
+    assert filled["units"].tolist() == ["mm", "cm", "cm"]
+    assert with_model_defaults(pd.DataFrame({"object": ["a"]}), "m", "y")[["units", "up_axis"]].values.tolist() == [
+        ["m", "y"]
+    ]
+
+
+@pytest.mark.parametrize(("column", "value"), [("up_axis", "x"), ("units", "inch")])
+def test_an_unknown_up_axis_or_unit_is_refused_naming_the_object(tmp_path, column, value):
+    import trimesh
+
+    trimesh.creation.box(extents=(1.0, 1.0, 1.0)).export(tmp_path / "cube.stl")
+    row = catalog_from_folder(tmp_path).iloc[0].to_dict() | {column: value}
+    with pytest.raises(hd.ModelError, match=f"cube: {column} must be one of .*'{value}'"):
+        hd.load_catalog_model(row)

@@ -5,6 +5,8 @@ import pytest
 from conftest import colored_box, write_textured_quad
 
 import heatdata as hd
+from heatdata.errors import ModelError
+from heatdata.io.models import Model, load_model
 
 
 def test_obj_with_mtl_and_texture(tmp_path):
@@ -154,3 +156,29 @@ def test_welding_drops_the_faces_it_collapses_and_second_copies():
     np.testing.assert_array_equal(merged.faces, [[0, 1, 2], [0, 2, 3]])
     assert len(merged.vertices) == 4 and merged.corner_colors.shape == (2, 3, 3)
     assert "2 face(s) this collapsed or repeated dropped" in merged.repairs[-1]
+
+
+def test_colour_is_known_from_a_texture_or_a_colour_other_than_the_untextured_grey():
+    from heatdata.io.models import DEFAULT_GREY
+
+    vertices, faces = np.eye(3), np.array([[0, 1, 2]])
+    assert not Model.untextured("scan", vertices, faces).coloured
+    assert not Model.untextured("scan", vertices, faces, DEFAULT_GREY).coloured
+    assert Model.untextured("red", vertices, faces, (0.9, 0.1, 0.1)).coloured
+    assert Model.untextured("grey", vertices, faces, (0.5, 0.5, 0.5)).coloured
+
+
+def test_a_z_up_file_is_turned_to_stand_on_y_without_a_mirror(tmp_path):
+    import trimesh
+
+    mesh = trimesh.Trimesh([[0, 0, 0], [1, 0, 0], [0, 2, 0], [0, 0, 3]], [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    mesh.export(tmp_path / "t.ply")
+    y_up = load_model(tmp_path / "t.ply", center=False)
+    z_up = load_model(tmp_path / "t.ply", up_axis="z", center=False)
+    assert np.allclose(z_up.vertices[:, 0], y_up.vertices[:, 0])
+    assert np.allclose(z_up.vertices[:, 1], y_up.vertices[:, 2])  # up is the file's z
+    assert np.allclose(z_up.vertices[:, 2], -y_up.vertices[:, 1])
+    volume = trimesh.Trimesh(z_up.vertices, z_up.faces).volume
+    assert volume == pytest.approx(trimesh.Trimesh(y_up.vertices, y_up.faces).volume)  # not mirrored
+    with pytest.raises(ModelError, match="up_axis must be one of y, z, got 'x'"):
+        load_model(tmp_path / "t.ply", up_axis="x")
