@@ -96,3 +96,42 @@ def frame_arguments(parser: argparse.ArgumentParser) -> None:
         default=MAX_DEPTH_JUMP,
         help=f"relative depth step that cuts the mesh (default {MAX_DEPTH_JUMP})",
     )
+
+
+def segment_arguments(parser: argparse.ArgumentParser) -> None:
+    """The segmentation's settings a user reaches (segment, recognize; defaults measured on real table-tops,
+    :class:`heatdata.segmentation.settings.SegmentSettings`)."""
+    from heatdata.segmentation.settings import SegmentSettings
+
+    defaults = SegmentSettings()
+    parser.add_argument(
+        "--cluster-distance",
+        type=number(positive=True),
+        default=defaults.cluster_distance,
+        help=f"metres: a reading this near an object's surface joins it (default {defaults.cluster_distance})",
+    )
+    parser.add_argument(
+        "--min-pixels",
+        type=number(3, whole=True),
+        default=defaults.min_pixels,
+        help=f"smaller objects are dropped, and said so (default {defaults.min_pixels})",
+    )
+    parser.add_argument(
+        "--concavity",
+        type=number(positive=True, high=179.0),
+        default=defaults.concavity,
+        help=f"degrees: surfaces meeting at a sharper concave crease are two objects (default {defaults.concavity:g})",
+    )
+
+
+def segment_settings(args: argparse.Namespace):
+    """The :class:`heatdata.segmentation.settings.SegmentSettings` of :func:`segment_arguments`' options and
+    ``--max-depth-jump``."""
+    from heatdata.segmentation.settings import SegmentSettings
+
+    return SegmentSettings(
+        cluster_distance=args.cluster_distance,
+        min_pixels=args.min_pixels,
+        concavity=args.concavity,
+        max_depth_jump=args.max_depth_jump,
+    )

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from heatdata.cli.arguments import dump_json, frame_arguments, number
+from heatdata.cli.arguments import dump_json, frame_arguments, number, segment_arguments, segment_settings
 from heatdata.descriptors import DEFAULT_DESCRIPTOR, file_name
 from heatdata.errors import HeatdataError
 from heatdata.io.files import check_output, require_file
@@ -68,10 +68,10 @@ def _scene(frame: dict, args: argparse.Namespace, library):
     """
     from heatdata.frames.clouds import CLOUD_SUFFIXES
     from heatdata.reporting.figures.scenes import frame_image
-    from heatdata.segmentation.segment import SegmentSettings, segment_points, segment_view
+    from heatdata.segmentation.segment import segment_points, segment_view
     from heatdata.views.depth import read_depth_frame, read_image, read_intrinsics
 
-    settings = SegmentSettings(max_depth_jump=args.max_depth_jump)
+    settings = segment_settings(args)
     path = Path(frame["depth"])
     suffix = path.suffix.lower()
     if suffix == ".npz":
@@ -278,6 +278,7 @@ def add_recognize(sub) -> None:
         help=f"a library file (default results/{DEFAULT_LIBRARY}: the main job's, of the default descriptor)",
     )
     frame_arguments(rec)
+    segment_arguments(rec)
     rec.add_argument(
         "-k", type=number(1, high=1000, whole=True), default=5, help="nearest objects to keep per object (default 5)"
     )
@@ -285,7 +286,8 @@ def add_recognize(sub) -> None:
     rec.add_argument(
         "--threshold",
         type=number(0.0, high=1.0),
-        help="confidence below which an object is unknown, in [0, 1] (default: the library's, which rejects 95%% of "
+        help="confidence below which an object is unknown, in [0, 1] (default: none where poses are checked, as the "
+        "pose check decides what is unknown; with --no-pose or for a sequence, the library's, which rejects 95%% of "
         "its own objects left out of it): higher rejects more objects the library lacks, and more that it holds; "
         "for a sequence, the prior of its unknown hypothesis",
     )

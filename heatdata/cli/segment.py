@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from heatdata.cli.arguments import dump_json, number
+from heatdata.cli.arguments import dump_json, number, segment_arguments, segment_settings
 from heatdata.errors import HeatdataError
 from heatdata.io.files import atomic, check_output
 
@@ -17,19 +17,13 @@ def cmd_segment(args: argparse.Namespace) -> None:
 
     from heatdata.frames.clouds import read_frame_grid
     from heatdata.segmentation.segment import label_image, segment_points
-    from heatdata.segmentation.settings import SegmentSettings
 
     inputs = [args.frame, args.intrinsics, args.rgb]
     out = check_output(args.out, inputs=inputs, suffixes=(".png",), what="the label image")
     overlay = None if args.overlay is None else check_output(args.overlay, inputs=inputs, suffixes=(".png",))
     if overlay is not None and overlay.resolve() == out.resolve():
         raise HeatdataError(f"{out}: the label image and the overlay are one file")
-    settings = SegmentSettings(
-        cluster_distance=args.cluster_distance,
-        min_pixels=args.min_pixels,
-        concavity=args.concavity,
-        max_depth_jump=args.max_depth_jump,
-    )
+    settings = segment_settings(args)
     points, colors, intrinsics = read_frame_grid(args.frame, args.intrinsics, args.rgb, scale=args.scale)
     found = segment_points(points, intrinsics, colors, settings, name=Path(args.frame).stem)
     labels = label_image(found, points.shape[:2])
@@ -67,10 +61,8 @@ def cmd_segment(args: argparse.Namespace) -> None:
 
 def add_segment(sub) -> None:
     """The ``segment`` command's arguments."""
-    from heatdata.segmentation.settings import SegmentSettings
     from heatdata.views.depth import MAX_DEPTH_JUMP
 
-    defaults = SegmentSettings()
     parser = sub.add_parser("segment", help="a frame's objects as a label image", description=cmd_segment.__doc__)
     parser.add_argument("frame", type=Path, help="depth image (.png 16-bit mm, .npy float m) or cloud (.pcd, .ply)")
     parser.add_argument("-o", "--out", type=Path, required=True, help="the 16-bit label image to write (.png)")
@@ -80,24 +72,7 @@ def add_segment(sub) -> None:
     parser.add_argument("--rgb", type=Path, help="colour image registered to the depth image")
     parser.add_argument("--overlay", type=Path, help="also draw the objects over the frame (.png)")
     parser.add_argument("--scale", type=number(positive=True), default=1.0, help="cloud units to metres (default 1)")
-    parser.add_argument(
-        "--cluster-distance",
-        type=number(positive=True),
-        default=defaults.cluster_distance,
-        help=f"metres: a reading this near an object's surface joins it (default {defaults.cluster_distance})",
-    )
-    parser.add_argument(
-        "--min-pixels",
-        type=number(3, whole=True),
-        default=defaults.min_pixels,
-        help=f"smaller objects are dropped, and said so (default {defaults.min_pixels})",
-    )
-    parser.add_argument(
-        "--concavity",
-        type=number(positive=True, high=179.0),
-        default=defaults.concavity,
-        help=f"degrees: surfaces meeting at a sharper concave crease are two objects (default {defaults.concavity:g})",
-    )
+    segment_arguments(parser)
     parser.add_argument(
         "--max-depth-jump",
         type=number(positive=True),
