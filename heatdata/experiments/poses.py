@@ -5,8 +5,9 @@
   error of the object's centre, the rotation error up to the object's symmetries), and the time the pose adds;
 - :func:`verified_open_set`: each object left out of the library in turn (:meth:`Library.without`), its test views
   answered as unknown objects, the others' by the whole library as known ones; an answer is kept when its
-  confidence reaches the threshold (the confidence alone) and, besides, when a candidate's pose explains the view
-  (with verification);
+  confidence reaches the library's threshold (the confidence alone), when that and a candidate's pose explaining the
+  view both hold (with verification), and when a candidate's pose explains it (verification alone: the default of a
+  library with surface samples, :meth:`heatdata.recognition.library.Library.threshold`);
 - :func:`pose_summary` and :func:`verified_open_set_summary` pool them.
 
 The views are renderings through a sensor profile, not sensor data.
@@ -176,9 +177,10 @@ def verified_open_set_summary(scores: pd.DataFrame) -> dict:
     Returns
     -------
     dict
-        ``known, unknown``; ``known_kept`` and ``unknown_rejected`` by the confidence alone and, with ``_verified``,
-        with verification as well; ``precision`` (the nearest object, closed set), ``accepted_precision`` and
-        ``accepted_precision_verified`` (of the known answers kept, the share named right).
+        ``known, unknown``; ``known_kept`` and ``unknown_rejected`` by the confidence alone, with ``_verified``
+        with verification as well, with ``_pose_check`` by verification alone; ``precision`` (the nearest object,
+        closed set), ``accepted_precision``, ``accepted_precision_verified`` and ``accepted_precision_pose_check``
+        (of the known answers kept, the share named right).
     """
     known = scores[scores["known"]]
     unknown = scores[~scores["known"]]
@@ -197,5 +199,10 @@ def verified_open_set_summary(scores: pd.DataFrame) -> dict:
         "accepted_precision": float(right[sure].mean()) if sure.any() else np.nan,
         "accepted_precision_verified": float((known["answer"] == known["object"])[kept].mean())
         if kept.any()
+        else np.nan,
+        "known_kept_pose_check": float(known["verified"].mean()),
+        "unknown_rejected_pose_check": float((~unknown["verified"]).mean()),
+        "accepted_precision_pose_check": float((known["answer"] == known["object"])[known["verified"]].mean())
+        if known["verified"].any()
         else np.nan,
     }

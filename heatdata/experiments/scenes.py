@@ -633,7 +633,8 @@ def recognize_scene_files(library, depth_paths: list[StrPath]) -> pd.DataFrame:
     """Workflow step: every scene recognized with ``library`` and scored against its truth (:func:`score_scene`).
 
     Every detection is posed and verified (recognized at threshold 0, so that the known/unknown curve can be drawn
-    at any threshold); ``known`` is then judged at the library's threshold, as ``heatdata recognize`` judges it.
+    at any threshold); ``known`` is then judged as ``heatdata recognize`` judges it (:meth:`Library.threshold`: by
+    verification alone when the library carries surface samples).
     The first scene is recognized once before the timing, so every ``seconds`` is a warm library's;
     ``seconds_without_pose`` times the same frame without poses or verification.
 
@@ -654,7 +655,7 @@ def recognize_scene_files(library, depth_paths: list[StrPath]) -> pd.DataFrame:
     from heatdata.recognition.pose import symmetry_turns
 
     surfaces = {obj: (surface, symmetry_turns(surface)) for obj, surface in library.surfaces.items()}
-    limit = library.threshold()
+    limit = library.threshold(pose=True)
     parts = []
     for number, path in enumerate(depth_paths):
         depth, rgb, intrinsics, labels, truth = read_scene(path)

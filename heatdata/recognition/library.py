@@ -28,6 +28,7 @@ import pandas as pd
 from heatdata.descriptors import COLOR_KIND, DescriptorSpec, describe, kind_of
 from heatdata.descriptors.rows import descriptor_rows
 from heatdata.errors import HeatdataError, LibraryError
+from heatdata.io.models import DEFAULT_GREY
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_matrix_table, write_table
 from heatdata.recognition.answers import Detection, Match, Recognition, SceneRecognition, SequenceStep
 from heatdata.recognition.confidence import (
@@ -49,7 +50,7 @@ from heatdata.recognition.index import (
     shortlist,
 )
 from heatdata.recognition.library_check import check_library, shortened, spec_of
-from heatdata.recognition.pose import STARTS, Pose, Surface, depth_image, estimate_pose
+from heatdata.recognition.pose import STARTS, Pose, Surface, depth_image, pose_candidates
 from heatdata.segmentation.segment import Segment, Segmentation, SegmentSettings, segment_frame
 from heatdata.typing import StrPath
 from heatdata.version import __version__
@@ -73,8 +74,8 @@ SIMILARITY_PER_VIEW = 1
 TOUCHING = 1.15
 #: a sequence has settled on an object the library lacks when the unknown hypothesis holds this much of the posterior
 UNKNOWN_SETTLED = 0.99
-#: the nearest objects of an answer posed in turn until one explains the view (verification)
-CANDIDATES = 3
+#: the nearest objects of an answer whose poses are checked against the view (verification)
+CANDIDATES = 5
 #: columns of a library file that no search reads (where the values lie, how the rows were made), left unread
 UNREAD = ("positions", "repairs", "seconds")
 #: rows per row group of a library file (groups are decoded in parallel when it loads)
@@ -334,6 +335,12 @@ class Library:
         self.confidence: Confidence | None = None if calibrated is None else Confidence.from_dict(calibrated)
         stored = self.metadata.get("surfaces") or {}
         self.surfaces = {obj: Surface.from_dict(data, f"{self.path}: {obj}") for obj, data in stored.items()}
+        #: the objects whose models had no colour, when the kind compares colours: a query's colour is left out
+        #: against their views (rendered in the untextured grey)
+        self.colourless = (
+            sorted(o for o, s in self.surfaces.items() if not s.coloured) if uses_colour(self.spec) else []
+        )
+        self._colourless = np.isin(self.views["object"].to_numpy(), self.colourless)
 
     def __repr__(self) -> str:
         return (
@@ -386,6 +393,34 @@ class Library:
             reasons = "; ".join(sorted({r for rs in rows["repairs"] for r in rs if "failed" in r})) or "NaN values"
             raise HeatdataError(f"{view.name}: {self.descriptor} cannot describe this view ({reasons})")
         return rows
+
+    def query_distances(self, view: View, *, exact: bool = False) -> tuple[pd.DataFrame, np.ndarray]:
+        """The query rows of ``view`` (:meth:`describe`) and their distance to each library view (:meth:`distances`).
+
+        The views of the objects whose models had no colour (:attr:`colourless`) are compared with the query
+        described in their grey, its colour left out: a frame's colours would set every such object far from it.
+
+        Parameters
+        ----------
+        view : View
+        exact : bool
+            As :meth:`distances`'s.
+
+        Returns
+        -------
+        query : pandas.DataFrame
+            The rows of :meth:`describe` (of the grey query when no library object has colour).
+        distance : (N,) ndarray
+        """
+        if not self.colourless:
+            query = self.describe(view)
+            return query, self.distances(query, exact=exact)
+        grey = self.describe(replace(view, colors=np.full_like(view.colors, DEFAULT_GREY[0])))
+        distance = self.distances(grey, exact=exact)
+        if self._colourless.all():
+            return grey, distance
+        query = self.describe(view)
+        return query, np.where(self._colourless, distance, self.distances(query, exact=exact))
 
     def use_index(self, index: SearchIndex | None) -> None:
         """Search through ``index`` (None: the exact search alone).
@@ -471,8 +506,8 @@ class Library:
         k : int
             How many objects to return.
         threshold : float in [0, 1], optional
-            The confidence below which the object is unknown (default: the library's,
-            :func:`heatdata.recognition.confidence.calibrate`).
+            The confidence below which the object is unknown (default: none where the answer is verified, else the
+            library's, :func:`heatdata.recognition.confidence.calibrate`; :meth:`threshold`).
         pose : bool
             Estimate the pose and verify the answer (a library without surface samples says so and answers
             without).
@@ -501,22 +536,33 @@ class Library:
             f"verified; rebuild it with the workflow (snakemake --forcerun library {self.path})"
         )
 
-    def threshold(self, threshold: float | None = None) -> float:
+    def threshold(self, threshold: float | None = None, *, pose: bool = False) -> float:
         """The confidence threshold in use.
+
+        Where answers are posed and verified (``pose`` and a library with surface samples), verification alone
+        decides by default what is unknown: the threshold is 0. The confidence is learned from rendered views, and a
+        real sensor's segments lie 10-100 times farther from their library views than rendered ones do, so that
+        every real object fell under the library's threshold; hypothesis verification reads the frame itself
+        (``docs/chapters/confidence.md`` measures both, on rendered and real frames).
 
         Parameters
         ----------
         threshold : float, optional
             The user's, checked to lie in [0, 1].
+        pose : bool
+            Whether the answers are posed and verified.
 
         Returns
         -------
         float
-            ``threshold``, or the library's (0 when it has none: a library of one object).
+            ``threshold``; else 0 when the answers are verified, or the library's (0 when it has none: a library of
+            one object).
         """
         if threshold is not None:
             return checked_threshold(threshold)
-        return self.confidence.threshold if self.confidence is not None else 0.0
+        if (pose and self.surfaces) or self.confidence is None:
+            return 0.0
+        return self.confidence.threshold
 
     def _nearest(
         self,
@@ -526,16 +572,15 @@ class Library:
         *,
         pose: bool = False,
         depth: np.ndarray | None = None,
-        up: np.ndarray | None = None,
+        plane: np.ndarray | None = None,
         exact: bool = False,
     ) -> Recognition:
-        """:meth:`recognize` without its notes; ``depth`` is the frame's (default the view's own) and ``up`` the
-        support plane's normal, for the pose."""
+        """:meth:`recognize` without its notes; ``depth`` is the frame's (default the view's own) and ``plane`` the
+        support plane, for the pose."""
         if k < 1 or int(k) != k:
             raise HeatdataError(f"k must be a whole number >= 1, got {k}")
-        limit = self.threshold(threshold)
-        query = self.describe(view)
-        distance = self.distances(query, exact=exact)
+        limit = self.threshold(threshold, pose=pose)
+        query, distance = self.query_distances(view, exact=exact)
         confidence = float("nan")
         if self.confidence is not None:
             _, nearest, other = nearest_two(distance[None], self._codes)
@@ -557,7 +602,7 @@ class Library:
         answer = Recognition(self.descriptor, matches[: int(k)], repairs, confidence, limit)
         if not (pose and self.surfaces and answer.confident):
             return answer
-        found = self._pose(view, matches, distance, depth, up)
+        found = self._pose(view, matches, distance, depth, plane)
         kept = answer.matches
         if found is not None and found.object not in {m.object for m in kept}:  # a candidate beyond the k listed
             kept = [*kept, next(m for m in matches if m.object == found.object)]
@@ -574,29 +619,38 @@ class Library:
         return firsts[np.lexsort((self._codes[firsts], distance[firsts]))]
 
     def _pose(
-        self, view: View, matches: list[Match], distance: np.ndarray, depth: np.ndarray | None, up: np.ndarray | None
+        self,
+        view: View,
+        matches: list[Match],
+        distance: np.ndarray,
+        depth: np.ndarray | None,
+        plane: np.ndarray | None,
     ) -> Pose | None:
-        """The first of the :data:`CANDIDATES` nearest objects whose pose explains ``view``, else the nearest one's
-        pose (rejected)."""
+        """Hypothesis verification of the :data:`CANDIDATES` nearest objects
+        (:func:`heatdata.recognition.pose.pose_candidates`): the accepted pose that explains ``view`` best, else the
+        nearest object's pose (rejected)."""
         depth = depth_image(view.vertices, view.intrinsics) if depth is None else depth
-        canonical = view.canonical_rotation
-        rejected = None
+        candidates = []
         for match in matches[:CANDIDATES]:
             surface = self.surfaces.get(match.object)
             if surface is None:
                 continue
             positions = self._by_object[match.object]
             nearest = self.views.iloc[positions[np.argsort(distance[positions], kind="stable")[:STARTS]]]
-            starts = list(zip(nearest["azimuth"], nearest["elevation"], nearest["distance"], strict=True))
-            found = estimate_pose(match.object, view.vertices, canonical, surface, starts, depth, view.intrinsics, up)
-            if found.accepted:
-                return found
-            rejected = rejected or found
-        return rejected
+            views = list(zip(nearest["azimuth"], nearest["elevation"], nearest["distance"], strict=True))
+            candidates.append((match.object, surface, views))
+        return pose_candidates(candidates, view.vertices, view.canonical_rotation, depth, view.intrinsics, plane)
 
     def _colour_note(self, coloured: bool, what: str) -> list[str]:
         """A warning when this library compares colours and a view (``what``, for the message) has none (a depth
-        frame without its RGB)."""
+        frame without its RGB); a note when some of its models have none (:meth:`query_distances`)."""
+        if self.colourless:
+            some = "" if len(self.colourless) == len(self.objects) else f" ({', '.join(self.colourless)})"
+            note = (
+                f"the library's models{some} have no colour: {what}'s colour is not compared with them, only its shape"
+            )
+            log.info("%s", note)
+            return [note]
         if coloured or not uses_colour(self.spec):
             return []
         note = (
@@ -647,7 +701,8 @@ class Library:
         name : str
             The frame's name, for messages.
         threshold : float in [0, 1], optional
-            The confidence below which an object is unknown (default: the library's).
+            The confidence below which an object is unknown (default: none where the answers are verified, else the
+            library's; :meth:`threshold`).
         pose : bool
             Estimate each object's pose and verify its answer against the frame's depth (:meth:`recognize`).
         exact : bool
@@ -684,7 +739,8 @@ class Library:
         k : int
             Objects to list per detection.
         threshold : float in [0, 1], optional
-            The confidence below which an object is unknown (default: the library's).
+            The confidence below which an object is unknown (default: none where the answers are verified, else the
+            library's; :meth:`threshold`).
         pose : bool
             Estimate each object's pose and verify its answer against the frame's depth (:meth:`recognize`).
         exact : bool
@@ -694,17 +750,16 @@ class Library:
         -------
         SceneRecognition
         """
-        limit = self.threshold(threshold)
+        limit = self.threshold(threshold, pose=pose)
         repairs = list(segmentation.notes)
         if pose and not self.surfaces and segmentation.segments:
             repairs.append(self.no_surfaces())
-        up = None if segmentation.plane is None else segmentation.plane[:3]
         detections = []
         for segment in segmentation.segments:
             notes = list(segment.notes)
             try:
                 answer: Recognition | None = self._nearest(
-                    segment.view, k, limit, pose=pose, depth=segmentation.depth, up=up, exact=exact
+                    segment.view, k, limit, pose=pose, depth=segmentation.depth, plane=segmentation.plane, exact=exact
                 )
             except HeatdataError as exc:  # a segment the descriptor cannot describe is still a detection
                 answer = None
@@ -827,10 +882,10 @@ class Library:
         for frame, view in enumerate(views):
             self._colour_note(has_colour(view.colors), view.name)
             move = float(gaps[frame - 1]) if frame else 0.0
-            query = self.describe(view)
+            query, distance = self.query_distances(view)
             belief.step([np.asarray(query["values"].iloc[0], dtype=np.float64)], move)
             if belief.log_unknown is not None and self.confidence is not None:
-                _, nearest, other = nearest_two(self.distances(query)[None], self._codes)
+                _, nearest, other = nearest_two(distance[None], self._codes)
                 belief.weigh_unknown(float(self.confidence(nearest, other)[0]))
             estimate = belief.estimate
             settled = belief.unknown >= UNKNOWN_SETTLED if estimate is None else bool(belief.converged)

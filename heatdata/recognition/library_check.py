@@ -98,6 +98,7 @@ METADATA_SCHEMA: dict[str, Any] = {
                     "center": {"type": "array", "items": _NUMBER, "minItems": 3, "maxItems": 3},
                     "diameter": {"type": "number", "exclusiveMinimum": 0},
                     "spacing": {"type": "number", "exclusiveMinimum": 0},
+                    "coloured": {"type": "boolean"},
                 },
             },
         },

@@ -55,6 +55,13 @@ STARTS = 3
 COARSE = 0.15
 #: ICP's iterations at each distance
 ICP_ITERATIONS = 30
+#: the coarse stage: points of the segment and iterations of the quick ICP that ranks every start of every candidate,
+#: and the surface samples it checks against the measured depth
+COARSE_POINTS, COARSE_ITERATIONS, COARSE_SAMPLES = 200, 10, 300
+#: the starts of an object refined and verified after the coarse stage, best first
+FINE_STARTS = 2
+#: the candidates posed in full after the coarse stage (those whose best start fits most)
+FINE_CANDIDATES = 3
 #: the smallest tolerance of a point on the surface (metres), to which the sensor's noise and half the samples' spacing
 #: add
 TOLERANCE = 0.005
@@ -68,6 +75,8 @@ MIN_EXPLAINED = 0.9
 MAX_IN_FRONT = 0.15
 #: largest share of the posed model's visible points where the frame measures nothing
 MAX_UNSEEN = 0.15
+#: largest share of the posed model below the support plane (an object sunk into the table to fit a bump of it)
+MAX_BELOW = 0.05
 #: the side of the pixel window whose nearest reading a posed point is compared with (verification)
 NEIGHBOURHOOD = 5
 #: turns about the up axis of the nearest library view's start that start ICP as well (degrees): a handle or a
@@ -120,6 +129,9 @@ class Surface:
         The largest distance between two samples, metres.
     spacing : float
         The samples' mean spacing, ``sqrt(area / n)``, metres.
+    coloured : bool
+        Whether the model had colour (:attr:`heatdata.io.models.Model.coloured`): a library compares a frame's colour
+        only with the views of coloured models.
     """
 
     points: np.ndarray
@@ -127,6 +139,7 @@ class Surface:
     center: np.ndarray
     diameter: float
     spacing: float
+    coloured: bool = True
     _seen: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def seen_centroid(self, camera: np.ndarray) -> np.ndarray:
@@ -154,7 +167,7 @@ class Surface:
         -------
         dict
             ``points`` and ``normals`` (:data:`POINTS_TYPE` offsets from the centre and :data:`NORMALS_TYPE`, in
-            base64), ``center``, ``diameter``, ``spacing``.
+            base64), ``center``, ``diameter``, ``spacing``, ``coloured``.
         """
         return {
             "points": _encode(self.points - self.center, POINTS_TYPE),
@@ -162,6 +175,7 @@ class Surface:
             "center": [float(c) for c in self.center],
             "diameter": float(self.diameter),
             "spacing": float(self.spacing),
+            "coloured": bool(self.coloured),
         }
 
     @classmethod
@@ -190,6 +204,9 @@ class Surface:
             normals = _decode(data["normals"], NORMALS_TYPE, name) / NORMAL_SCALE
             normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
             diameter, spacing = float(data["diameter"]), float(data["spacing"])
+            coloured = data.get("coloured", True)  # a file written before models without colour were told apart
+            if not isinstance(coloured, bool):
+                raise TypeError(f"coloured must be true or false, got {coloured!r}")
         except (KeyError, TypeError, ValueError) as exc:
             raise LibraryError(f"{name}: damaged surface samples ({type(exc).__name__}: {exc})") from None
         finite = np.all(np.isfinite(points)) and np.all(np.isfinite(normals)) and np.all(np.isfinite(center))
@@ -197,10 +214,12 @@ class Surface:
             raise LibraryError(f"{name}: damaged surface samples ({len(points)} points, {len(normals)} normals)")
         if not (diameter > 0 and spacing > 0):
             raise LibraryError(f"{name}: damaged surface samples (diameter {diameter}, spacing {spacing})")
-        return cls(points, normals, center, diameter, spacing)
+        return cls(points, normals, center, diameter, spacing, coloured)
 
 
-def sample_surface(vertices: np.ndarray, faces: np.ndarray, count: int = SURFACE_SAMPLES, seed: int = 0) -> Surface:
+def sample_surface(
+    vertices: np.ndarray, faces: np.ndarray, count: int = SURFACE_SAMPLES, seed: int = 0, *, coloured: bool = True
+) -> Surface:
     """Evenly spread samples of a mesh's surface with their normals (open3d's Poisson-disk sampling, seeded).
 
     Parameters
@@ -213,6 +232,8 @@ def sample_surface(vertices: np.ndarray, faces: np.ndarray, count: int = SURFACE
         Samples.
     seed : int
         open3d's random seed (the same seed gives the same samples).
+    coloured : bool
+        Whether the model has colour (:attr:`heatdata.io.models.Model.coloured`).
 
     Returns
     -------
@@ -235,6 +256,7 @@ def sample_surface(vertices: np.ndarray, faces: np.ndarray, count: int = SURFACE
         (lo + hi) / 2.0,
         float(pdist(points).max()),
         float(np.sqrt(mesh.get_surface_area() / len(points))),
+        coloured,
     )
     log.info(
         "%d surface samples, %.1f mm apart, diameter %.1f cm",
@@ -308,6 +330,10 @@ class Pose:
         Whether verification accepts it.
     tolerance : float
         The distance a point counts as on the surface within, metres.
+    notes : list of str
+        What a user should know of it (ICP did not converge).
+    below : float
+        The share of the posed model below the support plane (verification; 0 without a plane).
     """
 
     object: str
@@ -321,6 +347,7 @@ class Pose:
     accepted: bool
     tolerance: float
     notes: list[str] = field(default_factory=list)
+    below: float = 0.0
 
     def to_dict(self) -> dict:
         """The pose as plain types.
@@ -329,7 +356,7 @@ class Pose:
         -------
         dict
             ``heatdata recognize --json``'s ``pose``: ``object, matrix`` (4 x 4 rows), ``fitness, rmse, explained,
-            in_front, unseen, converged, accepted, tolerance, notes``.
+            in_front, unseen, below, converged, accepted, tolerance, notes``.
         """
         return {
             "object": self.object,
@@ -339,6 +366,7 @@ class Pose:
             "explained": float(self.explained),
             "in_front": float(self.in_front),
             "unseen": float(self.unseen),
+            "below": float(self.below),
             "converged": bool(self.converged),
             "accepted": bool(self.accepted),
             "tolerance": float(self.tolerance),
@@ -526,8 +554,14 @@ def depth_image(points: np.ndarray, intrinsics: dict) -> np.ndarray:
 
 
 def verify(
-    matrix: np.ndarray, points: np.ndarray, surface: Surface, depth: np.ndarray, intrinsics: dict, tol: float
-) -> tuple[float, float, float]:
+    matrix: np.ndarray,
+    points: np.ndarray,
+    surface: Surface,
+    depth: np.ndarray,
+    intrinsics: dict,
+    tol: float,
+    plane: np.ndarray | None = None,
+) -> tuple[float, float, float, float]:
     """How well a pose explains a segment (step 3 of the module).
 
     Parameters
@@ -542,6 +576,8 @@ def verify(
     intrinsics : dict
     tol : float
         Metres.
+    plane : (4,) float, optional
+        The support plane ``n . p + d = 0``, ``n`` the unit normal towards the camera (up).
 
     Returns
     -------
@@ -553,14 +589,18 @@ def verify(
     unseen : float
         The share of the posed surface's visible points inside the image where the frame has no depth (the model
         larger than what was measured: a larger twin of the object seen).
+    below : float
+        The share of the posed surface more than ``tol`` below the support plane (an object sunk into the table to
+        fit a bump of it); 0 without a plane.
     """
     posed = surface.points @ matrix[:3, :3].T + matrix[:3, 3]
     gaps, _ = cKDTree(posed).query(points, distance_upper_bound=tol)
     explained = float(np.mean(np.isfinite(gaps)))
+    below = 0.0 if plane is None else float(np.mean(posed @ np.asarray(plane[:3], float) + float(plane[3]) < -tol))
     seen = posed[visible(posed, np.zeros(3))]
     pixel, inside = pixels_of(seen, intrinsics)
     if not inside.any():
-        return explained, 0.0, 1.0
+        return explained, 0.0, 1.0, below
     pixel = pixel[inside]
     half = NEIGHBOURHOOD // 2  # filter only the crop round the pixels
     u0, v0 = np.maximum(pixel.min(axis=0) - half, 0)
@@ -568,7 +608,110 @@ def verify(
     measured = nearest_readings(depth[v0:v1, u0:u1], NEIGHBOURHOOD)[pixel[:, 1] - v0, pixel[:, 0] - u0]
     read = np.isfinite(measured)
     in_front = float(np.mean(seen[inside][read, 2] < measured[read] - tol)) if read.any() else 0.0
-    return explained, in_front, float(1.0 - read.mean())
+    return explained, in_front, float(1.0 - read.mean()), below
+
+
+def start_poses(
+    points: np.ndarray,
+    canonical: np.ndarray,
+    surface: Surface,
+    views: list[tuple[float, float, float]],
+    up: np.ndarray | None = None,
+) -> list[np.ndarray]:
+    """ICP's starts for one object: its nearest library views (at most :data:`STARTS`) and the nearest one turned
+    by each of :data:`TURNS` about the up axis (:func:`initial_pose`).
+
+    Parameters
+    ----------
+    points : (n, 3) float
+        The segment's points, camera frame.
+    canonical : (3, 3) float
+    surface : Surface
+    views : list of (azimuth, elevation, distance)
+        Its library views nearest the segment, nearest first.
+    up : (3,) float, optional
+
+    Returns
+    -------
+    list of (4, 4) float64
+        Model-to-camera starts, the nearest view's first.
+    """
+    starts = [initial_pose(points, canonical, surface, view, up) for view in views[:STARTS]]
+    nearest = starts[0]
+    for angle in TURNS:
+        turned = nearest.copy()
+        turned[:3, :3] = nearest[:3, :3] @ turn_about_up(angle)
+        turned[:3, 3] += nearest[:3, :3] @ (surface.center - turn_about_up(angle) @ surface.center)
+        starts.append(turned)
+    return starts
+
+
+def coarse_fits(
+    points: np.ndarray, surface: Surface, starts: list[np.ndarray], tol: float, measured: np.ndarray, intrinsics: dict
+) -> list[tuple[float, np.ndarray]]:
+    """The coarse stage: a quick point-to-point ICP of :data:`COARSE_POINTS` of the segment from each start (at
+    :data:`COARSE` of the diameter, :data:`COARSE_ITERATIONS` iterations), scored as verification scores a pose but
+    cheaply: the share of those points within ``2 tol`` of the surface, less the share of :data:`COARSE_SAMPLES`
+    surface samples that stand in front of the measured depth (every sample, seen or not: one the camera cannot see
+    lies behind one it sees, so it is in front only where that one is too).
+
+    Parameters
+    ----------
+    points : (n, 3) float
+        The segment's points, camera frame.
+    surface : Surface
+    starts : list of (4, 4) float
+    tol : float
+        The fine tolerance, metres.
+    measured : (h, w) float
+        The frame's nearest reading about each pixel (:func:`heatdata.views.depth.nearest_readings` of its depth,
+        :data:`NEIGHBOURHOOD`), NaN where none.
+    intrinsics : dict
+
+    Returns
+    -------
+    list of (score, (4, 4) float64)
+        Each start's score and pose after the quick ICP, best first (equals in the starts' order).
+    """
+    import open3d as o3d
+
+    registration = o3d.pipelines.registration
+    source, target = _cloud(_subset(points, COARSE_POINTS)), _cloud(surface.points)
+    samples = _subset(surface.points, COARSE_SAMPLES)
+    criteria = registration.ICPConvergenceCriteria(max_iteration=COARSE_ITERATIONS)
+    fits = []
+    for start in starts:
+        found = registration.registration_icp(
+            source,
+            target,
+            max(COARSE * surface.diameter, 2 * tol),
+            np.linalg.inv(start),
+            registration.TransformationEstimationPointToPoint(),
+            criteria,
+        )
+        matrix = np.asarray(found.transformation)
+        fitness = registration.evaluate_registration(source, target, 2 * tol, matrix).fitness
+        pose = np.linalg.inv(matrix)
+        fits.append(
+            (float(fitness) - _in_front(samples @ pose[:3, :3].T + pose[:3, 3], measured, intrinsics, tol), pose)
+        )
+    order = sorted(range(len(fits)), key=lambda i: -fits[i][0])
+    return [fits[i] for i in order]
+
+
+def _in_front(posed: np.ndarray, measured: np.ndarray, intrinsics: dict, tol: float) -> float:
+    """The share of ``posed`` points, of those on a pixel with a reading, more than ``tol`` in front of it."""
+    pixel, inside = pixels_of(posed, intrinsics)
+    reading = measured[pixel[inside, 1], pixel[inside, 0]]
+    read = np.isfinite(reading)
+    return float(np.mean(posed[inside][read, 2] < reading[read] - tol)) if read.any() else 0.0
+
+
+def _subset(points: np.ndarray, count: int) -> np.ndarray:
+    """At most ``count`` of ``points``, a seeded choice (the same segment, the same subset)."""
+    if len(points) <= count:
+        return points
+    return points[np.random.default_rng(0).choice(len(points), count, replace=False)]
 
 
 def estimate_pose(
@@ -579,9 +722,15 @@ def estimate_pose(
     views: list[tuple[float, float, float]],
     depth: np.ndarray,
     intrinsics: dict,
-    up: np.ndarray | None = None,
+    plane: np.ndarray | None = None,
+    *,
+    fits: list[tuple[float, np.ndarray]] | None = None,
 ) -> Pose:
     """The best pose of ``obj`` for a segment from its nearest library views, and whether it is accepted.
+
+    Coarse to fine: every start (:func:`start_poses`) gets a quick ICP (:func:`coarse_fits`); the
+    :data:`FINE_STARTS` that fit best are refined (:func:`refine`) and verified (:func:`verify`), and the one that
+    explains most, less what it contradicts, is the pose.
 
     Parameters
     ----------
@@ -598,45 +747,117 @@ def estimate_pose(
     depth : (h, w) float
         The frame's measured depth, for verification.
     intrinsics : dict
-    up : (3,) float, optional
-        The support plane's normal towards the camera.
+    plane : (4,) float, optional
+        The support plane ``n . p + d = 0``, ``n`` the unit normal towards the camera: the model's +y, and the
+        surface it may not sink below.
+    fits : list of (fitness, (4, 4) float), optional
+        The coarse stage's, when the caller ran it already (:func:`pose_candidates`).
 
     Returns
     -------
     Pose
-        The start whose ICP explains the most points; when none converges, the nearest view's start (noted).
+        The refined start that explains most; when none converges, the nearest view's start (noted).
     """
     tol = tolerance(surface, float(np.median(points[:, 2])))
-    subset = points
-    if len(points) > ICP_POINTS:
-        subset = points[np.random.default_rng(0).choice(len(points), ICP_POINTS, replace=False)]
-    starts = [initial_pose(subset, canonical, surface, view, up) for view in views[:STARTS]]
-    nearest = starts[0]
-    for angle in TURNS:
-        turned = nearest.copy()
-        turned[:3, :3] = nearest[:3, :3] @ turn_about_up(angle)
-        turned[:3, 3] += nearest[:3, :3] @ (surface.center - turn_about_up(angle) @ surface.center)
-        starts.append(turned)
+    subset = _subset(points, ICP_POINTS)
+    up = None if plane is None else np.asarray(plane[:3], float)
+    if fits is None:
+        measured = nearest_readings(depth, NEIGHBOURHOOD)
+        fits = coarse_fits(
+            points, surface, start_poses(subset, canonical, surface, views, up), tol, measured, intrinsics
+        )
     tried: list[tuple] = []
-    for start in starts:
+    for _, start in fits[:FINE_STARTS]:
         matrix, fitness, rmse = refine(subset, surface, start, tol)
         if fitness >= MIN_FITNESS and np.all(np.isfinite(matrix)):
-            explained, in_front, unseen = verify(matrix, points, surface, depth, intrinsics, tol)
-            tried.append((explained - in_front - unseen, fitness, rmse, explained, in_front, unseen, matrix))
-            if explained >= CLEAR_EXPLAINED and in_front + unseen <= CLEAR_IN_FRONT:
+            explained, in_front, unseen, below = verify(matrix, points, surface, depth, intrinsics, tol, plane)
+            score = explained - in_front - unseen - below
+            tried.append((score, fitness, rmse, explained, in_front, unseen, below, matrix))
+            if explained >= CLEAR_EXPLAINED and in_front + unseen + below <= CLEAR_IN_FRONT:
                 break  # no other start can do much better
     notes = []
     if tried:
-        _, fitness, rmse, explained, in_front, unseen, matrix = max(tried, key=lambda t: t[0])
+        _, fitness, rmse, explained, in_front, unseen, below, matrix = max(tried, key=lambda t: t[0])
     else:
-        matrix, fitness, rmse = nearest, 0.0, float("nan")
-        explained, in_front, unseen = verify(matrix, points, surface, depth, intrinsics, tol)
+        matrix, fitness, rmse = initial_pose(subset, canonical, surface, views[0], up), 0.0, float("nan")
+        explained, in_front, unseen, below = verify(matrix, points, surface, depth, intrinsics, tol, plane)
         notes.append(
             f"ICP did not converge (under {MIN_FITNESS:.0%} of the points within {tol * 100:.1f} cm of the {obj} "
             "from every start): the pose is the nearest library view's estimate"
         )
-    accepted = explained >= MIN_EXPLAINED and in_front <= MAX_IN_FRONT and unseen <= MAX_UNSEEN
-    return Pose(obj, matrix, fitness, rmse, explained, in_front, unseen, bool(tried), accepted, tol, notes)
+    accepted = explained >= MIN_EXPLAINED and in_front <= MAX_IN_FRONT and unseen <= MAX_UNSEEN and below <= MAX_BELOW
+    return Pose(obj, matrix, fitness, rmse, explained, in_front, unseen, bool(tried), accepted, tol, notes, below)
+
+
+def pose_candidates(
+    candidates: list[tuple[str, Surface, list[tuple[float, float, float]]]],
+    points: np.ndarray,
+    canonical: np.ndarray,
+    depth: np.ndarray,
+    intrinsics: dict,
+    plane: np.ndarray | None = None,
+) -> Pose | None:
+    """Hypothesis verification over several objects: which of ``candidates`` a segment is, by its pose.
+
+    The descriptor's nearest candidate is posed in full first (:func:`estimate_pose`); a clear fit (:func:`_clear`)
+    is the answer. Otherwise every other candidate's starts get the coarse stage (:func:`coarse_fits`), the
+    :data:`FINE_CANDIDATES` - 1 whose best start fits most are posed in full too, and of the accepted poses the one
+    that explains most, less what it contradicts, is the answer. A descriptor's nearest object is not always the one
+    seen (a real can lies nearer a library's box views than its own), so the check looks past it, as PCL's global
+    pipeline verifies each of its nearest hypotheses.
+
+    Parameters
+    ----------
+    candidates : list of (object, Surface, views)
+        The objects to try, the descriptor's nearest first, each with its library views nearest the segment.
+    points : (n, 3) float
+        The segment's points, camera frame.
+    canonical : (3, 3) float
+    depth : (h, w) float
+    intrinsics : dict
+    plane : (4,) float, optional
+        The support plane (:func:`estimate_pose`).
+
+    Returns
+    -------
+    Pose or None
+        The best accepted pose; else the descriptor's nearest candidate's (rejected); None without candidates.
+    """
+    subset = _subset(points, ICP_POINTS)
+    depth_median = float(np.median(points[:, 2]))
+    measured = nearest_readings(depth, NEIGHBOURHOOD)
+    up = None if plane is None else np.asarray(plane[:3], float)
+    ranked = []
+    for order, (obj, surface, views) in enumerate(candidates):
+        tol = tolerance(surface, depth_median)
+        fits = coarse_fits(
+            points, surface, start_poses(subset, canonical, surface, views, up), tol, measured, intrinsics
+        )
+        if order == 0:  # the descriptor's nearest, posed in full first: a clear fit needs no other candidate
+            nearest = estimate_pose(obj, points, canonical, surface, views, depth, intrinsics, plane, fits=fits)
+            if nearest.accepted and _clear(nearest):
+                return nearest
+        ranked.append((-fits[0][0], order, obj, surface, views, fits))
+    if not ranked:
+        return None
+    posed = [(0, nearest)]
+    ranked.sort(key=lambda r: r[:2])
+    for _, order, obj, surface, views, fits in [r for r in ranked if r[1] != 0][: FINE_CANDIDATES - 1]:
+        posed.append(
+            (order, estimate_pose(obj, points, canonical, surface, views, depth, intrinsics, plane, fits=fits))
+        )
+    accepted = [(_score(p), -order, p) for order, p in posed if p.accepted]
+    return max(accepted, key=lambda a: a[:2])[2] if accepted else nearest
+
+
+def _score(pose: Pose) -> float:
+    """What a pose explains, less what it contradicts."""
+    return pose.explained - pose.in_front - pose.unseen - pose.below
+
+
+def _clear(pose: Pose) -> bool:
+    """A pose no other start or object can do much better than (:data:`CLEAR_EXPLAINED`, :data:`CLEAR_IN_FRONT`)."""
+    return pose.explained >= CLEAR_EXPLAINED and pose.in_front + pose.unseen + pose.below <= CLEAR_IN_FRONT
 
 
 def symmetry_turns(surface: Surface) -> np.ndarray:

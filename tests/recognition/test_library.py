@@ -173,3 +173,43 @@ def test_a_colour_library_warns_of_a_frame_without_colour(models, tmp_path, capl
     grey = dataclasses.replace(view, colors=np.full_like(view.colors, 0.5))
     assert any("has no colour" in r and "--rgb" in r for r in library.recognize(grey).repairs)
     assert "has no colour" in caplog.text
+
+
+def test_a_frames_colour_is_compared_only_with_the_models_that_have_colour(models, tmp_path):
+    import dataclasses
+
+    from heatdata.io.models import Model
+    from heatdata.recognition.pose import sample_surface
+
+    colour = hd.DescriptorSpec("hgd", color="hue-saturation")
+    mug = models["beer-mug"]
+    scan = Model.untextured("beer-mug", mug.vertices, mug.faces, label=mug.label)  # geometry only, as a scan ships
+    chosen = {"coffee-cup": models["coffee-cup"], "beer-mug": scan}
+    parts = []
+    for obj, model in chosen.items():
+        plan = view_plan([obj], 4, 1, elevation=30.0, distance=1.0, seed=0)
+        parts.append(descriptor_rows(render_views(model, plan), plan, [colour]))
+    surfaces = {o: sample_surface(m.vertices, m.faces, 300, coloured=m.coloured) for o, m in chosen.items()}
+    write_library(*build_library(pd.concat(parts), colour, 4, surfaces=surfaces), tmp_path / "mixed.parquet")
+    library = hd.load_library(tmp_path / "mixed.parquet")
+    assert library.colourless == ["beer-mug"]
+    seen = hd.render_view(scan, azimuth=20.0, elevation=30.0, seed=1)
+    painted = dataclasses.replace(seen, colors=np.tile([0.8, 0.1, 0.1], (len(seen.colors), 1)))  # the real mug is red
+    _, grey_distance = library.query_distances(seen)
+    _, red_distance = library.query_distances(painted)
+    mugs = library.views["object"].to_numpy() == "beer-mug"
+    assert np.allclose(red_distance[mugs], grey_distance[mugs])  # its colour is not held against the mug
+    assert not np.allclose(red_distance[~mugs], grey_distance[~mugs])  # the cup's colour still counts
+    answer = library.recognize(painted, pose=False)
+    assert answer.matches[0].object == "beer-mug"
+    assert any("models (beer-mug) have no colour" in r for r in answer.repairs)
+    assert not any("--rgb" in r for r in library.recognize(seen, pose=False).repairs)
+
+    cup_scan = Model.untextured("coffee-cup", models["coffee-cup"].vertices, models["coffee-cup"].faces)
+    surfaces["coffee-cup"] = sample_surface(cup_scan.vertices, cup_scan.faces, 300, coloured=False)
+    write_library(*build_library(pd.concat(parts), colour, 4, surfaces=surfaces), tmp_path / "scans.parquet")
+    scans = hd.load_library(tmp_path / "scans.parquet")
+    assert scans.colourless == ["beer-mug", "coffee-cup"]
+    query, _ = scans.query_distances(painted)
+    assert np.allclose(query["values"].iloc[0], scans.query_distances(seen)[0]["values"].iloc[0])
+    assert any("library's models have no colour" in r for r in scans.recognize(painted, pose=False).repairs)

@@ -14,6 +14,7 @@ from heatdata.recognition.pose import (
     Surface,
     depth_image,
     estimate_pose,
+    pose_candidates,
     pose_errors,
     read_surface,
     sample_surface,
@@ -151,8 +152,42 @@ def test_verification_rejects_another_object_a_larger_twin_and_a_surface_in_fron
     assert right.accepted and right.in_front < 0.05 and right.unseen == 0.0
     nearer = right.matrix.copy()
     nearer[:3, 3] *= 0.8
-    explained, in_front, unseen = verify(nearer, view.vertices, surface, wall, view.intrinsics, right.tolerance)
-    assert in_front > 0.5 and explained < 0.5 and unseen == 0.0
+    explained, in_front, unseen, below = verify(nearer, view.vertices, surface, wall, view.intrinsics, right.tolerance)
+    assert in_front > 0.5 and explained < 0.5 and unseen == 0.0 and below == 0.0
+
+
+def test_a_pose_sunk_into_the_support_plane_is_rejected(mug):
+    model, surface = mug
+    view = hd.render_view(model, 40.0, 30.0, 1.0, seed=1)
+    depth = depth_image(view.vertices, view.intrinsics)
+    right = estimate_pose("beer-mug", view.vertices, view.canonical_rotation, surface, [(40.0, 30.0, 1.0)], depth,
+                          view.intrinsics)  # fmt: skip
+    up = right.matrix[:3, 1]  # the model's +y in the camera frame: the table's normal
+    base = (surface.points @ right.matrix[:3, :3].T + right.matrix[:3, 3]) @ up
+    on_table = np.r_[up, -base.min()]  # the plane the mug stands on
+    assert verify(right.matrix, view.vertices, surface, depth, view.intrinsics, right.tolerance, on_table)[3] == 0.0
+    raised = np.r_[up, -(base.min() + 0.5 * np.ptp(base))]  # a table through the mug's middle: half of it below
+    below = verify(right.matrix, view.vertices, surface, depth, view.intrinsics, right.tolerance, raised)[3]
+    assert 0.3 < below < 0.7
+    sunk = estimate_pose("beer-mug", view.vertices, view.canonical_rotation, surface, [(40.0, 30.0, 1.0)], depth,
+                         view.intrinsics, raised)  # fmt: skip
+    assert not sunk.accepted and sunk.below > 0.3 and sunk.to_dict()["below"] == sunk.below
+
+
+def test_the_pose_check_names_the_candidate_that_explains_the_view_not_the_nearest(mug):
+    model, surface = mug
+    view = hd.render_view(model, 40.0, 30.0, 1.0, seed=1)
+    depth = depth_image(view.vertices, view.intrinsics)
+    ball = mesh_surface(trimesh.creation.icosphere(subdivisions=4, radius=0.1))
+    starts = [(40.0, 30.0, 1.0)]
+    found = pose_candidates(
+        [("ball", ball, starts), ("beer-mug", surface, starts)], view.vertices, view.canonical_rotation, depth,
+        view.intrinsics,
+    )  # fmt: skip
+    assert found.object == "beer-mug" and found.accepted
+    alone = pose_candidates([("ball", ball, starts)], view.vertices, view.canonical_rotation, depth, view.intrinsics)
+    assert alone.object == "ball" and not alone.accepted  # the nearest's pose, rejected
+    assert pose_candidates([], view.vertices, view.canonical_rotation, depth, view.intrinsics) is None
 
 
 def test_icp_that_cannot_converge_keeps_the_view_estimate_and_says_so(mug):

@@ -8,5 +8,5 @@ from heatdata.recognition.pose import sample_surface, write_surface
 
 setup_logging(path=snakemake.log[0])
 model = load_catalog_model(json.loads(snakemake.params.row))
-surface = sample_surface(model.vertices, model.faces)
+surface = sample_surface(model.vertices, model.faces, coloured=model.coloured)
 write_surface(surface, snakemake.output[0])
