@@ -103,3 +103,15 @@ def test_profiles_by_name_and_by_fields():
     for fields in ({"tau": -1.0}, {"flying_pixels": 1.5}, {"dark": 1.0}, {"baseline": 0.0}, {"tau": float("nan")}):
         with pytest.raises(hd.RenderError, match="bad sensor profile"):
             SensorProfile(**fields)
+
+
+def test_a_realsense_stores_whole_millimetres_with_less_noise_than_a_kinect(mug):
+    realsense = hd.render_view(mug, 40.0, 30.0, 0.7, seed=3, sensor="realsense", components="all")
+    z = realsense.vertices[:, 2]
+    assert np.allclose(z * 1000, np.round(z * 1000), atol=1e-6)  # whole millimetres, as a uint16 PNG holds them
+    assert SENSORS["realsense"].tau < SENSORS["kinect"].tau < SENSORS["noise"].tau
+    unit = SensorProfile(tau=0.0, shadows=False, disparity_step=0.0, flying_pixels=0.0, dark=0.0, depth_unit=0.001)
+    measured = unit.measure(np.array([[1.2344, 1.2346, np.nan]]), None, 580.0, np.random.default_rng(0))
+    assert np.allclose(measured[0, :2], [1.234, 1.235]) and np.isnan(measured[0, 2])
+    with pytest.raises(hd.RenderError, match="depth_unit"):
+        SensorProfile(depth_unit=-0.001)
