@@ -122,7 +122,7 @@ def score_scene(name: str, scene: SceneRecognition, truth: BoxTruth) -> pd.DataF
     """
     boxes = truth.boxes()
     owned: dict[str, list] = {box_name: [] for box_name, _, _ in boxes}
-    nothing = []
+    nothing: list = []
     for detection in scene.detections:
         held = [(_held(detection.bbox, box), box_name) for box_name, _, box in boxes]
         share, owner = max(held, default=(0.0, ""))
