@@ -512,15 +512,7 @@ def refine(points: np.ndarray, surface: Surface, initial: np.ndarray, tol: float
     registration = o3d.pipelines.registration
     source, target = _cloud(points), _cloud(surface.points, surface.normals)
     criteria = registration.ICPConvergenceCriteria(max_iteration=ICP_ITERATIONS)
-    coarse = registration.registration_icp(
-        source,
-        target,
-        max(COARSE * surface.diameter, 2 * tol),
-        np.linalg.inv(initial),
-        registration.TransformationEstimationPointToPoint(),
-        criteria,
-    )
-    start = np.asarray(coarse.transformation)
+    start = _point_to_point(source, target, surface, initial, tol, ICP_ITERATIONS)
     fine = registration.registration_icp(
         source, target, tol, start, registration.TransformationEstimationPointToPlane(), criteria
     )
@@ -678,18 +670,9 @@ def coarse_fits(
     registration = o3d.pipelines.registration
     source, target = _cloud(_subset(points, COARSE_POINTS)), _cloud(surface.points)
     samples = _subset(surface.points, COARSE_SAMPLES)
-    criteria = registration.ICPConvergenceCriteria(max_iteration=COARSE_ITERATIONS)
     fits = []
     for start in starts:
-        found = registration.registration_icp(
-            source,
-            target,
-            max(COARSE * surface.diameter, 2 * tol),
-            np.linalg.inv(start),
-            registration.TransformationEstimationPointToPoint(),
-            criteria,
-        )
-        matrix = np.asarray(found.transformation)
+        matrix = _point_to_point(source, target, surface, start, tol, COARSE_ITERATIONS)
         fitness = registration.evaluate_registration(source, target, 2 * tol, matrix).fitness
         pose = np.linalg.inv(matrix)
         fits.append(
@@ -697,6 +680,30 @@ def coarse_fits(
         )
     order = sorted(range(len(fits)), key=lambda i: -fits[i][0])
     return [fits[i] for i in order]
+
+
+def _point_to_point(
+    source: o3d.geometry.PointCloud,
+    target: o3d.geometry.PointCloud,
+    surface: Surface,
+    start: np.ndarray,
+    tol: float,
+    iterations: int,
+) -> np.ndarray:
+    """(4, 4): open3d's point-to-point ICP of the segment's points (``source``) onto the surface from the model-to-
+    camera ``start``, at :data:`COARSE` of the diameter (at least ``2 tol``): the camera-to-model transform."""
+    import open3d as o3d
+
+    registration = o3d.pipelines.registration
+    found = registration.registration_icp(
+        source,
+        target,
+        max(COARSE * surface.diameter, 2 * tol),
+        np.linalg.inv(start),
+        registration.TransformationEstimationPointToPoint(),
+        registration.ICPConvergenceCriteria(max_iteration=iterations),
+    )
+    return np.asarray(found.transformation)
 
 
 def _in_front(posed: np.ndarray, measured: np.ndarray, intrinsics: dict, tol: float) -> float:
