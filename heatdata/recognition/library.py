@@ -28,7 +28,6 @@ import pandas as pd
 from heatdata.descriptors import COLOR_KIND, DescriptorSpec, describe, kind_of
 from heatdata.descriptors.rows import descriptor_rows
 from heatdata.errors import HeatdataError, LibraryError
-from heatdata.io.models import DEFAULT_GREY
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_matrix_table, write_table
 from heatdata.recognition.answers import Detection, Match, Recognition, SceneRecognition, SequenceStep
 from heatdata.recognition.confidence import (
@@ -415,6 +414,8 @@ class Library:
         if not self.colourless:
             query = self.describe(view)
             return query, self.distances(query, exact=exact)
+        from heatdata.io.models import DEFAULT_GREY  # trimesh's loader, only for a library of colourless models
+
         grey = self.describe(replace(view, colors=np.full_like(view.colors, DEFAULT_GREY[0])))
         distance = self.distances(grey, exact=exact)
         if self._colourless.all():
