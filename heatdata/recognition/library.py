@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from scipy import ndimage
 
 from heatdata.descriptors import COLOR_KIND, DescriptorSpec, describe, kind_of
 from heatdata.descriptors.rows import descriptor_rows
@@ -54,7 +55,7 @@ from heatdata.segmentation.segment import Segment, Segmentation, SegmentSettings
 from heatdata.typing import StrPath
 from heatdata.version import __version__
 from heatdata.views.depth import view_from_depth
-from heatdata.views.view import View, has_colour
+from heatdata.views.view import View, has_colour, joined_view
 
 log = logging.getLogger(__name__)
 
@@ -75,6 +76,8 @@ TOUCHING = 1.15
 UNKNOWN_SETTLED = 0.99
 #: the nearest objects of an answer whose poses are checked against the view (verification)
 CANDIDATES = 5
+#: two unknown segments touch when one, grown by this many pixels, meets the other; at most this many pairs are tried
+JOIN_GAP, JOIN_PAIRS = 3, 4
 #: columns of a library file that no search reads (where the values lie, how the rows were made), left unread
 UNREAD = ("positions", "repairs", "seconds")
 #: rows per row group of a library file (groups are decoded in parallel when it loads)
@@ -778,9 +781,57 @@ class Library:
                     segment.mask,
                 )
             )
+        if pose and self.surfaces:
+            detections = self._join_pieces(detections, segmentation, k, limit, exact)
         if segmentation.segments:
             repairs += self._colour_note(segmentation.coloured, "the frame")
         return SceneRecognition(self.descriptor, detections, segmentation.plane, repairs)
+
+    def _join_pieces(
+        self, detections: list[Detection], segmentation: Segmentation, k: int, limit: float, exact: bool
+    ) -> list[Detection]:
+        """Two touching segments that are each unknown, joined where one object's pose explains them together: an
+        object the segmentation cut at its own concave seam (a drill's handle from its body). At most
+        :data:`JOIN_PAIRS` pairs are tried, the largest first; each segment joins once."""
+        masks: dict[int, np.ndarray] = {
+            i: segment.mask
+            for i, (segment, detection) in enumerate(zip(segmentation.segments, detections, strict=True))
+            if detection.recognition is not None and detection.object is None and segment.mask is not None
+        }
+        grown = {i: ndimage.binary_dilation(mask, iterations=JOIN_GAP) for i, mask in masks.items()}
+        pairs = [(a, b) for a in masks for b in masks if a < b and (grown[a] & masks[b]).any()]
+        joined: dict[int, Detection] = {}
+        for a, b in pairs[:JOIN_PAIRS]:
+            if a in joined or b in joined:
+                continue
+            first, second = segmentation.segments[a], segmentation.segments[b]
+            view = joined_view(first.view, second.view)
+            try:
+                answer = self._nearest(view, k, limit, pose=True, depth=segmentation.depth, plane=segmentation.plane,
+                                       exact=exact)  # fmt: skip
+            except HeatdataError:
+                continue
+            if not answer.known:
+                continue
+            mask = masks[a] | masks[b]
+            rows, cols = np.nonzero(mask)
+            weights = np.array([first.pixels, second.pixels], float)
+            centroid = np.average([first.centroid, second.centroid], axis=0, weights=weights)
+            note = f"two touching pieces joined: the {answer.object}'s pose explains them together"
+            joined[a] = joined[b] = Detection(
+                answer,
+                (float(centroid[0]), float(centroid[1]), float(centroid[2])),
+                int(mask.sum()),
+                (int(cols.min()), int(rows.min()), int(cols.max()), int(rows.max())),
+                [note, *([] if answer.pose is None else answer.pose.notes)],
+                mask,
+            )
+        kept: list[Detection] = []
+        for i, detection in enumerate(detections):
+            piece = joined.get(i, detection)
+            if not any(piece is other for other in kept):
+                kept.append(piece)
+        return sorted(kept, key=lambda d: -d.pixels)
 
     def _size_note(self, segment: Segment, answer: Recognition, on_plane: bool) -> list[str]:
         """A note when ``segment`` is larger than the object it is taken for: objects touching, or one the library

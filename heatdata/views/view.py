@@ -669,3 +669,28 @@ def _outer_boundary(view: View) -> np.ndarray:
     else:  # the centre is outside the loop: start at the vertex nearest to angle 0
         start = int(np.argmin(np.abs(np.arctan2(p[:, 1], p[:, 0]))))
     return np.roll(loop, -start)
+
+
+def joined_view(first: View, second: View) -> View:
+    """Two views of one camera as one (their meshes side by side, no face across them): two segments of a frame
+    that may be one object.
+
+    Parameters
+    ----------
+    first, second : View
+        Camera-frame views with the same intrinsics.
+
+    Returns
+    -------
+    View
+        ``first``'s fields, the vertices, faces and colours of both.
+    """
+    if first.intrinsics != second.intrinsics:
+        raise ViewError(f"{first.view_id} and {second.view_id}: views of two cameras cannot be joined")
+    return View.from_arrays(
+        np.vstack([first.vertices, second.vertices]),
+        np.vstack([first.faces, second.faces + len(first.vertices)]),
+        np.vstack([first.colors, second.colors]),
+        intrinsics=dict(first.intrinsics),
+        view_id=f"{first.view_id}+{second.view_id}",
+    )

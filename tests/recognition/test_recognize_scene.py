@@ -296,3 +296,47 @@ def test_a_rejected_answer_falls_to_the_next_candidate_even_beyond_the_k_listed(
     assert found.recognition.best.object == "bread"  # the nearest, whose (swapped) surface cannot explain it
     assert found.object == "beer-mug" and found.pose.accepted  # the candidate whose surface is the loaf's
     assert [m.object for m in found.recognition.matches][0] == "bread" and found.recognition.answer.object == "beer-mug"
+
+
+def test_two_unknown_pieces_of_one_object_are_joined_when_its_pose_explains_them_together(library, models):
+    from dataclasses import replace
+
+    from heatdata.recognition.answers import Detection
+    from heatdata.segmentation.segment import Segment, Segmentation
+
+    frame = scene([(models["milk-carton"], 0.0, 0.0, 30.0)])
+    whole = hd.segment_frame(frame.depth, frame.intrinsics, frame.rgb)
+    (carton,) = whole.segments
+    # the carton cut in two down the middle of the image, as the segmenter cuts a drill's handle from its body
+    rows, cols = np.nonzero(carton.mask)
+    middle = int(np.median(cols))
+    pieces = []
+    for side in (
+        carton.mask & (np.arange(carton.mask.shape[1]) < middle),
+        carton.mask & ~(np.arange(carton.mask.shape[1]) < middle),
+    ):
+        keep = side[np.round(carton.view.pixels[:, 1]).astype(int), np.round(carton.view.pixels[:, 0]).astype(int)]
+        view = carton.view.submesh(keep, "one side")
+        r, c = np.nonzero(side)
+        pieces.append(
+            Segment(view, side, int(side.sum()), (c.min(), r.min(), c.max(), r.max()), view.vertices.mean(0), 0.1)
+        )
+    cut = Segmentation(whole.plane, pieces, coloured=True, depth=whole.depth)
+    answers = library.recognize_segments(cut)
+    # each half is unknown when its own pose is rejected (forced here): the two are tried together
+    rejected = [
+        Detection(
+            replace(d.recognition, pose=replace(d.recognition.pose, accepted=False)),
+            d.centroid,
+            d.pixels,
+            d.bbox,
+            [],
+            d.mask,
+        )
+        for d in answers.detections
+    ]
+    (joined,) = library._join_pieces(rejected, cut, 5, 0.0, False)
+    assert joined.object == "milk-carton" and joined.pixels == carton.mask.sum()
+    assert "two touching pieces joined" in joined.notes[0] and joined.bbox == carton.bbox
+    apart = Segmentation(whole.plane, [pieces[0]], coloured=True, depth=whole.depth)
+    assert len(library._join_pieces(rejected[:1], apart, 5, 0.0, False)) == 1  # nothing touches it: left alone
