@@ -6,7 +6,8 @@
         --realsense ../shared/realdata/ycb/frames --out docs/results/sensor_model.csv \\
         --figure docs/images/sensor_noise.png --crops docs/images/sensor_crops.png
 
-``--kinect`` is a folder of mOSD's layout (``<name>.depth.png``, ``<name>.rgb.png``, ``intrinsics.json``),
+``--kinect`` is a folder of mOSD's layout (``<name>.depth.png``, ``<name>.rgb.png``, ``<name>.labels.png``,
+``intrinsics.json``),
 ``--realsense`` one of the YCB frames' (``<name>-depth.png``, ``<name>-color.png``, ``meta.yml``). Each is compared
 with frames rendered through its profile (``kinect``, ``realsense``): the 14 embedded objects, three at a time on a
 table, at the distances and elevations of the real ones, stored as whole millimetres as the real PNGs are. The
@@ -23,6 +24,8 @@ import numpy as np
 import pandas as pd
 
 import heatdata as hd
+from heatdata.experiments.real_frames import read_labelled_frames
+from heatdata.experiments.real_recognition import frame_files
 from heatdata.experiments.scenes import TABLE_HEIGHT, object_pose, room
 from heatdata.experiments.sensor_model import fit_tau, measure_frame, pooled
 from heatdata.log import setup_logging
@@ -38,17 +41,15 @@ CAMERAS = {
 
 
 def real_frames(folder: Path, sensor: str):
-    """``(depth, intrinsics, rgb)`` of each frame of a folder in its sensor's layout."""
+    """``(depth, intrinsics, rgb)`` of each frame of a folder in its sensor's layout (mOSD's labelled frames, or the
+    YCB frames' ``<name>-depth.png`` with ``meta.yml``)."""
     if sensor == "kinect":
-        for depth in sorted(folder.glob("*.depth.png")):
-            name = depth.name[: -len(".depth.png")]
-            d, rgb, k = read_depth_frame(depth, folder / "intrinsics.json", folder / f"{name}.rgb.png")
-            yield d, k, rgb
+        for frame in read_labelled_frames(folder):
+            yield frame.depth, frame.intrinsics, frame.rgb
     else:
-        for depth in sorted(folder.glob("*-depth.png")):
-            name = depth.name[: -len("-depth.png")]
-            d, rgb, k = read_depth_frame(depth, folder / "meta.yml", folder / f"{name}-color.png")
-            yield d, k, rgb
+        for _, depth_path, color_path in frame_files(folder):
+            depth, rgb, k = read_depth_frame(depth_path, folder / "meta.yml", color_path)
+            yield depth, k, rgb
 
 
 def rendered_frames(sensor: str, count: int):
