@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -209,6 +210,7 @@ def cmd_recognize(args: argparse.Namespace) -> None:
             from heatdata.reporting.figures.scenes import detection_marks, save_overlay
 
             save_overlay(args.overlay, image, detection_marks(answer.detections, library.surfaces, intrinsics))
+            print(f"overlay written to {printable(str(args.overlay))}", file=sys.stderr)
         if args.json:
             print(dump_json({"frame": frames[0]["depth"], "library": str(args.library), **answer.to_dict()}))
             return

@@ -100,9 +100,9 @@ def check_numbers(value: Any, where: str = "") -> None:
 def run_catalog(config: dict[str, Any]) -> pd.DataFrame:
     """The catalogue rows of the objects the run uses, indexed by object id.
 
-    From ``sh3f.files``, ``models_dir`` or ``catalog`` (in that order), kept to ``objects``, with
-    ``color_twins`` added. Objects of a Sweet Home 3D library get ``path`` under ``results/models/``,
-    where rule ``extract_model`` writes them.
+    From ``sh3f.files``, ``models_dir`` or ``catalog`` (in that order), kept to ``objects`` and to the first
+    ``objects_limit``, with ``color_twins`` of those added. Objects of a Sweet Home 3D library get ``path`` under
+    ``results/models/``, where rule ``extract_model`` writes them.
 
     Parameters
     ----------
@@ -158,9 +158,13 @@ def run_catalog(config: dict[str, Any]) -> pd.DataFrame:
     if table.empty:
         raise ConfigError("no objects to process")
     twins = config["color_twins"]
-    if twins["objects"]:
+    twinned = twins["objects"]
+    if config.get("objects_limit"):
+        table = table.head(config["objects_limit"])
+        twinned = [o for o in twinned if o in set(table["object"])]
+    if twinned:
         try:
-            table = pd.concat([table, color_twins(table, twins["objects"], twins["hue"])], ignore_index=True)
+            table = pd.concat([table, color_twins(table, twinned, twins["hue"])], ignore_index=True)
         except HeatdataError as exc:
             raise ConfigError(f"color_twins: {exc}") from None
     if sh3f["files"]:  # each object (a twin too) is extracted to its own folder by rule extract_model
@@ -404,6 +408,9 @@ def check_stages(config: dict[str, Any], objects: list[str], specs: list[Descrip
                 "compact: alpha < 1 rewards distance to other objects (eq. 6.10); give two or more objects"
             )
     if config["comparison"]["enabled"]:
+        if config.get("objects_limit"):  # a run cut short draws the Isomaps of the objects it kept
+            kept = [o for o in config["comparison"]["isomap_objects"] if o in objects]
+            config["comparison"]["isomap_objects"] = kept or list(objects[:4])
         missing = sorted(set(config["comparison"]["isomap_objects"]) - set(objects))
         if missing:
             raise ConfigError(f"comparison.isomap_objects: {missing} are not among the run's objects")
@@ -447,7 +454,9 @@ def check_stages(config: dict[str, Any], objects: list[str], specs: list[Descrip
         raise ConfigError(f"library_sizes {too_large} exceed views.train = {views['train']} rendered views")
 
 
-def run_scenes(config: dict[str, Any], objects: list[str], specs: list[DescriptorSpec]) -> dict[str, Any]:
+def run_scenes(
+    config: dict[str, Any], objects: list[str], specs: list[DescriptorSpec], sizes: dict[str, list[float]] | None = None
+) -> dict[str, Any]:
     """The scenes of the run (config ``scenes``): each scene's objects, the libraries that recognize them.
 
     Parameters
@@ -458,24 +467,29 @@ def run_scenes(config: dict[str, Any], objects: list[str], specs: list[Descripto
         The run's objects.
     specs : list of DescriptorSpec
         The run's descriptors.
+    sizes : dict, optional
+        The objects' real sizes, ``{object: [width, height, depth]}`` m (:func:`heatdata.io.catalog.catalog_sizes`):
+        an object too large for the table (furniture) is left out of the scenes. An object without a size is
+        measured when its scene is rendered, and left out there.
 
     Returns
     -------
     dict
-        ``scenes`` (scene name -> its objects; empty when the stage is off), ``descriptors`` (the spec names whose
-        libraries recognize them), ``size`` (their library views per object) and ``primary`` (the descriptor drawn
-        in the overlays).
+        ``scenes`` (scene name -> its objects; empty when the stage is off or no object fits the table),
+        ``descriptors`` (the spec names whose libraries recognize them), ``size`` (their library views per object),
+        ``primary`` (the descriptor drawn in the overlays) and ``left_out`` (the objects too large for the table).
 
     Raises
     ------
     ConfigError
         A descriptor not among the run's, a library size the run does not build, a range given high to low.
     """
-    from heatdata.experiments.scenes import choose_objects
+    from heatdata.experiments.scenes import choose_objects, fits_table
 
     settings = config["scenes"]
+    off = {"scenes": {}, "descriptors": [], "size": None, "primary": None, "left_out": []}
     if not settings["enabled"]:
-        return {"scenes": {}, "descriptors": [], "size": None, "primary": None}
+        return off
     for key in ("objects", "distance", "elevation", "wall_gap"):
         low, high = settings[key]
         if low > high:
@@ -489,8 +503,13 @@ def run_scenes(config: dict[str, Any], objects: list[str], specs: list[Descripto
         raise ConfigError(f"scenes.library_size {size} is not one of library_sizes {config['library_sizes']}")
     descriptors = settings["descriptors"] or names
     primary = config["primary_descriptor"] if config["primary_descriptor"] in descriptors else descriptors[0]
-    scenes = {f"scene-{k:03d}": choose_objects(objects, settings, k) for k in range(settings["count"])}
-    return {"scenes": scenes, "descriptors": descriptors, "size": size, "primary": primary}
+    sizes = sizes or {}
+    left_out = [o for o in objects if o in sizes and not fits_table(sizes[o][0], sizes[o][2], settings["table"])]
+    fitting = [o for o in objects if o not in left_out]
+    if not fitting:
+        return {**off, "left_out": left_out}
+    scenes = {f"scene-{k:03d}": choose_objects(fitting, settings, k) for k in range(settings["count"])}
+    return {"scenes": scenes, "descriptors": descriptors, "size": size, "primary": primary, "left_out": left_out}
 
 
 def multiview_descriptor(config: dict[str, Any]) -> str:

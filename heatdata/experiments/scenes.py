@@ -123,6 +123,15 @@ def choose_objects(objects: list[str], settings: dict, index: int) -> list[str]:
     return [str(o) for o in rng.choice(sorted(objects), size=max(1, count), replace=False)]
 
 
+def fits_table(width: float, depth: float, table: list[float]) -> bool:
+    """Whether an object ``width`` x ``depth`` m across (its x and z extents) stands on ``table`` at any yaw.
+
+    Its footprint's circumscribed circle, :data:`EDGE_MARGIN` from each edge, must fit the ``[width, depth]`` top.
+    """
+    radius = 0.5 * float(np.hypot(width, depth))
+    return min(table) / 2 - radius - EDGE_MARGIN > 0
+
+
 def plan_scene(models: list[Model], settings: dict, index: int) -> dict:
     """Where scene ``index`` puts ``models`` on the table, and where its camera is (seeded, see the module).
 
@@ -139,21 +148,24 @@ def plan_scene(models: list[Model], settings: dict, index: int) -> dict:
     -------
     dict
         ``scene`` (its name), ``objects`` (``object, x, z, yaw``: the footprint's centre on the table and the turn
-        about +y in degrees), ``camera`` (``distance, elevation, azimuth, target``), ``wall_gap``, ``seed``.
+        about +y in degrees), ``camera`` (``distance, elevation, azimuth, target``), ``wall_gap``, ``seed``, and
+        ``left_out``: the models too large for the table (:func:`fits_table`), each with its size, not placed.
 
     Raises
     ------
     HeatdataError
-        An object that does not fit on the table, or objects that cannot be placed apart.
+        Objects that cannot be placed apart.
     """
     rng = np.random.default_rng(scene_seed(settings["seed"], index) + 1)
     width, depth = settings["table"]
     placed: list[dict] = []
+    left_out = []
     for model in models:
         radius = 0.5 * float(np.hypot(model.extents[0], model.extents[2]))
+        if not fits_table(model.extents[0], model.extents[2], settings["table"]):
+            left_out.append(f"{model.name} ({2 * radius:.2f} m across)")
+            continue
         half_x, half_z = width / 2 - radius - EDGE_MARGIN, depth / 2 - radius - EDGE_MARGIN
-        if half_x <= 0 or half_z <= 0:
-            raise HeatdataError(f"{model.name} ({2 * radius:.2f} m across) does not fit on a {width} x {depth} m table")
         for _ in range(200):
             x, z = rng.uniform(-half_x, half_x), rng.uniform(-half_z, half_z)
             if all(np.hypot(x - p["x"], z - p["z"]) >= radius + p["radius"] + GAP for p in placed):
@@ -175,6 +187,7 @@ def plan_scene(models: list[Model], settings: dict, index: int) -> dict:
         },
         "wall_gap": float(rng.uniform(*settings["wall_gap"])),
         "seed": scene_seed(settings["seed"], index),
+        "left_out": left_out,
     }
 
 
@@ -609,6 +622,9 @@ def render_scene_files(rows: list[dict], settings: dict, index: int, depth_path:
 
     models = {row["object"]: load_catalog_model(row) for row in rows}
     plan = plan_scene(list(models.values()), settings, index)
+    if plan["left_out"]:
+        log.warning("%s: left out, too large for the %g x %g m table: %s", plan["scene"], *settings["table"],
+                    ", ".join(plan["left_out"]))  # fmt: skip
     frame, truth = render_planned_scene(plan, models, settings)
     write_scene(frame, truth, depth_path)
     seen = ", ".join(f"{o['object']} ({o['pixels']} px)" for o in truth["objects"])

@@ -14,6 +14,7 @@ from heatdata.descriptors import DescriptorSpec, file_name
 from heatdata.experiments.config import CONFUSION_PATTERN
 from heatdata.io.catalog import read_catalog
 from heatdata.io.tables import read_table
+from heatdata.recognition.library import uses_colour
 from heatdata.recognition.metrics import precision_table
 from heatdata.reporting.figures.common import RENDERED_NOTE
 from heatdata.reporting.figures.recognition import (
@@ -42,13 +43,17 @@ def draw_report(
     primary: str,
     config: dict,
     libraries: list[str] | None = None,
+    scenes_path=None,
+    scene_frame: str | None = None,
 ) -> None:
     """Workflow step: the report's figures, tables and summary.
 
     ``output`` has ``precision, precision_table, confusion, view_angles, isomap, curves,
     misclassified, views, global_derivative, summary, summary_html``. The confusion
     folder holds an object and a class confusion matrix per descriptor and library size
-    (:data:`CONFUSION_PATTERN`); ``libraries`` are the run's library files, listed in the summary.
+    (:data:`CONFUSION_PATTERN`); ``libraries`` are the run's library files, listed in the summary;
+    ``scenes_path`` the scenes' summary (:func:`heatdata.experiments.scenes.scene_summary`), which the summary leads
+    with, and ``scene_frame`` the depth PNG of its first scene, the example of its ``recognize`` command.
     """
     counts, _ = read_table(descriptors_path, columns=["object", "view_id", "n_vertices"])
     predictions, _ = read_table(predictions_path)
@@ -95,7 +100,8 @@ def draw_report(
             [("", "text", ["Columns: library views per object. " + RENDERED_NOTE]), ("", "table", table)],
         )
     )
-    sections = summary_sections(counts, catalog, table, config, libraries or [])
+    scenes = pd.read_csv(scenes_path) if scenes_path else None
+    sections = summary_sections(counts, catalog, table, config, libraries or [], scenes, scene_frame)
     Path(output.summary).write_text(markdown("heatdata run", sections))
     Path(output.summary_html).write_text(html_page("heatdata run", sections))
 
@@ -176,12 +182,68 @@ def class_note(catalog: pd.DataFrame) -> list[str]:
     return []
 
 
+def _percent(value: float) -> str:
+    return "" if pd.isna(value) else f"{100 * value:.1f}"
+
+
+def scenes_table(scenes: pd.DataFrame) -> pd.DataFrame:
+    """The summary's scenes table: per library, objects found, named right, named and sure, poses, time."""
+    return pd.DataFrame(
+        {
+            "library (descriptor)": scenes["descriptor"],
+            "objects found %": scenes["recall"].map(_percent),
+            "named right %": scenes["naming"].map(_percent),
+            "named right and sure %": scenes["named_sure"].map(_percent),
+            "poses within 10% %": scenes["pose_add_s"].map(_percent),
+            "s per frame": scenes["median_seconds"].map(lambda v: f"{v:.2f}"),
+        }
+    )
+
+
+def best_library(table: pd.DataFrame, config: dict, scenes: pd.DataFrame | None = None) -> str:
+    """The descriptor whose largest library to recognize with: the most objects named right and sure in the
+    scenes (found times named), else the best object precision at the largest library size; ties go to the order
+    of the run's descriptors, the primary first."""
+    order = [config["primary_descriptor"]] + [
+        DescriptorSpec.from_dict(d).name for d in config["descriptors"] if DescriptorSpec.from_dict(d).name
+        != config["primary_descriptor"]
+    ]  # fmt: skip
+    if scenes is not None and len(scenes):
+        score = dict(zip(scenes["descriptor"], (scenes["recall"] * scenes["named_sure"]).fillna(0)))
+    else:
+        largest = f"{max(config['library_sizes'])} views"
+        rows = table[table["precision"] == "object"]
+        score = dict(zip(rows["descriptor"], rows[largest].astype(float)))
+    candidates = [name for name in order if name in score]
+    return max(candidates, key=lambda name: (score[name], -candidates.index(name)))
+
+
+def recognize_command(descriptor: str, config: dict, frame: str | None = None) -> str:
+    """The ``heatdata recognize`` command for a frame (``frame``: a depth PNG with its ``.json`` and ``.rgb.png``
+    beside it; else placeholders) against ``descriptor``'s largest library, with ``--rgb`` when it compares colour."""
+    spec = next(s for s in map(DescriptorSpec.from_dict, config["descriptors"]) if s.name == descriptor)
+    library = f"{config['results']}/libraries/{file_name(descriptor)}-{max(config['library_sizes'])}.parquet"
+    stem = frame[: -len(".png")] if frame else None
+    depth, intrinsics, rgb = (frame, f"{stem}.json", f"{stem}.rgb.png") if frame else (
+        "depth.png", "camera.json", "rgb.png")  # fmt: skip
+    colour = f" --rgb {rgb}" if uses_colour(spec) else ""
+    return f"heatdata recognize {depth} --intrinsics {intrinsics}{colour} --library {library}"
+
+
 def summary_sections(
-    counts: pd.DataFrame, catalog: pd.DataFrame, table: pd.DataFrame, config: dict, libraries: list[str] | None = None
+    counts: pd.DataFrame,
+    catalog: pd.DataFrame,
+    table: pd.DataFrame,
+    config: dict,
+    libraries: list[str] | None = None,
+    scenes: pd.DataFrame | None = None,
+    scene_frame: str | None = None,
 ) -> list:
     """The run summary as ``(heading, form, body)`` sections (form: text, list, table or yaml).
 
-    ``libraries``: the run's library files (``results/libraries/``), which ``heatdata recognize`` reads.
+    ``libraries``: the run's library files (``results/libraries/``), which ``heatdata recognize`` reads;
+    ``scenes``: the scenes' summary (one row per descriptor), which the summary leads with; ``scene_frame``: the
+    first scene's depth PNG, the example frame of the ``recognize`` command.
 
     Rendered by :func:`markdown` (``summary.md``) and :func:`html_page` (the report).
     """
@@ -201,13 +263,27 @@ def summary_sections(
     library_notes = [
         f"`{path}`" + (" (the primary descriptor)" if primary_library(path, config) else "") for path in libraries or []
     ]
-    if library_notes:
-        library_notes.append(
-            "Recognize a depth frame against one: `heatdata recognize depth.png --intrinsics camera.json "
-            f"--library {(libraries or [''])[0]}` (a folder of frames with `--moves`: a sequence, thesis ch. 4)."
-        )
+    best = best_library(table, config, scenes)
+    why = "names the most scene objects right and sure" if scenes is not None and len(scenes) else (
+        "has the best object precision")  # fmt: skip
+    recognize = [
+        f"The best library of this run is **{best}** at {max(config['library_sizes'])} views per object: it {why}.",
+        f"`{recognize_command(best, config, scene_frame)}`",
+        "A folder of frames with `--moves` is followed as a sequence (thesis ch. 4); `--overlay out.png` draws the "
+        "answer on the frame.",
+    ]
+    scene_sections = []
+    if scenes is not None and len(scenes):
+        scene_sections = [(
+            f"Scenes: the run's objects on a table ({int(scenes['scenes'].max())} frames, "
+            f"{int(scenes['objects'].max())} objects), found, named and posed",
+            "table",
+            scenes_table(scenes),
+        )]  # fmt: skip
     return [
         ("", "text", [RENDERED_NOTE, *class_note(catalog)]),
+        *scene_sections,
+        ("Recognize with", "list", recognize),
         ("Run", "list", facts),
         ("Precision (%, all test views; columns: library views per object)", "table", table),
         *([("Libraries (recognize new views against them)", "list", library_notes)] if library_notes else []),

@@ -54,8 +54,9 @@ def test_a_scene_is_the_same_whatever_else_the_run_holds_and_its_objects_stand_a
         assert 0.8 <= camera["distance"] <= 1.5 and 20 <= camera["elevation"] <= 50
     singles = [choose_objects(OBJECTS, {**SCENE_DEFAULTS, "objects": [1, 1]}, k) for k in range(8)]
     assert all(len(one) == 1 for one in singles) and len({one[0] for one in singles}) > 1
-    with pytest.raises(hd.HeatdataError, match="does not fit"):
-        plan_scene([models["bread"]], {**SCENE_DEFAULTS, "table": [0.2, 0.2]}, 0)
+    small_table = plan_scene([models["bread"], models["coffee-cup"]], {**SCENE_DEFAULTS, "table": [0.25, 0.25]}, 0)
+    assert [o["object"] for o in small_table["objects"]] == ["coffee-cup"]
+    assert small_table["left_out"] == [f"bread ({np.hypot(*models['bread'].extents[[0, 2]]):.2f} m across)"]
 
 
 def test_the_truth_matches_the_frame_and_the_files_read_back(models, tmp_path):
@@ -151,6 +152,11 @@ def test_the_scenes_config_is_checked_before_any_job():
     assert plan["descriptors"] == [s.name for s in specs]
     off = run_scenes({**config, "scenes": {**config["scenes"], "enabled": False}}, OBJECTS, specs)
     assert off["scenes"] == {}
+    furniture = {OBJECTS[0]: [0.9, 1.0, 0.6], OBJECTS[1]: [0.1, 0.2, 0.1]}  # a chair, a cup
+    some = run_scenes(config, OBJECTS, specs, furniture)
+    assert some["left_out"] == [OBJECTS[0]] and all(OBJECTS[0] not in objects for objects in some["scenes"].values())
+    chairs = run_scenes(config, OBJECTS[:1], specs, furniture)
+    assert chairs["scenes"] == {} and chairs["left_out"] == [OBJECTS[0]]
     bad = [
         ({"descriptors": ["esf"]}, "not among the run's descriptors"),
         ({"library_size": 12}, "not one of library_sizes"),

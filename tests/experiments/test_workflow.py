@@ -876,6 +876,21 @@ def test_scenes_are_rendered_recognized_scored_and_drawn(tiny_run, capsys):
     assert all(o["pose"] is None or len(o["pose"]["matrix"]) == 4 for o in answer["objects"])
 
 
+@pytest.mark.slow
+def test_the_summary_leads_with_the_scenes_and_its_recognize_command_runs(tiny_run, capsys, monkeypatch):
+    import shlex
+
+    from heatdata.cli import main
+
+    summary = (tiny_run / "results" / "summary.md").read_text()
+    assert summary.index("## Scenes") < summary.index("## Recognize with") < summary.index("## Run")
+    command = shlex.split(summary.split("## Recognize with", 1)[1].split("`")[1])
+    assert command[:2] == ["heatdata", "recognize"] and command[command.index("--rgb") + 1].endswith(".rgb.png")
+    monkeypatch.chdir(tiny_run)  # the summary's paths are the run's, from where snakemake ran
+    assert main([*command[1:], "--json"]) == 0
+    assert capsys.readouterr().out.lstrip().startswith("{")
+
+
 # -- libraries and `heatdata recognize` (issue 33) -----------------------------------------------------------
 
 

@@ -187,7 +187,8 @@ def test_the_command_answers_for_each_object_draws_them_and_says_when_there_is_n
     frame = scene([(models["milk-carton"], -0.2, 0.0, 30.0), (models["beer-mug"], 0.2, 0.1, 200.0)])
     command = ["recognize", *write_frame(frame, tmp_path), "--library", library.path]
     assert main([*command, "--overlay", str(tmp_path / "overlay.png")]) == 0
-    out = capsys.readouterr().out
+    out, err = capsys.readouterr()
+    assert f"overlay written to {tmp_path / 'overlay.png'}" in err
     assert "objects on the support plane" in out and "milk-carton" in out and "beer-mug" in out
     assert "centroid x y z (m)" in out and "frame: support plane" in out
     overlay = np.asarray(Image.open(tmp_path / "overlay.png"))

@@ -6,7 +6,7 @@ from conftest import ROOT
 
 import heatdata as hd
 from heatdata.io.tables import ABLATION_COLUMNS, read_ablation
-from heatdata.reporting.pages import ablation_page, front_page, precision_by_size
+from heatdata.reporting.pages import ablation_page, best_library, front_page, precision_by_size, recognize_command
 
 
 def documented_ablation_rows() -> list[list[str]]:
@@ -66,3 +66,35 @@ def test_the_landing_summary_shows_object_precision_primary_first_and_the_scenes
     assert page.count("<tr>") == 2 and "87.5" in page and "5 views" in page and "40 views" in page
     assert "title='scene-000' src='data:image/png;base64,cG5nIGJ5dGVz'" in page and "not real sensor data" in page
     assert "<img" not in front_page(table, "pvhk")  # no scenes, no overlays
+
+
+CONFIG = {
+    "results": "results",
+    "library_sizes": [40, 8],
+    "primary_descriptor": "hgd/color=hue-saturation",
+    "descriptors": [{"kind": "hgd", "color": "hue-saturation"}, {"kind": "esf"}],
+}
+
+
+def test_the_best_library_is_the_scenes_best_else_the_best_precision_ties_to_the_primary():
+    table = pd.DataFrame(
+        {"precision": ["object", "object"], "descriptor": ["hgd/color=hue-saturation", "esf"],
+         "8 views": ["90.0", "95.0"], "40 views": ["99.0", "99.0"]}
+    )  # fmt: skip
+    assert best_library(table, CONFIG) == "hgd/color=hue-saturation"  # a tie at 40 views: the primary
+    assert best_library(table, {**CONFIG, "library_sizes": [8]}) == "esf"
+    scenes = pd.DataFrame(
+        {"descriptor": ["hgd/color=hue-saturation", "esf"], "recall": [1.0, 1.0], "named_sure": [0.5, 0.75]}
+    )
+    assert best_library(table, CONFIG, scenes) == "esf"
+
+
+def test_the_recognize_command_names_the_frame_files_and_gives_colour_to_a_colour_library():
+    frame = "results/scenes/frames/scene-000.png"
+    assert recognize_command("hgd/color=hue-saturation", CONFIG, frame) == (
+        "heatdata recognize results/scenes/frames/scene-000.png --intrinsics results/scenes/frames/scene-000.json "
+        "--rgb results/scenes/frames/scene-000.rgb.png --library results/libraries/hgd_color=hue-saturation-40.parquet"
+    )
+    assert recognize_command("esf", CONFIG) == (
+        "heatdata recognize depth.png --intrinsics camera.json --library results/libraries/esf-40.parquet"
+    )

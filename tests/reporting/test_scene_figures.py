@@ -9,7 +9,7 @@ from PIL import Image
 
 import heatdata as hd
 from heatdata.recognition.pose import sample_surface
-from heatdata.reporting.figures.scenes import Mark, known_curve, overlay_image, pose_outline
+from heatdata.reporting.figures.scenes import Mark, known_curve, legend_lines, overlay_image, pose_outline
 from heatdata.reporting.pages import scenes_page
 
 
@@ -29,6 +29,19 @@ def test_a_posed_models_outline_rings_where_it_projects():
     assert not pose_outline(behind, surface, k).any()  # behind the camera: nothing
     picture = np.asarray(overlay_image(np.zeros((480, 640, 3), np.uint8), [Mark(None, (0, 0, 1, 1), "", outline)]))
     assert (picture[outline] > 0).any(axis=1).all()
+
+
+def test_the_overlay_has_a_legend_of_what_its_marks_show():
+    found = Mark(None, (10, 10, 60, 60), "1 beer-mug (0.91)")
+    assert legend_lines([found]) == ["tint and box: an object found on the table; its number, name and (confidence)"]
+    outline = np.zeros((480, 640), bool)
+    outline[100, 100:200] = True
+    marks = [found, Mark(None, (100, 100, 200, 200), "2 unknown [milk-carton]", outline)]
+    assert [line.split(":")[0] for line in legend_lines(marks)] == ["tint and box", "unknown", "[name]", "outline"]
+    picture = np.asarray(overlay_image(np.zeros((480, 640, 3), np.uint8), marks))
+    corner = picture[400:, :320]
+    assert (corner > 128).all(axis=2).sum() > 300  # the legend's white text, bottom left
+    assert not np.asarray(overlay_image(np.zeros((480, 640, 3), np.uint8), [])).any()  # nothing found: no legend
 
 
 def scores():

@@ -1,6 +1,7 @@
 # Shared values of the rules: the run's objects, descriptors, pairs and captures, checked before any job runs
 # (heatdata.experiments.config, so that the tests call the same checks). No plotting or stitching is imported here.
 import json
+import sys
 
 import jsonschema
 
@@ -37,7 +38,13 @@ try:
     OBJECTS = CATALOG.index.tolist()
     check_stages(config, OBJECTS, SPECS)
     CAPTURES = run_captures(config, OBJECTS)  # object -> its captured frames
-    SCENES = run_scenes(config, OBJECTS, SPECS)  # the scenes' objects, the libraries that recognize them
+    SCENES = run_scenes(config, OBJECTS, SPECS, catalog_sizes(CATALOG))  # the scenes' objects, their libraries
+    if SCENES["left_out"]:
+        width, depth = config["scenes"]["table"]
+        print(f"scenes: {len(SCENES['left_out'])} of {len(OBJECTS)} objects are too large for the {width} x {depth} m "
+              f"table and left out of the scenes ({', '.join(SCENES['left_out'][:5])}"
+              f"{', ...' if len(SCENES['left_out']) > 5 else ''}){'; no scenes' if not SCENES['scenes'] else ''}",
+              file=sys.stderr)
     REAL_FRAMES = real_frame_folders(config["real_frames"]["folders"])  # name -> folder of labelled frames
 except ConfigError as exc:
     raise WorkflowError(f"config error: {exc}") from None

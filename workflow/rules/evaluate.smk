@@ -55,6 +55,7 @@ rule report_figures:
         catalog=f"{RESULTS}/catalog.csv",
         views=expand(f"{RESULTS}/views/{{object}}.parquet", object=OBJECTS),  # misclassified views and neighbours
         models=[model_input(obj) for obj in OBJECTS[:8]],  # the objects drawn in views.png
+        scenes=[f"{RESULTS}/scenes/summary.csv"] if SCENES["scenes"] else [],  # the summary leads with them
     output:
         summary_html=report(f"{RESULTS}/figures/summary.html", caption="../report/summary.rst", category="Run"),
         precision=report(f"{RESULTS}/figures/precision.png", caption="../report/precision.rst",
@@ -78,6 +79,7 @@ rule report_figures:
         primary=config["primary_descriptor"],
         config=config,
         libraries=LIBRARIES,
+        scene_frame=f"{RESULTS}/scenes/frames/{next(iter(SCENES['scenes']))}.png" if SCENES["scenes"] else None,
         version=VERSION,
     log:
         f"{RESULTS}/logs/report_figures.log",

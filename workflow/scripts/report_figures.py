@@ -14,4 +14,6 @@ draw_report(
     primary=snakemake.params.primary,
     config=snakemake.params.config,
     libraries=snakemake.params.libraries,
+    scenes_path=snakemake.input.scenes[0] if snakemake.input.scenes else None,
+    scene_frame=snakemake.params.scene_frame,
 )

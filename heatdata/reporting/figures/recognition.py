@@ -23,43 +23,72 @@ from heatdata.reporting.figures.common import (
 matplotlib.use("Agg")
 
 
+MARKERS = "osD^vPX<>*"
+DODGE = 0.035  # of the step between library sizes: lines of equal precision drawn side by side, not over each other
+
+
 def plot_precision(precision: pd.DataFrame, path: str | Path, primary: str | None = None) -> None:
     """Object precision (%) against library size: every test view per descriptor, and per object (Fig. 3.7, 5.13).
 
-    The per-object panel shows ``primary`` (default: the descriptor with the best precision).
+    The left panel draws each descriptor's line a little apart (:data:`DODGE`) with its own marker, so that equal
+    precisions stay visible, and names them in a legend below the axes. The right panel shows ``primary`` (default:
+    the descriptor with the best precision) per object: a grid of numbers for up to
+    :data:`~heatdata.reporting.figures.common.MAX_LEGEND_OBJECTS` objects, else every object's grey line and their
+    median. Precision axes run within [0, 100%].
     """
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 5.2))
     overall = precision[(precision["group"] == "all") & (precision["level"] == "object")]
     sizes = sorted(overall["library_size"].unique())
-    for name, rows in overall.groupby("descriptor"):
-        rows = rows.sort_values("library_size")
-        left.plot(rows["library_size"], 100 * rows["precision"], "o-", label=name)
+    at = {size: k for k, size in enumerate(sizes)}
+    names = list(dict.fromkeys(overall["descriptor"]))
+    for k, name in enumerate(names):
+        rows = overall[overall["descriptor"] == name].sort_values("library_size")
+        x = rows["library_size"].map(at) + DODGE * (k - (len(names) - 1) / 2)
+        left.plot(x, 100 * rows["precision"], marker=MARKERS[k % len(MARKERS)], label=name, clip_on=False)
     left.set_ylabel("object precision, all test views (%)")
-    left.legend(fontsize=7)
+    left.set_ylim(_percent_floor(overall["precision"]), 100)
+    left.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
     primary = primary or overall.sort_values("precision").iloc[-1]["descriptor"]
     objects = precision[
         (precision["level"] == "object") & (precision["group"] != "all") & (precision["descriptor"] == primary)
     ]
-    right.set_prop_cycle(color=plt.cm.tab20.colors)
     count = objects["group"].nunique()
-    many = count > MAX_LEGEND_OBJECTS  # then grey lines and their median, no legend of names
-    for name, rows in objects.groupby("group"):
-        rows = rows.sort_values("library_size")
-        style = {"color": "grey", "alpha": 0.35, "lw": 0.8} if many else {"label": name}
-        right.plot(rows["library_size"], 100 * rows["precision"], ".-", **style)
-    if many:
+    if count <= MAX_LEGEND_OBJECTS:
+        grid = objects.pivot_table(index="group", columns="library_size", values="precision").reindex(columns=sizes)
+        image = right.imshow(100 * grid.to_numpy(), cmap="RdYlGn", vmin=_percent_floor(grid.stack()), vmax=100,
+                             aspect="auto")  # fmt: skip
+        for (row, column), value in np.ndenumerate(100 * grid.to_numpy()):
+            if np.isfinite(value):
+                right.text(column, row, f"{value:.0f}", ha="center", va="center", fontsize=7)
+        right.set_yticks(range(len(grid)), grid.index, fontsize=7)
+        right.set_title(f"object precision per object (%): {primary}", fontsize=9)
+        fig.colorbar(image, ax=right, format=PercentFormatter(100, decimals=0), fraction=0.05)
+    else:
+        for _, rows in objects.groupby("group"):
+            rows = rows.sort_values("library_size")
+            right.plot(rows["library_size"].map(at), 100 * rows["precision"], ".-", color="grey", alpha=0.35, lw=0.8,
+                       clip_on=False)  # fmt: skip
         median = objects.groupby("library_size")["precision"].median()
-        right.plot(
-            median.index, 100 * median, "o-", color="black", lw=2, label=f"median of {count} objects (grey: each)"
-        )
-    right.set_ylabel(f"object precision per object (%)\n{primary}", fontsize=9)
-    right.legend(fontsize=6 if not many else 8, ncol=1 if many else 2)
+        right.plot(median.index.map(at), 100 * median, "o-", color="black", lw=2, clip_on=False,
+                   label=f"median of {count} objects (grey: each)")  # fmt: skip
+        right.set_ylabel(f"object precision per object (%)\n{primary}", fontsize=9)
+        right.set_ylim(_percent_floor(objects["precision"]), 100)
+        right.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
+        right.yaxis.set_major_formatter(PercentFormatter(100, decimals=0))
+        right.grid(alpha=0.3)
     for ax in (left, right):
-        ax.set_xticks(sizes, [str(s) for s in sizes])
+        ax.set_xticks(range(len(sizes)), [str(s) for s in sizes])
         ax.set_xlabel("library views per object")
-        ax.yaxis.set_major_formatter(PercentFormatter(100, decimals=0))
-        ax.grid(alpha=0.3)
+    left.set_xlim(-0.5, len(sizes) - 0.5)
+    left.yaxis.set_major_formatter(PercentFormatter(100, decimals=0))
+    left.grid(alpha=0.3)
     _save(fig, path)
+
+
+def _percent_floor(shares: pd.Series) -> float:
+    """The bottom of a precision axis in %: 5 points below the least share, down to a multiple of 5, at least 0."""
+    least = 100 * float(np.nanmin(shares)) if len(shares) else 0.0
+    return max(0.0, 5 * np.floor((least - 5) / 5))
 
 
 POSITION_LABELS = {

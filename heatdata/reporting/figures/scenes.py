@@ -129,8 +129,36 @@ def row_marks(
     return marks
 
 
+def legend_lines(marks: list[Mark]) -> list[str]:
+    """What the overlay's legend explains: the tinted box and its label, and, where the marks show them, the
+    unknown answer, the true object in brackets and the posed model's outline."""
+    lines = ["tint and box: an object found on the table; its number, name and (confidence)"]
+    if any(" unknown" in mark.text for mark in marks):
+        lines.append("unknown: unsure, or no pose of a library object fits it")
+    if any("[" in mark.text for mark in marks):
+        lines.append("[name]: the true object, where the answer differs")
+    if any(mark.outline is not None for mark in marks):
+        lines.append("outline: the named object's model at its verified pose")
+    return lines
+
+
+def _draw_legend(draw: ImageDraw.ImageDraw, picture: Image.Image, lines: list[str]) -> None:
+    """The legend in the frame's bottom-left corner, white on a dark box."""
+    font = ImageFont.load_default(size=max(10, picture.height // 40))
+    heights = [draw.textbbox((0, 0), line, font=font) for line in lines]
+    width = max(right - left for left, _, right, _ in heights) + 8
+    height = sum(bottom - top + 3 for _, top, _, bottom in heights) + 6
+    top = picture.height - height - 4
+    draw.rectangle((4, top, 4 + width, top + height), fill=(0, 0, 0))
+    y = top + 3
+    for line, (_, line_top, _, line_bottom) in zip(lines, heights):
+        draw.text((8, y - line_top), line, fill=(255, 255, 255), font=font)
+        y += line_bottom - line_top + 3
+
+
 def overlay_image(image: np.ndarray, marks: list[Mark]) -> Image.Image:
-    """The frame with each mark's pixels tinted, its box drawn and its label written above it.
+    """The frame with each mark's pixels tinted, its box drawn and its label written above it, and a legend
+    (:func:`legend_lines`) in the bottom-left corner.
 
     Parameters
     ----------
@@ -163,6 +191,8 @@ def overlay_image(image: np.ndarray, marks: list[Mark]) -> Image.Image:
         x = max(0, min(u0, picture.width - (right - left) - 4))  # the label stays inside the frame
         draw.rectangle((x, y, x + right - left + 4, y + bottom - top + 4), fill=(0, 0, 0))
         draw.text((x + 2, y + 2 - (top - v0)), mark.text, fill=tint, font=font)
+    if marks:
+        _draw_legend(draw, picture, legend_lines(marks))
     return picture
 
 
