@@ -5,6 +5,17 @@ so a failed batch job can be traced to its input without a debugger.
 """
 
 
+def did_you_mean(word: object, choices) -> str:
+    """`` (did you mean X?)`` for the choice nearest a mistyped ``word`` (difflib's ratio 0.6 or more), else ``""``:
+    the tail of an error that names a library, descriptor, kind or object that does not exist."""
+    import difflib
+
+    if not isinstance(word, str):
+        return ""
+    near = difflib.get_close_matches(word, [str(c) for c in choices], n=1, cutoff=0.6)
+    return f" (did you mean {near[0]}?)" if near else ""
+
+
 class HeatdataError(Exception):
     """Base class of every error heatdata raises on purpose."""
 

@@ -36,8 +36,8 @@ from heatdata.descriptors import (
     DescriptorSpec,
     describe,
 )
-from heatdata.descriptors.base import article
-from heatdata.errors import HeatdataError, Terminated
+from heatdata.descriptors.base import article, kind_of
+from heatdata.errors import HeatdataError, Terminated, did_you_mean
 from heatdata.io.files import check_output
 from heatdata.io.tables import (
     DESCRIPTOR_SCHEMA,
@@ -225,6 +225,14 @@ def cmd_describe(args: argparse.Namespace) -> None:
     print(dump_json(out))
 
 
+def _kind_name(name: str) -> str:
+    """argparse's check of ``--kind``: a registered kind, else an error with the nearest name."""
+    try:
+        return kind_of(name).name
+    except HeatdataError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
 def add_describe(sub) -> None:
     """The ``describe`` command's arguments."""
     desc = sub.add_parser(
@@ -243,8 +251,8 @@ def add_describe(sub) -> None:
     desc.add_argument("--color-map", default=None, help=f"c1, c2, c3, c4, hue or sat-hue: compute a {COLOR_KIND}")
     desc.add_argument(
         "--kind",
-        choices=list(KINDS),
-        help=f"default: the default descriptor ({DEFAULT_DESCRIPTOR.name}); a {DEFAULT_KIND} with --samples, "
+        type=_kind_name,
+        help=f"one of {', '.join(KINDS)}; default: the default descriptor ({DEFAULT_DESCRIPTOR.name}); a {DEFAULT_KIND} with --samples, "
         f"--source or --sampling, a {COLOR_KIND} with --color-map, a {THRESHOLD_KIND} with --threshold; "
         "'heatdata kinds' lists every kind and its options",
     )
@@ -271,7 +279,9 @@ def cmd_classify(args: argparse.Namespace) -> None:
     unknown = sorted(set(names) - set(descriptors["descriptor"]))
     if unknown:
         known = sorted(set(descriptors["descriptor"]))
-        raise HeatdataError(f"{args.descriptors}: no descriptor {unknown}; it has {known}")
+        raise HeatdataError(
+            f"{args.descriptors}: no descriptor {unknown}{did_you_mean(unknown[0], known)}; it has {known}"
+        )
     train = descriptors[descriptors["split"] == "train"].groupby("object")["azimuth"].nunique()
     sizes = args.library_size or [None]
     jobs = [(name, size) for name in names for size in sizes]

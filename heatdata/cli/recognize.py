@@ -11,7 +11,7 @@ import pandas as pd
 
 from heatdata.cli.arguments import dump_json, frame_arguments, number, segment_arguments, segment_settings
 from heatdata.descriptors import DEFAULT_DESCRIPTOR, file_name
-from heatdata.errors import HeatdataError
+from heatdata.errors import HeatdataError, did_you_mean
 from heatdata.io.files import check_output, require_file
 from heatdata.log import printable
 from heatdata.recognition.multiview.filters import MAX_PARTICLES
@@ -256,7 +256,7 @@ def _library_file(given: Path | None) -> Path:
     what = what if given is None else "no such library"
     found = sorted(p.name for p in path.parent.glob("*.parquet")) if path.parent.is_dir() else []
     if found:
-        raise HeatdataError(f"{path}: {what}; {path.parent} holds {', '.join(found)}")
+        raise HeatdataError(f"{path}: {what}{did_you_mean(path.name, found)}; {path.parent} holds {', '.join(found)}")
     raise HeatdataError(f"{path}: {what}; build the libraries with snakemake --cores 2 (the main job)")
 
 

@@ -7,6 +7,7 @@ import logging
 from pathlib import Path
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from heatdata.cli.arguments import dump_json, number
 from heatdata.errors import HeatdataError
@@ -23,6 +24,7 @@ from heatdata.jasnom.defaults import (
     SCAN_ROBUST,
     TABLE,
 )
+from heatdata.log import printable
 
 log = logging.getLogger("heatdata")
 
@@ -89,7 +91,41 @@ def cmd_stitch(args: argparse.Namespace) -> None:
         "translation": np.round(a.translation, 6).tolist(),
         "seconds": round(a.seconds, 2),
     }
-    print(dump_json(summary))
+    print(dump_json(summary) if args.json else stitch_table(summary))
+
+
+def stitch_table(summary: dict) -> str:
+    """The terminal's answer of ``heatdata stitch``: what was written, the motion, the costs and the seam, a line
+    each (``--json`` prints ``summary`` itself)."""
+    rotation = Rotation.from_matrix(np.asarray(summary["rotation"]))
+    axis_angle = rotation.as_rotvec()
+    degrees = float(np.degrees(np.linalg.norm(axis_angle)))
+    axis = axis_angle / np.linalg.norm(axis_angle) if degrees > 0 else np.array([0.0, 0.0, 1.0])
+    runner_up = "none tried" if summary["runner_up"] is None else f"{summary['runner_up']:.4g}"
+    verdicts = [word for word in ("ambiguous", "poor") if summary[word]]
+    rows = [
+        ("model", f"{printable(summary['model'])}: {summary['vertices']} vertices, {summary['faces']} faces"),
+        (
+            "motion",
+            f"turn {degrees:.1f} deg about ({axis[0]:+.3f} {axis[1]:+.3f} {axis[2]:+.3f}), then move "
+            "({:+.4f} {:+.4f} {:+.4f}) m".format(*summary["translation"]),
+        ),
+        (
+            "cost J",
+            f"{summary['cost']:.4g} (boundary {summary['edge_cost']:.4g}, interpenetration "
+            f"{summary['crossing_cost']:.4g}, crease {summary['crease_cost']:.4g}, table "
+            f"{summary['table_cost']:.4g}); runner-up {runner_up}",
+        ),
+        (
+            "seam",
+            f"mean gap {summary['mean_gap']:.4g} m ({100 * summary['mean_gap_of_size']:.2f}% of the size); "
+            f"boundary loops {summary['boundaries'][0]} and {summary['boundaries'][1]}; "
+            f"{summary['strip_faces']} faces of strip",
+        ),
+        ("verdict", ", ".join(verdicts) + " (see the warnings above)" if verdicts else "clear"),
+        ("time", f"{summary['seconds']:.2f} s"),
+    ]
+    return "\n".join(f"{name:<8} {value}" for name, value in rows)
 
 
 def _depth_frames(args: argparse.Namespace) -> bool:
@@ -138,6 +174,7 @@ def add_stitch(sub) -> None:
     )
     join.add_argument("second", type=Path, help="the mesh moved onto it; with --scans, a frame of the object flipped")
     join.add_argument("-o", "--out", type=Path, required=True, help="the stitched mesh (.ply keeps vertex colours)")
+    join.add_argument("--json", action="store_true", help="print the motion, costs and seam as JSON, for programs")
     join.add_argument(
         "--alpha",
         type=number(positive=True),

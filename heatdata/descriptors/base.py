@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from heatdata.core.distances import Nearest
-from heatdata.errors import HeatdataError, SpecError, ViewError
+from heatdata.errors import HeatdataError, SpecError, ViewError, did_you_mean
 
 log = logging.getLogger(__name__)
 
@@ -274,7 +274,9 @@ def kind_of(name: str) -> Kind:
     try:
         return KINDS[name]
     except (KeyError, TypeError):
-        raise SpecError(f"unknown descriptor kind {name!r} (use one of {', '.join(KINDS)})") from None
+        raise SpecError(
+            f"unknown descriptor kind {name!r}{did_you_mean(name, KINDS)} (use one of {', '.join(KINDS)})"
+        ) from None
 
 
 def available() -> dict[str, str | None]:

@@ -16,7 +16,7 @@ import pandas as pd
 
 from heatdata.descriptors import DESCRIPTORS, DescriptorSpec
 from heatdata.descriptors.base import article
-from heatdata.errors import ConfigError, HeatdataError
+from heatdata.errors import ConfigError, HeatdataError, did_you_mean
 from heatdata.experiments.captures import find_captures
 from heatdata.io.catalog import catalog_from_folder, color_twins, read_catalog, with_model_defaults
 from heatdata.io.models import rigid_motion
@@ -153,7 +153,7 @@ def run_catalog(config: dict[str, Any]) -> pd.DataFrame:
     if config["objects"]:
         unknown = sorted(set(config["objects"]) - set(table["object"]))
         if unknown:
-            raise ConfigError(f"objects: {unknown} are not in the catalogue")
+            raise ConfigError(f"objects: {unknown} are not in the catalogue{did_you_mean(unknown[0], table['object'])}")
         table = table[table["object"].isin(config["objects"])]
     if table.empty:
         raise ConfigError("no objects to process")
@@ -290,7 +290,10 @@ def descriptor_specs(config: dict[str, Any]) -> list[DescriptorSpec]:
     if len(set(names)) < len(names):
         raise ConfigError(f"descriptors: the same descriptor twice in {names}")
     if config["primary_descriptor"] not in names:
-        raise ConfigError(f"primary_descriptor {config['primary_descriptor']!r} is not one of descriptors {names}")
+        raise ConfigError(
+            f"primary_descriptor {config['primary_descriptor']!r} is not one of descriptors {names}"
+            f"{did_you_mean(config['primary_descriptor'], names)}"
+        )
     return specs
 
 
@@ -497,7 +500,10 @@ def run_scenes(
     names = [s.name for s in specs]
     unknown = [d for d in settings["descriptors"] if d not in names]
     if unknown:
-        raise ConfigError(f"scenes.descriptors: {unknown} are not among the run's descriptors ({', '.join(names)})")
+        raise ConfigError(
+            f"scenes.descriptors: {unknown} are not among the run's descriptors ({', '.join(names)})"
+            f"{did_you_mean(unknown[0], names)}"
+        )
     size = settings["library_size"] or max(config["library_sizes"])
     if size not in config["library_sizes"]:
         raise ConfigError(f"scenes.library_size {size} is not one of library_sizes {config['library_sizes']}")

@@ -785,6 +785,11 @@ class Library:
             detections = self._join_pieces(detections, segmentation, k, limit, exact)
         if segmentation.segments:
             repairs += self._colour_note(segmentation.coloured, "the frame")
+        if detections and all(d.object is None for d in detections):
+            repairs.append(
+                f"every object of the frame is unknown to this library ({len(self.objects)} objects): is it the right "
+                "library, and are the frame's depth unit and intrinsics (its focal length) right?"
+            )
         return SceneRecognition(self.descriptor, detections, segmentation.plane, repairs)
 
     def _join_pieces(

@@ -18,6 +18,7 @@ FACING = np.cos(np.radians(30))  # a plane's region faces within 30 deg of its n
 HANGING_DEPTH = 0.05  # m: readings this far below a plane and under its edges hang from it (an object's sides)
 HANGING_MARGIN = 0.02  # m: feet this near a plane's outline, either side, are along its edge (the outline stops short)
 HANGING_SHARE = 0.1  # a support plane has at most this many readings hanging below it, per reading on it
+TABLE_DISTANCE = (0.2, 4.0)  # m: from the camera to a support plane, nearest and farthest plausible
 EDGE_ON = 10.0  # degrees: a support plane seen at a median angle below this is seen edge-on
 RANSAC_SAMPLES = 250  # every one drawn; 500 scored the same on 56 real and 100 rendered frames, in twice the time
 REFINE_STEPS = 5  # least-squares refinements of a RANSAC plane, at most
@@ -166,6 +167,12 @@ def support_plane(
     rays = on / np.linalg.norm(on, axis=1, keepdims=True)
     grazing = float(np.degrees(np.arcsin(np.clip(np.median(np.abs(rays @ plane[:3])), 0.0, 1.0))))
     notes.append(f"support plane: {int(inliers.sum())} readings, {span:.2f} m across, seen at {grazing:.0f} deg")
+    near, far = TABLE_DISTANCE
+    if not near <= plane[3] <= far:
+        notes.append(
+            f"the support plane is {plane[3]:.3g} m from the camera, outside the {near:g}-{far:g} m a depth sensor sees "
+            "a table at: is the depth's unit right (a PNG holds millimetres, a .npy metres)?"
+        )
     if grazing < EDGE_ON:
         notes.append(
             f"the support plane is seen edge-on ({grazing:.0f} deg between the rays and the plane, below "

@@ -54,6 +54,8 @@ ISOLATED = 0.5  # a frame whose readings cover less of the image than this is of
 FOOTING = 0.5  # readings this share of the plane's distance above it may be an object's foot, where one touches
 FLAT_SHARE = 0.95  # a cluster with this share of its points on one plane wider than plane_size is background
 
+FIELD_OF_VIEW = (30.0, 130.0)  # degrees: the horizontal fields of view of depth sensors, narrowest and widest
+
 
 @dataclass
 class Segment:
@@ -154,12 +156,35 @@ def segment_frame(
         Intrinsics that do not match the image, an RGB image of another size, or no reading at all.
     """
     depth, k = checked_depth(depth, intrinsics, name)
+    camera = field_of_view_notes(k)
     if mask is None and depth_range is None:
-        return segment_points(back_project(depth, k), k, rgb, settings, name=name)
+        found = segment_points(back_project(depth, k), k, rgb, settings, name=name)
+        found.notes[:0] = camera
+        return found
     cut, note = cut_depth(depth, mask, depth_range, name)
     found = segment_points(back_project(cut, k), k, rgb, settings, name=name)
     whole = np.where(np.isfinite(depth) & (depth > 0), depth, np.nan)
-    return Segmentation(found.plane, found.segments, [note, *found.notes], found.coloured, whole)
+    return Segmentation(found.plane, found.segments, [*camera, note, *found.notes], found.coloured, whole)
+
+
+def field_of_view(intrinsics: dict) -> float:
+    """The horizontal field of view of ``intrinsics``, degrees: ``2 atan(width / 2 fx)``."""
+    return float(np.degrees(2 * np.arctan(intrinsics["width"] / (2 * intrinsics["fx"]))))
+
+
+def field_of_view_notes(intrinsics: dict) -> list[str]:
+    """A note when the intrinsics' field of view is outside :data:`FIELD_OF_VIEW`, the depth sensors' (Kinect 57
+    deg, RealSense D435 87 deg, Azure Kinect's wide mode 120 deg): a focal length for another image size, or in
+    other units, makes every object the wrong size."""
+    degrees = field_of_view(intrinsics)
+    low, high = FIELD_OF_VIEW
+    if low <= degrees <= high:
+        return []
+    return [
+        f"the intrinsics give a horizontal field of view of {degrees:.0f} deg (fx {intrinsics['fx']:g} px over "
+        f"{intrinsics['width']} px), outside the {low:g}-{high:g} deg of depth sensors: is fx in pixels of this "
+        "image's size?"
+    ]
 
 
 def segment_points(

@@ -162,7 +162,7 @@ def test_the_command_writes_a_closed_coloured_mesh_in_the_first_frame(ellipsoid,
     a, b = moved_half(ellipsoid, [0.3, 1.0, 0.2], 0.05)
     a = transformed(a, np.eye(3), [1.0, 2.0, 3.0])  # far from the origin: the output must stay there
     b = transformed(b, np.eye(3), [0.0, 0.0, 0.0])
-    assert stitch_command(a, b, tmp_path, "--samples", "32") == 0
+    assert stitch_command(a, b, tmp_path, "--samples", "32", "--json") == 0
     printed = json.loads(capsys.readouterr().out)
     assert printed["faces"] == len(ellipsoid.faces) and printed["mean_gap_of_size"] < 1e-6
     assert printed["cost"] < 1e-12 and printed["runner_up"] > 1e-4 and not printed["ambiguous"]
@@ -170,6 +170,11 @@ def test_the_command_writes_a_closed_coloured_mesh_in_the_first_frame(ellipsoid,
     mesh = trimesh.load(tmp_path / "ab.ply")
     assert mesh.is_watertight and mesh.is_winding_consistent and mesh.visual.vertex_colors[:, 2].max() > 200
     np.testing.assert_allclose(mesh.bounds.mean(axis=0), ellipsoid.center + [1.0, 2.0, 3.0], atol=1e-6)
+    (tmp_path / "table").mkdir()
+    assert stitch_command(a, b, tmp_path / "table", "--samples", "32") == 0  # without --json: a short table
+    table = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in table] == ["model", "motion", "cost", "seam", "verdict", "time"]
+    assert table[1].startswith("motion   turn ") and table[1].endswith(" m") and table[4] == "verdict  clear"
     assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "x.txt")]) == 1
     before = (tmp_path / "a.ply").read_bytes()
     assert main(["stitch", str(tmp_path / "a.ply"), str(tmp_path / "b.ply"), "-o", str(tmp_path / "a.ply")]) == 1
@@ -178,7 +183,7 @@ def test_the_command_writes_a_closed_coloured_mesh_in_the_first_frame(ellipsoid,
     inverse = truth(*MOTION)
     inverse[:3, 3] += [1.0, 2.0, 3.0]
     np.savetxt(tmp_path / "motion.txt", inverse)
-    assert stitch_command(a, b, tmp_path, "--motion", str(tmp_path / "motion.txt")) == 0
+    assert stitch_command(a, b, tmp_path, "--motion", str(tmp_path / "motion.txt"), "--json") == 0
     np.testing.assert_allclose(json.loads(capsys.readouterr().out)["translation"], inverse[:3, 3], atol=1e-6)
     assert trimesh.load(tmp_path / "ab.ply").is_watertight
     for bad, text in (("letters.txt", "1 2\n3 x\n"), ("small.txt", "1 0 0\n0 1 0\n0 0 1\n")):
@@ -188,13 +193,12 @@ def test_the_command_writes_a_closed_coloured_mesh_in_the_first_frame(ellipsoid,
 
 
 def test_the_command_warns_when_the_answer_is_ambiguous(tmp_path, capsys, caplog):
-    import json
-
     cylinder = closed_part(model_of(trimesh.creation.cylinder(radius=0.05, height=0.12, sections=48), "cylinder"))
     a, b = moved_half(cylinder, [0.0, 0.0, 1.0], offset=0.05)
     caplog.set_level(logging.WARNING)
     assert stitch_command(a, b, tmp_path, "--samples", "48") == 0
-    assert json.loads(capsys.readouterr().out)["ambiguous"] and "ambiguous: another pose" in caplog.text
+    assert "verdict  ambiguous (see the warnings above)" in capsys.readouterr().out
+    assert "ambiguous: another pose" in caplog.text
     assert trimesh.load(tmp_path / "ab.ply").is_watertight  # a turned cylinder is still the cylinder
 
 

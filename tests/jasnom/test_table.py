@@ -186,7 +186,7 @@ def test_the_command_stitches_two_frames_of_an_object_standing_then_flipped_on_a
     model = embedded("speaker-tall")
     standing, flipped, truth = render_flipped_pair(model, elevation=35.0, yaw=30.0, flip_axis=5.0)
     first, second = write_frames(tmp_path, (standing, flipped))
-    assert main(["stitch", "--scans", str(first), str(second), "-o", str(tmp_path / "whole.ply")]) == 0
+    assert main(["stitch", "--scans", str(first), str(second), "-o", str(tmp_path / "whole.ply"), "--json"]) == 0
     printed = json.loads(capsys.readouterr().out)
     rotation, translation = np.array(printed["rotation"]), np.array(printed["translation"])
     assert np.degrees(Rotation.from_matrix(rotation @ truth[:3, :3].T).magnitude()) < 5.0

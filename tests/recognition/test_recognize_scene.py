@@ -341,3 +341,18 @@ def test_two_unknown_pieces_of_one_object_are_joined_when_its_pose_explains_them
     assert "two touching pieces joined" in joined.notes[0] and joined.bbox == carton.bbox
     apart = Segmentation(whole.plane, [pieces[0]], coloured=True, depth=whole.depth)
     assert len(library._join_pieces(rejected[:1], apart, 5, 0.0, False)) == 1  # nothing touches it: left alone
+
+
+def test_a_wrong_focal_length_or_depth_unit_is_said_and_so_is_a_frame_of_unknowns(library, models):
+    frame = scene([(models["beer-mug"], 0.0, 0.0, 0.0), (models["milk-carton"], 0.25, 0.1, 40.0)])
+    right = library.recognize_scene(frame.depth, frame.intrinsics, frame.rgb)
+    assert {d.object for d in right.detections} == {"beer-mug", "milk-carton"}
+    assert not any("field of view" in r or "unknown to this library" in r for r in right.repairs)
+    wide = {**frame.intrinsics, "fx": frame.intrinsics["fx"] / 3, "fy": frame.intrinsics["fy"] / 3}  # 122 deg: no note
+    wrong = library.recognize_scene(frame.depth, wide, frame.rgb)
+    assert all(d.object is None for d in wrong.detections) and wrong.detections
+    assert any("every object of the frame is unknown to this library" in r for r in wrong.repairs)
+    narrow = {**frame.intrinsics, "fx": frame.intrinsics["fx"] * 3, "fy": frame.intrinsics["fy"] * 3}
+    assert any("field of view of 21 deg" in r for r in library.recognize_scene(frame.depth, narrow).repairs)
+    metres_as_millimetres = library.recognize_scene(frame.depth * 1000, frame.intrinsics, frame.rgb)
+    assert any("is the depth's unit right" in r for r in metres_as_millimetres.repairs)
