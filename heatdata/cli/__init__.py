@@ -252,7 +252,8 @@ def add_describe(sub) -> None:
     desc.add_argument(
         "--kind",
         type=_kind_name,
-        help=f"one of {', '.join(KINDS)}; default: the default descriptor ({DEFAULT_DESCRIPTOR.name}); a {DEFAULT_KIND} with --samples, "
+        help=f"one of {', '.join(KINDS)}; "
+        f"default: the default descriptor ({DEFAULT_DESCRIPTOR.name}); a {DEFAULT_KIND} with --samples, "
         f"--source or --sampling, a {COLOR_KIND} with --color-map, a {THRESHOLD_KIND} with --threshold; "
         "'heatdata kinds' lists every kind and its options",
     )

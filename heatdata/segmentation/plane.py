@@ -170,8 +170,8 @@ def support_plane(
     near, far = TABLE_DISTANCE
     if not near <= plane[3] <= far:
         notes.append(
-            f"the support plane is {plane[3]:.3g} m from the camera, outside the {near:g}-{far:g} m a depth sensor sees "
-            "a table at: is the depth's unit right (a PNG holds millimetres, a .npy metres)?"
+            f"the support plane is {plane[3]:.3g} m from the camera, outside the {near:g}-{far:g} m a depth sensor "
+            "sees a table at: is the depth's unit right (a PNG holds millimetres, a .npy metres)?"
         )
     if grazing < EDGE_ON:
         notes.append(
