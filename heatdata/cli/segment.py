@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from heatdata.cli.arguments import dump_json, number, segment_arguments, segment_settings
 from heatdata.errors import HeatdataError
 from heatdata.io.files import atomic, check_output
+from heatdata.log import printable
 
 
 def cmd_segment(args: argparse.Namespace) -> None:
@@ -34,6 +36,7 @@ def cmd_segment(args: argparse.Namespace) -> None:
 
         marks = [Mark(s.mask, s.bbox, str(n)) for n, s in enumerate(found.segments, start=1)]
         save_overlay(overlay, frame_image(points[..., 2], colors), marks)
+        print(f"overlay written to {printable(str(overlay))}", file=sys.stderr)
     if args.json:
         rows = [
             {

@@ -156,15 +156,12 @@ def segment_frame(
         Intrinsics that do not match the image, an RGB image of another size, or no reading at all.
     """
     depth, k = checked_depth(depth, intrinsics, name)
-    camera = field_of_view_notes(k)
     if mask is None and depth_range is None:
-        found = segment_points(back_project(depth, k), k, rgb, settings, name=name)
-        found.notes[:0] = camera
-        return found
+        return segment_points(back_project(depth, k), k, rgb, settings, name=name)
     cut, note = cut_depth(depth, mask, depth_range, name)
     found = segment_points(back_project(cut, k), k, rgb, settings, name=name)
     whole = np.where(np.isfinite(depth) & (depth > 0), depth, np.nan)
-    return Segmentation(found.plane, found.segments, [*camera, note, *found.notes], found.coloured, whole)
+    return Segmentation(found.plane, found.segments, [note, *found.notes], found.coloured, whole)
 
 
 def field_of_view(intrinsics: dict) -> float:
@@ -224,7 +221,7 @@ def segment_points(
         raise ViewError(f"{name}: the frame has no valid reading (all zero, NaN or negative): an empty frame")
     points = np.where(valid[..., None], points, np.nan)
     colors = None if colors is None else checked_rgb(colors, valid.shape, name)
-    notes: list[str] = []
+    notes: list[str] = field_of_view_notes(k)
     plane, inliers, outline = support_plane(points, valid, settings, notes)
     footing = np.zeros(valid.shape, bool)
     if plane is None or outline is None:

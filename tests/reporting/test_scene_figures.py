@@ -33,7 +33,9 @@ def test_a_posed_models_outline_rings_where_it_projects():
 
 def test_the_overlay_has_a_legend_of_what_its_marks_show():
     found = Mark(None, (10, 10, 60, 60), "1 beer-mug (0.91)")
-    assert legend_lines([found]) == ["tint and box: an object found on the table; its number, name and (confidence)"]
+    assert legend_lines([found]) == [
+        "tint and box: an object found on the table: its number, and its name (confidence) where named"
+    ]
     outline = np.zeros((480, 640), bool)
     outline[100, 100:200] = True
     marks = [found, Mark(None, (100, 100, 200, 200), "2 unknown [milk-carton]", outline)]

@@ -132,7 +132,7 @@ def row_marks(
 def legend_lines(marks: list[Mark]) -> list[str]:
     """What the overlay's legend explains: the tinted box and its label, and, where the marks show them, the
     unknown answer, the true object in brackets and the posed model's outline."""
-    lines = ["tint and box: an object found on the table; its number, name and (confidence)"]
+    lines = ["tint and box: an object found on the table: its number, and its name (confidence) where named"]
     if any(" unknown" in mark.text for mark in marks):
         lines.append("unknown: unsure, or no pose of a library object fits it")
     if any("[" in mark.text for mark in marks):
