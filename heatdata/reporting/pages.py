@@ -182,6 +182,10 @@ def class_note(catalog: pd.DataFrame) -> list[str]:
     return []
 
 
+def _count(number: int, noun: str, plural: str | None = None) -> str:
+    return f"{number} {noun if number == 1 else plural or noun + 's'}"
+
+
 def _percent(value: float) -> str:
     return "" if pd.isna(value) else f"{100 * value:.1f}"
 
@@ -191,25 +195,26 @@ def scenes_table(scenes: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(
         {
             "library (descriptor)": scenes["descriptor"],
-            "objects found %": scenes["recall"].map(_percent),
+            "found %": scenes["recall"].map(_percent),
             "named right %": scenes["naming"].map(_percent),
-            "named right and sure %": scenes["named_sure"].map(_percent),
-            "poses within 10% %": scenes["pose_add_s"].map(_percent),
-            "s per frame": scenes["median_seconds"].map(lambda v: f"{v:.2f}"),
+            "named right, sure %": scenes["named_sure"].map(_percent),
+            "posed right %": scenes["pose_add_s"].map(_percent),
+            "s a frame": scenes["median_seconds"].map(lambda v: f"{v:.2f}"),
         }
     )
 
 
 def best_library(table: pd.DataFrame, config: dict, scenes: pd.DataFrame | None = None) -> str:
     """The descriptor whose largest library to recognize with: the most objects named right and sure in the
-    scenes (found times named), else the best object precision at the largest library size; ties go to the order
-    of the run's descriptors, the primary first."""
+    scenes (found times named), else (no scenes, or none named) the best object precision at the largest library
+    size; ties go to the order of the run's descriptors, the primary first."""
     order = [config["primary_descriptor"]] + [
         DescriptorSpec.from_dict(d).name for d in config["descriptors"] if DescriptorSpec.from_dict(d).name
         != config["primary_descriptor"]
     ]  # fmt: skip
-    if scenes is not None and len(scenes):
-        score = dict(zip(scenes["descriptor"], (scenes["recall"] * scenes["named_sure"]).fillna(0)))
+    scored = None if scenes is None else (scenes["recall"] * scenes["named_sure"]).fillna(0)
+    if scored is not None and scored.max() > 0:
+        score = dict(zip(scenes["descriptor"], scored))
     else:
         largest = f"{max(config['library_sizes'])} views"
         rows = table[table["precision"] == "object"]
@@ -251,7 +256,8 @@ def summary_sections(
     fitted = views["distance"] == "fit"
     distance = "a distance set by each object's size" if fitted else f"distance {views['distance']} m"
     facts = [
-        f"heatdata {__version__}; {counts['object'].nunique()} objects in {catalog['label'].nunique()} classes, "
+        f"heatdata {__version__}; {_count(counts['object'].nunique(), 'object')} in "
+        f"{_count(catalog['label'].nunique(), 'class', 'classes')}, "
         f"{counts['view_id'].nunique()} views (mean {counts.drop_duplicates('view_id')['n_vertices'].mean():.0f} "
         "vertices).",
         f"Views per object: {views['train']} library and {views['test']} test, at elevation {views['elevation']} deg "
@@ -264,8 +270,8 @@ def summary_sections(
         f"`{path}`" + (" (the primary descriptor)" if primary_library(path, config) else "") for path in libraries or []
     ]
     best = best_library(table, config, scenes)
-    why = "names the most scene objects right and sure" if scenes is not None and len(scenes) else (
-        "has the best object precision")  # fmt: skip
+    by_scenes = scenes is not None and (scenes["recall"] * scenes["named_sure"]).fillna(0).max() > 0
+    why = "names the most scene objects right and sure" if by_scenes else "has the best object precision"
     recognize = [
         f"The best library of this run is **{best}** at {max(config['library_sizes'])} views per object: it {why}.",
         f"`{recognize_command(best, config, scene_frame)}`",
@@ -275,8 +281,8 @@ def summary_sections(
     scene_sections = []
     if scenes is not None and len(scenes):
         scene_sections = [(
-            f"Scenes: the run's objects on a table ({int(scenes['scenes'].max())} frames, "
-            f"{int(scenes['objects'].max())} objects), found, named and posed",
+            f"Scenes: the run's objects on a table ({_count(int(scenes['scenes'].max()), 'frame')}, "
+            f"{_count(int(scenes['objects'].max()), 'object')}), found, named and posed",
             "table",
             scenes_table(scenes),
         )]  # fmt: skip

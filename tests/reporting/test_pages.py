@@ -1,5 +1,6 @@
 """The report's pages: the landing summary and the measured ablation table."""
 
+import numpy as np
 import pandas as pd
 import pytest
 from conftest import ROOT
@@ -98,3 +99,14 @@ def test_the_recognize_command_names_the_frame_files_and_gives_colour_to_a_colou
     assert recognize_command("esf", CONFIG) == (
         "heatdata recognize depth.png --intrinsics camera.json --library results/libraries/esf-40.parquet"
     )
+
+
+def test_scenes_where_nothing_is_named_leave_the_choice_to_precision():
+    table = pd.DataFrame(
+        {"precision": ["object", "object"], "descriptor": ["hgd/color=hue-saturation", "esf"],
+         "8 views": ["90.0", "95.0"], "40 views": ["90.0", "99.0"]}
+    )  # fmt: skip
+    nothing = pd.DataFrame(
+        {"descriptor": ["hgd/color=hue-saturation", "esf"], "recall": [0.0, 0.0], "named_sure": [np.nan, np.nan]}
+    )
+    assert best_library(table, CONFIG, nothing) == "esf"
