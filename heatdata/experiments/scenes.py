@@ -149,12 +149,8 @@ def plan_scene(models: list[Model], settings: dict, index: int) -> dict:
     dict
         ``scene`` (its name), ``objects`` (``object, x, z, yaw``: the footprint's centre on the table and the turn
         about +y in degrees), ``camera`` (``distance, elevation, azimuth, target``), ``wall_gap``, ``seed``, and
-        ``left_out``: the models too large for the table (:func:`fits_table`), each with its size, not placed.
-
-    Raises
-    ------
-    HeatdataError
-        Objects that cannot be placed apart.
+        ``left_out``: the models not placed, each with its size: too large for the table (:func:`fits_table`), or
+        with no room left beside the others.
     """
     rng = np.random.default_rng(scene_seed(settings["seed"], index) + 1)
     width, depth = settings["table"]
@@ -171,7 +167,8 @@ def plan_scene(models: list[Model], settings: dict, index: int) -> dict:
             if all(np.hypot(x - p["x"], z - p["z"]) >= radius + p["radius"] + GAP for p in placed):
                 break
         else:
-            raise HeatdataError(f"scene {index}: no room for {model.name} apart from the other objects")
+            left_out.append(f"{model.name} ({2 * radius:.2f} m across, no room beside the others)")
+            continue
         placed.append({"object": model.name, "x": float(x), "z": float(z), "yaw": float(rng.uniform(0, 360)),
                        "radius": radius})  # fmt: skip
     target = [float(rng.uniform(-TARGET_JITTER, TARGET_JITTER)), TABLE_HEIGHT,
@@ -623,7 +620,7 @@ def render_scene_files(rows: list[dict], settings: dict, index: int, depth_path:
     models = {row["object"]: load_catalog_model(row) for row in rows}
     plan = plan_scene(list(models.values()), settings, index)
     if plan["left_out"]:
-        log.warning("%s: left out, too large for the %g x %g m table: %s", plan["scene"], *settings["table"],
+        log.warning("%s: left out of the %g x %g m table: %s", plan["scene"], *settings["table"],
                     ", ".join(plan["left_out"]))  # fmt: skip
     frame, truth = render_planned_scene(plan, models, settings)
     write_scene(frame, truth, depth_path)

@@ -57,6 +57,9 @@ def test_a_scene_is_the_same_whatever_else_the_run_holds_and_its_objects_stand_a
     small_table = plan_scene([models["bread"], models["coffee-cup"]], {**SCENE_DEFAULTS, "table": [0.25, 0.25]}, 0)
     assert [o["object"] for o in small_table["objects"]] == ["coffee-cup"]
     assert small_table["left_out"] == [f"bread ({np.hypot(*models['bread'].extents[[0, 2]]):.2f} m across)"]
+    crowded = plan_scene([models["beer-mug"], models["coffee-cup"]], {**SCENE_DEFAULTS, "table": [0.3, 0.3]}, 0)
+    assert [o["object"] for o in crowded["objects"]] == ["beer-mug"]
+    assert crowded["left_out"] == [f"coffee-cup ({np.hypot(0.1, 0.1):.2f} m across, no room beside the others)"]
 
 
 def test_the_truth_matches_the_frame_and_the_files_read_back(models, tmp_path):
