@@ -106,7 +106,8 @@ def documented_runs(root: Path = ROOT) -> list[Run]:
 
 
 class Outcome(NamedTuple):
-    """How one documented run went: each stage's seconds (None: not reached) and the first failure's last lines."""
+    """How one documented run went: each stage's seconds (None: not reached; a failed stage's are its own), the jobs
+    of its small run, and the first failure's last lines."""
 
     run: Run
     dry_seconds: float | None
@@ -163,9 +164,10 @@ def run_small(run: Run, out: Path, root: Path = ROOT, timeout: float = 1800) -> 
     run_seconds, done = _snakemake(small, root, timeout)
     jobs = re.search(r"(\d+) of \1 steps \(100%\) done", done.stdout + done.stderr)
     if done.returncode:
-        return Outcome(run, dry_seconds, None, None, None, f"small run: {_tail(done)}")
+        return Outcome(run, dry_seconds, run_seconds, None, None, f"small run: {_tail(done)}")
     report_seconds, report = _snakemake([*small, "--report", str(out / "report.html")], root, timeout)
     error = f"report: {_tail(report)}" if report.returncode else ""
+    jobs_done = int(jobs.group(1)) if jobs else 0
     if not error and not (out / "summary.md").is_file():
         error = f"report: the run left no {out / 'summary.md'}"
-    return Outcome(run, dry_seconds, run_seconds, report_seconds, int(jobs.group(1)) if jobs else 0, error)
+    return Outcome(run, dry_seconds, run_seconds, report_seconds, jobs_done, error)
