@@ -490,7 +490,7 @@ def run_scenes(
     from heatdata.experiments.scenes import choose_objects, fits_table
 
     settings = config["scenes"]
-    off = {"scenes": {}, "descriptors": [], "size": None, "primary": None, "left_out": []}
+    off: dict[str, Any] = {"scenes": {}, "descriptors": [], "size": None, "primary": None, "left_out": []}
     if not settings["enabled"]:
         return off
     for key in ("objects", "distance", "elevation", "wall_gap"):

@@ -60,7 +60,8 @@ def command_configs(text: str) -> list[tuple[str, ...]]:
     """
     runs = []
     for command in _COMMAND.finditer(text):
-        required, optional = [], []
+        required: list[str] = []
+        optional: list[str] = []
         for bracket, path in _FILE.findall(command.group(1)):
             (optional if bracket else required).append(path)
         runs.append(tuple(required))

@@ -204,17 +204,24 @@ def scenes_table(scenes: pd.DataFrame) -> pd.DataFrame:
     )
 
 
+def scene_scores(scenes: pd.DataFrame | None) -> pd.Series | None:
+    """Per descriptor, the share of the scenes' objects found and named right and sure; None without scenes, or
+    where no library names any."""
+    if scenes is None or not len(scenes):
+        return None
+    scored = pd.Series((scenes["recall"] * scenes["named_sure"]).fillna(0).to_numpy(), index=scenes["descriptor"])
+    return scored if scored.max() > 0 else None
+
+
 def best_library(table: pd.DataFrame, config: dict, scenes: pd.DataFrame | None = None) -> str:
     """The descriptor whose largest library to recognize with: the most objects named right and sure in the
-    scenes (found times named), else (no scenes, or none named) the best object precision at the largest library
-    size; ties go to the order of the run's descriptors, the primary first."""
-    order = [config["primary_descriptor"]] + [
-        DescriptorSpec.from_dict(d).name for d in config["descriptors"] if DescriptorSpec.from_dict(d).name
-        != config["primary_descriptor"]
-    ]  # fmt: skip
-    scored = None if scenes is None else (scenes["recall"] * scenes["named_sure"]).fillna(0)
-    if scored is not None and scored.max() > 0:
-        score = dict(zip(scenes["descriptor"], scored))
+    scenes (:func:`scene_scores`), else the best object precision at the largest library size; ties go to the
+    order of the run's descriptors, the primary first."""
+    names = [DescriptorSpec.from_dict(d).name for d in config["descriptors"]]
+    order = [config["primary_descriptor"], *(name for name in names if name != config["primary_descriptor"])]
+    scored = scene_scores(scenes)
+    if scored is not None:
+        score = scored.to_dict()
     else:
         largest = f"{max(config['library_sizes'])} views"
         rows = table[table["precision"] == "object"]
@@ -270,7 +277,7 @@ def summary_sections(
         f"`{path}`" + (" (the primary descriptor)" if primary_library(path, config) else "") for path in libraries or []
     ]
     best = best_library(table, config, scenes)
-    by_scenes = scenes is not None and (scenes["recall"] * scenes["named_sure"]).fillna(0).max() > 0
+    by_scenes = scene_scores(scenes) is not None
     why = "names the most scene objects right and sure" if by_scenes else "has the best object precision"
     recognize = [
         f"The best library of this run is **{best}** at {max(config['library_sizes'])} views per object: it {why}.",
