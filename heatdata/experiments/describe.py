@@ -191,6 +191,17 @@ def fit_view_tables(
     return fit_spec(spec, views)
 
 
+def capped_steps(spec: DescriptorSpec, limit: int) -> DescriptorSpec:
+    """``spec`` to be trained at most ``limit`` steps (config ``learned_steps_limit``; 0: as it says), for a run
+    tried small. Only a kind with a ``steps`` option is changed; its arrays are then stored under the original name.
+    """
+    names = [option.name for option in spec.impl.options]
+    if not limit or "steps" not in names or spec.get("steps") <= limit:
+        return spec
+    log.warning("%s: trained %d steps, not %d (learned_steps_limit)", spec.name, limit, spec.get("steps"))
+    return DescriptorSpec(spec.kind, **{**spec.options, "steps": limit})
+
+
 def save_fitted(spec: DescriptorSpec, path) -> None:
     """What a fitted spec learned, as a ``.npz`` of its named arrays."""
     with atomic(path) as temporary:

@@ -47,6 +47,7 @@ rule fit_descriptor:
     params:
         descriptor=lambda wildcards: FITTED[wildcards.descriptor].options,
         kind=lambda wildcards: FITTED[wildcards.descriptor].kind,
+        steps_limit=config["learned_steps_limit"],
         version=VERSION,
     wildcard_constraints:
         descriptor="|".join(map(re.escape, FITTED)) or "no-fitted-kind",
