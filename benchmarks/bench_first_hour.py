@@ -4,8 +4,9 @@ embedded objects with its report, the smoke run, the library guide's tour and th
     .venv/bin/python benchmarks/bench_first_hour.py            # a quiet machine
     .venv/bin/python benchmarks/bench_first_hour.py --busy 2   # beside two CPU-bound processes (a shared machine)
 
-Each run goes to a fresh results folder under a temporary directory (nothing of ``results/`` is reused), from the
-repository's working tree with its ``.venv``. The peak memory is the largest of any one job's (the workflow runs
+Each run goes to a fresh results folder under a temporary directory (nothing of ``results/`` is reused; the main
+job's goes to ``--results`` when given, which must not exist), from the repository's working tree with its
+``.venv``. The peak memory is the largest of any one job's (the workflow runs
 one process per job). ``--busy N`` keeps N processes spinning on the CPU for the whole measurement, as another
 user's job would; the figures are recorded as ``bench_first_hour_busy``. The setup (``scripts/setup.sh``: pip's
 downloads, a few minutes the first time) is not timed here: it depends on the network.
@@ -54,7 +55,10 @@ def python_block(path: Path, after: str) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--busy", type=int, default=0, help="CPU-bound processes beside the measurement")
+    parser.add_argument("--results", type=Path, help="the main job's results folder, kept (default: a temporary one)")
     args = parser.parse_args()
+    if args.results is not None and args.results.exists():
+        parser.error(f"{args.results} exists: the main job is timed from fresh results")
     spinners = [multiprocessing.Process(target=_spin, daemon=True) for _ in range(args.busy)]
     for spinner in spinners:
         spinner.start()
@@ -62,7 +66,7 @@ def main() -> None:
     try:
         with tempfile.TemporaryDirectory() as folder:
             work = Path(folder)
-            main_results = work / "main"
+            main_results = args.results or work / "main"  # relative to the repository, where snakemake runs
             seconds = timed([SNAKEMAKE, "--cores", "2", "--config", f"results={main_results}"], ROOT)
             figures.append(("the main job (snakemake --cores 2), fresh results", seconds, "s"))
             report = timed([SNAKEMAKE, "--cores", "2", "--config", f"results={main_results}", "--report",

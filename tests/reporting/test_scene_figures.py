@@ -84,3 +84,21 @@ def test_the_known_curve_is_a_picture_and_the_page_shows_it_with_the_pose_column
     assert "0.40 cm" in page and "1.2 deg" in page and "20 ms" in page and "100.0%" in page
     assert "Known or unknown" in page and "data:image/png;base64," in page
     assert "Known or unknown" not in scenes_page(summary, pd.DataFrame(), {}, settings, "hgd")
+
+
+def test_labels_of_neighbouring_objects_do_not_cover_each_other(monkeypatch):
+    from PIL import ImageDraw
+
+    drawn = []
+    original = ImageDraw.ImageDraw.rectangle
+
+    def record(self, xy, *args, **kwargs):
+        if kwargs.get("fill") == (0, 0, 0):
+            drawn.append(tuple(int(v) for v in xy))
+        return original(self, xy, *args, **kwargs)
+
+    monkeypatch.setattr(ImageDraw.ImageDraw, "rectangle", record)
+    marks = [Mark(None, (100, 100, 180, 200), "1 beer-mug (0.91)"), Mark(None, (90, 95, 120, 160), "2 plastic-cup")]
+    overlay_image(np.zeros((480, 640, 3), np.uint8), marks)
+    first, second = drawn[:2]  # the two labels (the legend's box comes last)
+    assert not (first[0] < second[2] and second[0] < first[2] and first[1] < second[3] and second[1] < first[3])

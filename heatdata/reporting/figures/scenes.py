@@ -182,18 +182,34 @@ def overlay_image(image: np.ndarray, marks: list[Mark]) -> Image.Image:
     picture = Image.fromarray(np.round(canvas).astype(np.uint8))
     draw = ImageDraw.Draw(picture)
     font = ImageFont.load_default(size=max(11, picture.height // 32))
+    labels: list[tuple[int, int, int, int]] = []  # the label boxes drawn so far, which a new one must not cover
     for number, mark in enumerate(marks):
         tint = TINTS[number % len(TINTS)]
         u0, v0, u1, v1 = mark.bbox
         draw.rectangle((u0, v0, u1, v1), outline=tint, width=2)
         left, top, right, bottom = draw.textbbox((u0, v0), mark.text, font=font)
-        y = v0 - (bottom - top) - 4 if v0 - (bottom - top) - 4 >= 0 else v1 + 2
-        x = max(0, min(u0, picture.width - (right - left) - 4))  # the label stays inside the frame
-        draw.rectangle((x, y, x + right - left + 4, y + bottom - top + 4), fill=(0, 0, 0))
+        width, height = right - left + 4, bottom - top + 4
+        x = max(0, min(u0, picture.width - width))  # the label stays inside the frame
+        y = _label_row(labels, x, width, height, above=v0 - height, below=v1 + 2, limit=picture.height)
+        labels.append((x, y, x + width, y + height))
+        draw.rectangle(labels[-1], fill=(0, 0, 0))
         draw.text((x + 2, y + 2 - (top - v0)), mark.text, fill=tint, font=font)
     if marks:
         _draw_legend(draw, picture, legend_lines(marks))
     return picture
+
+
+def _label_row(labels: list, x: int, width: int, height: int, *, above: int, below: int, limit: int) -> int:
+    """The top of a label ``width`` x ``height`` at ``x``: above its box where that is free, else below it, else
+    the nearest free row further up or down; free means inside the frame and over no label drawn before."""
+
+    def free(y: int) -> bool:
+        return 0 <= y <= limit - height and not any(
+            x < r and r0 < x + width and y < b and t < y + height for r0, t, r, b in labels
+        )
+
+    tries = [above, below] + [row for step in range(1, 40) for row in (above - step * height, below + step * height)]
+    return next((y for y in tries if free(y)), max(0, min(above, limit - height)))
 
 
 def save_overlay(path: StrPath, image: np.ndarray, marks: list[Mark]) -> None:
