@@ -282,4 +282,6 @@ def test_recognize_reads_the_main_jobs_library_by_default_and_lists_those_there_
     (tmp_path / "results" / "libraries" / "esf-8.parquet").write_bytes(b"")
     caplog.clear()
     assert main(["recognize", "frame.png", "--library", "results/libraries/esf-40.parquet"]) == 1
-    assert "esf-40.parquet: no such library; results/libraries holds esf-8.parquet" in caplog.text
+    assert "esf-40.parquet: no such library (did you mean esf-8.parquet?); results/libraries holds esf-8.parquet" in (
+        caplog.text
+    )

@@ -99,7 +99,7 @@ def read_pcd(path: StrPath) -> PcdCloud:
         raise ViewError(f"{path}: cannot read the PCD ({data} data: {reason})") from None
     except Exception as error:  # the LZF decoder and struct raise their own kinds on a damaged stream
         raise ViewError(f"{path}: cannot read the PCD's {data} data ({type(error).__name__}: {error})") from None
-    table = cloud.pc_data
+    table = np.atleast_1d(cloud.pc_data)  # one point of an ascii block comes back as a 0-d array
     if len(table) != count:
         raise ViewError(f"{path}: truncated: {len(table)} of the {count} points the header announces")
     names = table.dtype.names or ()

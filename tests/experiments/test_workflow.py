@@ -616,7 +616,8 @@ def test_config_readme_describes_every_key_and_file():
     assert len(keys) > 30
     assert [k for k in keys if f"| `{k}` |" not in readme] == []
     assert [p.name for p in (ROOT / "config").rglob("*.yaml") if f"`{p.name}`" not in readme] == []
-    assert [p.name for p in (ROOT / "config").glob("*.yaml")] == ["config.yaml"]  # the rest in experiments/
+    assert sorted(p.name for p in (ROOT / "config").glob("*.yaml")) == ["config.yaml", "small.yaml"]  # the layer
+    # that cuts any run small beside the default; the experiments in experiments/
 
 
 @pytest.mark.slow
@@ -880,12 +881,16 @@ def test_scenes_are_rendered_recognized_scored_and_drawn(tiny_run, capsys):
 def test_the_summary_leads_with_the_scenes_and_its_recognize_command_runs(tiny_run, capsys, monkeypatch):
     import shlex
 
+    import heatdata as hd
     from heatdata.cli import main
+    from heatdata.recognition.library import uses_colour
 
     summary = (tiny_run / "results" / "summary.md").read_text()
     assert summary.index("## Scenes") < summary.index("## Recognize with") < summary.index("## Run")
     command = shlex.split(summary.split("## Recognize with", 1)[1].split("`")[1])
-    assert command[:2] == ["heatdata", "recognize"] and command[command.index("--rgb") + 1].endswith(".rgb.png")
+    library = hd.load_library(tiny_run / command[command.index("--library") + 1])
+    assert command[:2] == ["heatdata", "recognize"] and ("--rgb" in command) == uses_colour(library.spec)
+    assert "--rgb" not in command or command[command.index("--rgb") + 1].endswith(".rgb.png")
     monkeypatch.chdir(tiny_run)  # the summary's paths are the run's, from where snakemake ran
     assert main([*command[1:], "--json"]) == 0
     assert capsys.readouterr().out.lstrip().startswith("{")

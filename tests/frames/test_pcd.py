@@ -124,3 +124,11 @@ def test_view_from_depth_writes_a_pcd_of_the_frame_as_the_sensor_gave_it(tmp_pat
     pixels = np.round(view.pixels).astype(int)
     assert np.allclose(cloud.points[pixels[:, 1], pixels[:, 0]], view.vertices, atol=1e-6)
     assert np.allclose(cloud.colors[pixels[:, 1], pixels[:, 0]], view.colors, atol=1 / 255)
+
+
+def test_an_ascii_block_cut_to_one_point_is_truncated_not_a_traceback(tmp_path):
+    header = "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 32\nHEIGHT 24\n"
+    path = tmp_path / "cut.pcd"
+    path.write_text(header + "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 768\nDATA ascii\n-0.51667 -0.38333 1")
+    with pytest.raises(hd.ViewError, match="cut.pcd"):
+        read_pcd(path)
