@@ -188,9 +188,9 @@ def overlay_image(image: np.ndarray, marks: list[Mark]) -> Image.Image:
         u0, v0, u1, v1 = mark.bbox
         draw.rectangle((u0, v0, u1, v1), outline=tint, width=2)
         left, top, right, bottom = draw.textbbox((u0, v0), mark.text, font=font)
-        width, height = right - left + 4, bottom - top + 4
-        x = max(0, min(u0, picture.width - width))  # the label stays inside the frame
-        y = _label_row(labels, x, width, height, above=v0 - height, below=v1 + 2, limit=picture.height)
+        width, height = int(right - left) + 4, int(bottom - top) + 4
+        x = int(max(0, min(u0, picture.width - width)))  # the label stays inside the frame
+        y = _label_row(labels, x, width, height, above=int(v0) - height, below=int(v1) + 2, limit=picture.height)
         labels.append((x, y, x + width, y + height))
         draw.rectangle(labels[-1], fill=(0, 0, 0))
         draw.text((x + 2, y + 2 - (top - v0)), mark.text, fill=tint, font=font)
