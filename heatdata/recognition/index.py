@@ -31,14 +31,18 @@ search's whenever the exact search's nearest objects are on the shortlist. ``ben
 often, against the exact search, at 10^4 to 4 x 10^5 library views.
 
 The index is written beside the library file (``name.faiss`` beside ``name.parquet``) in FAISS's own binary format,
-which holds arrays and no code. A file beside a library is not trusted to belong to it: :func:`read_index` checks its
-size, dimensions, count and space, and that sampled vectors it holds are the library's own mapped rows, and a file
-that fails is rebuilt in memory with a warning.
+which holds arrays and no code. A file beside a library is a cache, never an authority: :func:`read_index` reads it
+only as a regular file of a bounded size and of a layout heatdata writes, and checks that every vector it holds is
+the library's own mapped row; a file that fails, or that FAISS cannot read, is rebuilt in memory with one warning.
 """
 
 from __future__ import annotations
 
+import errno
 import logging
+import os
+import stat
+import struct
 import time
 from pathlib import Path
 
@@ -62,13 +66,13 @@ PROBES = 24
 CANDIDATE_ROWS = 256
 #: objects of the candidates whose every library view the exact distance re-ranks
 SHORTLIST_OBJECTS = 32
-#: vectors of an index file compared with the library's own mapped rows when it is read
-CHECKED_VECTORS = 64
 #: k-means training vectors per inverted list, and its iterations
 TRAINING_PER_LIST = 64
 TRAINING_ITERATIONS = 20
 #: what a library's index file is named by, beside the library file
 SUFFIX = ".faiss"
+#: FAISS's four-character codes of the indexes heatdata writes: flat (L2, another metric) and IVF-Flat
+WRITTEN_TYPES = (b"IxF2", b"IxFl", b"IwFl")
 
 
 def index_path(library: StrPath) -> Path:
@@ -324,8 +328,108 @@ def build_index(values: np.ndarray, space: str, *, what: str = "library") -> Sea
     return found
 
 
+def _header(data: bytes, at: int) -> tuple[int, int, int, int, int]:
+    """FAISS's index header at ``at``: its dimension, count and metric, and where the next field starts."""
+    dimension, count = struct.unpack_from("<iq", data, at + 4)
+    trained, metric = struct.unpack_from("<?i", data, at + 4 + 4 + 8 + 16)
+    end = at + 4 + 4 + 8 + 16 + 1 + 4 + (4 if metric > 1 else 0)  # an argument follows a metric other than L2, IP
+    return dimension, count, metric, int(trained), end
+
+
+def check_layout(data: bytes, count: int, dimension: int, space: str) -> None:
+    """Check that ``data`` is laid out as an index :func:`build_index` writes, before FAISS reads any of it.
+
+    Only two layouts are read: a flat index (:data:`WRITTEN_TYPES`), and an IVF-Flat one over a flat quantizer with
+    its lists in memory (an on-disk list names another file, which FAISS would open). Their headers must hold this
+    library's count, dimension and metric, and the sizes of what follows.
+
+    Parameters
+    ----------
+    data : bytes
+        The file's bytes.
+    count, dimension : int
+        The library views and their values.
+    space : {"hellinger", "l2", "l1"}
+
+    Raises
+    ------
+    HeatdataError
+        Another layout, or other sizes; the message never quotes the file's bytes.
+    """
+    try:
+        kind = data[:4]
+        if kind not in WRITTEN_TYPES:
+            raise HeatdataError("not an index that heatdata writes (a flat or an IVF-Flat FAISS index)")
+        d, n, metric, trained, at = _header(data, 0)
+        if (n, d, metric) != (count, dimension, _metric(space)) or not trained:
+            raise HeatdataError(f"an index of {n} views of {d} values, not of this library's {count} x {dimension}")
+        if kind == b"IwFl":
+            lists, _ = struct.unpack_from("<QQ", data, at)
+            if not 1 <= lists <= count or data[at + 16 : at + 20] not in WRITTEN_TYPES[:2]:
+                raise HeatdataError("an IVF index whose lists are not what heatdata writes")
+            qd, qn, qmetric, _, at = _header(data, at + 16)
+            (size,) = struct.unpack_from("<Q", data, at)
+            if (qd, qn, qmetric, size) != (dimension, lists, metric, lists * dimension):  # a size in floats
+                raise HeatdataError("an IVF index whose centroids do not fit its lists")
+            at += 8 + 4 * size
+            direct, entries = struct.unpack_from("<bQ", data, at)
+            if direct != 0 or entries != 0 or data[at + 9 : at + 13] != b"ilar":
+                raise HeatdataError("an IVF index whose lists are not held in the file (heatdata writes them in it)")
+        elif struct.unpack_from("<Q", data, at)[0] != count * dimension:
+            raise HeatdataError("a flat index whose vectors are not this library's size")
+        elif len(data) != at + 8 + 4 * count * dimension:
+            raise struct.error("not the size its header says")
+    except struct.error:
+        raise HeatdataError("a truncated index file, or one longer than its header says") from None
+
+
+def _read_bytes(path: Path, largest: int) -> bytes:
+    """A regular file's bytes, read without following a link or waiting on a pipe, if it holds at most ``largest``."""
+    try:
+        handle = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
+    except OSError as error:
+        if error.errno == errno.ELOOP:
+            raise HeatdataError(f"{path}: a link, not a regular file: an index is read only as one") from None
+        raise HeatdataError(f"{path}: cannot be read ({error.strerror})") from None
+    status = os.fstat(handle)
+    if not stat.S_ISREG(status.st_mode):
+        os.close(handle)
+        raise HeatdataError(f"{path}: not a regular file (a folder, a pipe or a device): an index is read only as one")
+    with os.fdopen(handle, "rb") as file:
+        if status.st_size > largest:
+            raise HeatdataError(f"{path}: {status.st_size} bytes, more than an index of these views can hold")
+        return file.read(largest + 1)
+
+
+def _held(index, count: int, dimension: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The vectors an index holds, the library row of each and its inverted list: a flat index's rows in order (all
+    in list 0); an IVF index's lists, each vector with its id."""
+    import faiss
+
+    if isinstance(index, faiss.IndexFlat):
+        vectors = faiss.vector_to_array(index.codes).view(np.float32).reshape(count, dimension)
+        return vectors, np.arange(count), np.zeros(count, np.int64)
+    lists = faiss.downcast_InvertedLists(index.invlists)
+    ids, vectors, numbers = [np.zeros(0, np.int64)], [np.zeros((0, dimension), np.float32)], [np.zeros(0, np.int64)]
+    for number in range(index.nlist):
+        size = lists.list_size(number)
+        if size:
+            ids.append(faiss.rev_swig_ptr(lists.get_ids(number), size).copy())
+            codes = faiss.rev_swig_ptr(lists.get_codes(number), size * dimension * 4)
+            vectors.append(np.frombuffer(codes, np.float32).reshape(size, dimension).copy())
+            numbers.append(np.full(size, number, np.int64))
+    return np.concatenate(vectors), np.concatenate(ids), np.concatenate(numbers)
+
+
 def read_index(path: StrPath, values: np.ndarray, space: str) -> SearchIndex:
-    """Read an index file and check that it indexes ``values``.
+    """Read an index file and check that it indexes ``values``, every vector of it.
+
+    An index is a cache, never an authority: a file beside a library may have been written by anyone. It is read only
+    when it is a regular file (not a link, a pipe or a device) no larger than an index of these views can be, laid
+    out as heatdata writes it (:func:`check_layout`), with FAISS's own bound on what it allocates
+    (``faiss.set_deserialization_vector_byte_limit``). Then every vector it holds must be the library's own mapped
+    row, each row held once; in an IVF index each row must sit in the list of its nearest centroid, where a search
+    looks for it.
 
     Parameters
     ----------
@@ -342,31 +446,37 @@ def read_index(path: StrPath, values: np.ndarray, space: str) -> SearchIndex:
     Raises
     ------
     HeatdataError
-        Not a FAISS index, larger than an index of these views can be, or an index of other views (count,
-        dimensions, metric, or a sampled vector that differs from the library's mapped row).
+        Not a regular file, larger than an index of these views can be, another layout, or an index of other views.
+        The message never quotes the file's bytes.
     """
     import faiss
 
     path = Path(path)
-    count, dimension = np.atleast_2d(values).shape
+    values = np.atleast_2d(values)
+    count, dimension = values.shape
     largest = 2 * (count * (dimension * 4 + 8) + 4 * count * dimension) + 2**20  # vectors, ids, centroids, headers
-    if path.stat().st_size > largest:
-        raise HeatdataError(f"{path}: {path.stat().st_size} bytes, more than an index of {count} views can hold")
+    data = _read_bytes(path, largest)
     try:
-        index = faiss.read_index(str(path))
-    except RuntimeError as exc:
-        raise HeatdataError(f"{path}: not a FAISS index ({str(exc).splitlines()[0][:200]})") from None
-    if (index.ntotal, index.d, index.metric_type) != (count, dimension, _metric(space)):
-        raise HeatdataError(
-            f"{path}: an index of {index.ntotal} views of {index.d} values, not of this library's {count} x {dimension}"
-        )
-    ivf = faiss.try_extract_index_ivf(index)
-    if ivf is not None:
-        ivf.make_direct_map()
-    sample = np.unique(np.linspace(0, count - 1, CHECKED_VECTORS).astype(np.int64))
-    held = np.stack([index.reconstruct(int(row)) for row in sample])
-    if not np.array_equal(held, mapped(np.atleast_2d(values)[sample], space)):
+        check_layout(data, count, dimension, space)
+    except HeatdataError as exc:
+        raise HeatdataError(f"{path}: {exc}") from None
+    bound = faiss.get_deserialization_vector_byte_limit()
+    faiss.set_deserialization_vector_byte_limit(largest)
+    try:
+        index = faiss.deserialize_index(np.frombuffer(data, np.uint8))
+    except (RuntimeError, MemoryError) as exc:
+        raise HeatdataError(f"{path}: not a readable FAISS index ({type(exc).__name__})") from None
+    finally:
+        faiss.set_deserialization_vector_byte_limit(bound)
+    own = mapped(values, space)
+    held, rows, lists = _held(index, count, dimension)
+    if len(rows) != count or np.any((rows < 0) | (rows >= count)) or np.any(np.bincount(rows, minlength=count) != 1):
+        raise HeatdataError(f"{path}: an index that does not hold each library view once")
+    if not np.array_equal(held, own[rows]):
         raise HeatdataError(f"{path}: an index of other views (built for another library, or an older one)")
-    if ivf is not None:
-        ivf.nprobe = PROBES
+    if isinstance(index, faiss.IndexIVFFlat):
+        _, nearest = index.quantizer.search(own, 1)
+        if not np.array_equal(nearest[rows, 0], lists):
+            raise HeatdataError(f"{path}: an IVF index whose lists do not hold the views nearest their centroids")
+        index.nprobe = PROBES
     return SearchIndex(index, space)

@@ -18,6 +18,7 @@ The workflow writes ``results/libraries/{descriptor}-{size}.parquet``; ``heatdat
 from __future__ import annotations
 
 import logging
+import os
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -29,6 +30,7 @@ from scipy import ndimage
 from heatdata.descriptors import COLOR_KIND, DescriptorSpec, describe, kind_of
 from heatdata.descriptors.rows import descriptor_rows
 from heatdata.errors import HeatdataError, LibraryError
+from heatdata.io.files import check_output
 from heatdata.io.tables import DESCRIPTOR_SCHEMA, read_matrix_table, write_table
 from heatdata.recognition.answers import Detection, Match, Recognition, SceneRecognition, SequenceStep
 from heatdata.recognition.confidence import (
@@ -1022,11 +1024,12 @@ def library_index(library: Library, path: StrPath) -> SearchIndex | None:
     if space is None:
         return None
     beside = index_path(path)
-    if beside.exists():
+    if os.path.lexists(beside):
         try:
             return read_index(beside, library._values, space)
-        except HeatdataError as exc:
-            log.warning("%s: building one in memory instead (heatdata index %s rewrites it)", exc, path)
+        except Exception as exc:  # a cache, never an authority: whatever is wrong with the file, it is rebuilt
+            reason = str(exc) if isinstance(exc, HeatdataError) else f"{beside}: unreadable ({type(exc).__name__})"
+            log.warning("%s: building one in memory instead (heatdata index %s rewrites it)", reason, path)
     else:
         log.info("%s has no index beside it: building one in memory (heatdata index %s writes it)", path, path)
     return build_index(library._values, space, what=str(path))
@@ -1057,7 +1060,7 @@ def write_library_index(path: StrPath) -> Path:
             f"{path}: a {library.spec.kind} library answers by the exact search and has no index (a time-scaled "
             "kind describes a query at each object's time scale; a combined kind sums several distances)"
         )
-    written = index_path(path)
+    written = check_output(index_path(path), inputs=[path], what="the index")
     build_index(library._values, space, what=str(path)).write(written)
     log.info("%s: index written (%.1f MB)", written, written.stat().st_size / 1e6)
     return written

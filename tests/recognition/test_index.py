@@ -190,7 +190,7 @@ def test_an_index_file_reads_back_and_refuses_another_librarys(tmp_path, monkeyp
     with pytest.raises(HeatdataError, match="not of this library's"):
         ix.read_index(path, values, "l1")
     path.write_bytes(b"not an index at all")
-    with pytest.raises(HeatdataError, match="not a FAISS index"):
+    with pytest.raises(HeatdataError, match="not an index that heatdata writes"):
         ix.read_index(path, values, "hellinger")
     path.write_bytes(bytes(10**7))
     with pytest.raises(HeatdataError, match="more than an index"):
