@@ -18,6 +18,7 @@ from tqdm.contrib.logging import logging_redirect_tqdm
 from heatdata.cli.arguments import (
     MAX_BOUNDARY_SAMPLES,
     MAX_VIEWS,
+    command_inputs,
     dump_json,
     frame_arguments,
     number,
@@ -60,7 +61,7 @@ def cmd_render(args: argparse.Namespace) -> None:
     from heatdata.io.models import load_model
     from heatdata.views.render import render_view
 
-    out = check_output(args.out, inputs=[args.model], suffixes=(".npz",), what="the view")
+    out = check_output(args.out, inputs=command_inputs(args), suffixes=(".npz",), what="the view")
     size = tuple(args.size) if args.size else None
     model = load_model(args.model, size=size, scale=args.scale * UNITS[args.units], up_axis=args.up_axis)
     view = render_view(model, args.azimuth, args.elevation, args.distance, noise=not args.no_noise, seed=args.seed)
@@ -113,7 +114,7 @@ def cmd_view_from_depth(args: argparse.Namespace) -> None:
     from heatdata.frames.clouds import read_frame
     from heatdata.frames.pcd import write_view_pcd
 
-    inputs = [args.input, args.intrinsics, args.rgb, args.mask]
+    inputs = command_inputs(args)
     outs = [check_output(p, inputs=inputs, suffixes=(".npz", ".ply", ".pcd"), what="the view") for p in args.out]
     if len({p.resolve() for p in outs}) < len(outs):
         raise HeatdataError(f"{' '.join(map(str, outs))}: an output is given twice")
@@ -274,7 +275,7 @@ def cmd_classify(args: argparse.Namespace) -> None:
     from heatdata.recognition.evaluate import classify, evaluate_library_sizes
 
     if args.out:
-        check_output(args.out, inputs=[args.descriptors], suffixes=(".parquet",), what="the predictions")
+        check_output(args.out, inputs=command_inputs(args), suffixes=(".parquet",), what="the predictions")
     descriptors, _ = read_table(args.descriptors, schema=DESCRIPTOR_SCHEMA)
     names = sorted(descriptors["descriptor"].unique()) if args.descriptor is None else [args.descriptor]
     unknown = sorted(set(names) - set(descriptors["descriptor"]))

@@ -14,6 +14,29 @@ from heatdata.views.depth import MAX_DEPTH_JUMP
 MAX_BOUNDARY_SAMPLES = 4096
 #: the most views per object a command renders (one every 0.1 degree)
 MAX_VIEWS = 3600
+#: the arguments that name what a command writes; every other path a command is given is one it reads
+OUTPUT_ARGUMENTS = ("out", "overlay")
+
+
+def command_inputs(args: argparse.Namespace, *found) -> list[Path]:
+    """Every file a command reads, for :func:`heatdata.io.files.check_output`: each path among its arguments but its
+    outputs (:data:`OUTPUT_ARGUMENTS`), and ``found``, the files it finds beside them (a frame's ``<name>.json``, a
+    library's index). Checking the arguments themselves, not a list per command, covers an option added later.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The command's parsed arguments.
+    *found : str or Path or None
+        Files the command reads that no argument names (None and "" are skipped).
+
+    Returns
+    -------
+    list of Path
+    """
+    given = [value for name, value in vars(args).items() if name not in OUTPUT_ARGUMENTS]
+    flat = [item for value in given for item in (value if isinstance(value, (list, tuple)) else [value])]
+    return [item for item in flat if isinstance(item, Path)] + [Path(item) for item in found if item]
 
 
 def _plain(value):

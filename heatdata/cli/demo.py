@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from heatdata.cli.arguments import MAX_VIEWS, number
+from heatdata.cli.arguments import MAX_VIEWS, command_inputs, number
 from heatdata.descriptors import COLOR_KIND, DescriptorSpec, file_name
 from heatdata.errors import HeatdataError
 from heatdata.io.files import atomic, check_folder, check_output
@@ -36,9 +36,9 @@ def cmd_demo(args: argparse.Namespace) -> None:
     start = time.perf_counter()
     specs = demo_specs()
     args.catalog = args.catalog or embedded_catalog()
-    out = check_folder(args.out, inputs=[args.catalog])
+    out = check_folder(args.out, inputs=command_inputs(args))
     for name in ("descriptors.parquet", "predictions.parquet", "precision.csv", "views.png", "summary.md"):
-        check_output(out / name, inputs=[args.catalog])
+        check_output(out / name, inputs=command_inputs(args))
     catalog = read_catalog(args.catalog)
     if args.objects:
         wanted = args.objects.split(",")

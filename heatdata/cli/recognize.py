@@ -9,7 +9,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from heatdata.cli.arguments import dump_json, frame_arguments, number, segment_arguments, segment_settings
+from heatdata.cli.arguments import (
+    command_inputs,
+    dump_json,
+    frame_arguments,
+    number,
+    segment_arguments,
+    segment_settings,
+)
 from heatdata.descriptors import DEFAULT_DESCRIPTOR, file_name
 from heatdata.errors import HeatdataError, did_you_mean
 from heatdata.io.files import check_output, require_file
@@ -191,6 +198,7 @@ def cmd_recognize(args: argparse.Namespace) -> None:
     filter of ch. 4 (--exact: the exhaustive filter), which prints the posterior over objects after each frame.
     A library is searched through its index (name.faiss beside it, or built when it loads); --exact compares every
     library view."""
+    from heatdata.recognition.index import index_path
     from heatdata.recognition.library import load_library
 
     args.library = _library_file(args.library)
@@ -200,9 +208,9 @@ def cmd_recognize(args: argparse.Namespace) -> None:
     if args.overlay is not None:
         if len(frames) > 1 or args.moves is not None:
             raise HeatdataError("--overlay draws one frame's objects; give one frame without --moves")
-        check_output(args.overlay, inputs=[f[key] for f in frames for key in ("depth", "rgb", "mask") if f[key]])
-        if args.overlay.suffix.lower() != ".png":
-            raise HeatdataError(f"{args.overlay}: the overlay is written as a .png")
+        beside = [f[key] for f in frames for key in ("depth", "intrinsics", "rgb", "mask")]
+        inputs = command_inputs(args, *beside, index_path(args.library))
+        check_output(args.overlay, inputs=inputs, suffixes=(".png",), what="the overlay")
     library = load_library(args.library, index=not args.exact)
     if len(frames) == 1 and args.moves is None:
         answer, image, intrinsics = _scene(frames[0], args, library)

@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from heatdata.cli.arguments import dump_json, number, segment_arguments, segment_settings
+from heatdata.cli.arguments import command_inputs, dump_json, number, segment_arguments, segment_settings
 from heatdata.errors import HeatdataError
 from heatdata.io.files import atomic, check_output
 from heatdata.log import printable
@@ -20,7 +20,7 @@ def cmd_segment(args: argparse.Namespace) -> None:
     from heatdata.frames.clouds import read_frame_grid
     from heatdata.segmentation.segment import label_image, segment_points
 
-    inputs = [args.frame, args.intrinsics, args.rgb]
+    inputs = command_inputs(args)
     out = check_output(args.out, inputs=inputs, suffixes=(".png",), what="the label image")
     overlay = None if args.overlay is None else check_output(args.overlay, inputs=inputs, suffixes=(".png",))
     if overlay is not None and overlay.resolve() == out.resolve():

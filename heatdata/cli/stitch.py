@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from heatdata.cli.arguments import dump_json, number
+from heatdata.cli.arguments import command_inputs, dump_json, number
 from heatdata.errors import HeatdataError
 from heatdata.experiments.captures import CAPTURE_SUFFIXES as DEPTH_SUFFIXES
 from heatdata.io.files import check_output, require_file
@@ -38,8 +38,9 @@ def cmd_stitch(args: argparse.Namespace) -> None:
     from heatdata.io.models import SUPPORTED_SUFFIXES, load_model, save_model
     from heatdata.jasnom.seam import stitch
 
+    beside = [f"{Path(p).with_suffix('')}{end}" for p in (args.first, args.second) for end in (".json", ".rgb.png")]
     out = check_output(
-        args.out, inputs=[args.first, args.second, args.motion], suffixes=SUPPORTED_SUFFIXES, what="the stitched model"
+        args.out, inputs=command_inputs(args, *beside), suffixes=SUPPORTED_SUFFIXES, what="the stitched model"
     )
     motion = None
     if args.motion is not None:

@@ -76,18 +76,20 @@ def _same_file(a: Path, b: Path) -> bool:
         return False
 
 
-def _writable_folder(folder: Path, output: Path) -> None:
-    """Create ``folder`` if needed and prove a file can be created in it (a read-only disk, ``/proc``, ...)."""
+def _writable_folder(folder: Path, output: Path, *, create: bool = False) -> None:
+    """Prove a file can be created in ``folder``, or in its nearest existing ancestor when it does not exist yet (a
+    read-only disk, ``/proc``, ...); create it only when ``create``, after the proof."""
     existing = folder
     while not existing.exists() and existing != existing.parent:
         existing = existing.parent
     if not existing.is_dir():
         raise OutputError(f"{output}: cannot be written: {existing} is a file, not a folder")
     try:
-        folder.mkdir(parents=True, exist_ok=True)
-        handle, probe = tempfile.mkstemp(dir=folder, prefix=".heatdata-probe-")
+        handle, probe = tempfile.mkstemp(dir=existing, prefix=".heatdata-probe-")
         os.close(handle)
         os.unlink(probe)
+        if create:
+            folder.mkdir(parents=True, exist_ok=True)
     except OSError as error:
         raise OutputError(f"{output}: cannot be written in {folder} ({_reason(error)})") from None
 
@@ -101,7 +103,7 @@ def check_output(
 ) -> Path:
     """Refuse an output file before the work that makes it: one that cannot be written or would replace an input.
 
-    Its folder is created (as every writer of heatdata does).
+    Nothing is created: a refused command leaves no trace, and the writer (:func:`atomic`) creates the folder.
 
     Parameters
     ----------
@@ -163,7 +165,7 @@ def check_folder(path: StrPath, *, inputs: Iterable[StrPath | None] = ()) -> Pat
     for given in inputs:
         if given is not None and _same_file(path, Path(given)):
             raise OutputError(f"{path}: is also an input of this command; write into another folder")
-    _writable_folder(path, path)
+    _writable_folder(path, path, create=True)
     return path
 
 
