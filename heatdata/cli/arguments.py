@@ -105,7 +105,7 @@ def frame_arguments(parser: argparse.ArgumentParser) -> None:
         type=number(0.0),
         nargs=2,
         metavar=("NEAR", "FAR"),
-        help="without a mask: keep the pixels between these depths, metres",
+        help="keep the pixels between these depths, metres (with --mask: the pixels both keep)",
     )
     parser.add_argument(
         "--scale",

@@ -19,6 +19,7 @@ from heatdata.jasnom.defaults import (
     BETA,
     GAMMA,
     MAX_SAMPLES,
+    MAX_WEIGHT,
     MIN_SAMPLES,
     SCAN_ALONG,
     SCAN_ROBUST,
@@ -178,18 +179,21 @@ def add_stitch(sub) -> None:
     join.add_argument("--json", action="store_true", help="print the motion, costs and seam as JSON, for programs")
     join.add_argument(
         "--alpha",
-        type=number(positive=True),
+        type=number(positive=True, high=MAX_WEIGHT),
         default=ALPHA,
         help=f"steepness of the interpenetration penalty, relative to the sampling (default {ALPHA:g})",
     )
     join.add_argument(
         "--beta",
-        type=number(0.0),
+        type=number(0.0, high=MAX_WEIGHT),
         default=BETA,
         help=f"weight of the interpenetration penalty J2, eq. 7.4; 0 to patch a hole (default {BETA:g})",
     )
     join.add_argument(
-        "--gamma", type=number(0.0), default=GAMMA, help=f"weight of the crease term J3 (default {GAMMA:g})"
+        "--gamma",
+        type=number(0.0, high=MAX_WEIGHT),
+        default=GAMMA,
+        help=f"weight of the crease term J3 (default {GAMMA:g})",
     )
     join.add_argument(
         "--scans",
@@ -213,19 +217,19 @@ def add_stitch(sub) -> None:
     )
     join.add_argument(
         "--table",
-        type=number(0.0),
+        type=number(0.0, high=MAX_WEIGHT),
         default=TABLE,
         help=f"with two depth frames: weight of the support-plane term, the tables as witnesses (default {TABLE:g})",
     )
     join.add_argument(
         "--along",
-        type=number(0.0),
+        type=number(0.0, high=MAX_WEIGHT),
         help="weight of the gap along the seam's continuation in J1: below 1 tolerates a band of "
         f"unseen surface (default {ALONG:g}; with --scans {SCAN_ALONG:g})",
     )
     join.add_argument(
         "--robust",
-        type=number(0.0),
+        type=number(0.0, high=MAX_WEIGHT),
         help=f"soft-L1 width of the residuals, in boundary radii (default 0: squares; with --scans {SCAN_ROBUST:g})",
     )
     join.add_argument(

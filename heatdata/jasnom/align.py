@@ -20,6 +20,7 @@ from heatdata.jasnom.cost import (
     _terms,
     _Weights,
     _weights,
+    check_weights,
 )
 from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, MAX_SAMPLES, MIN_SAMPLES, TABLE
 from heatdata.jasnom.table import TableContact
@@ -192,6 +193,7 @@ def align(
         finite number in range, or ``samples`` outside [MIN_SAMPLES, MAX_SAMPLES].
     """
     checked_samples(samples)
+    check_weights(alpha=alpha, beta=beta, gamma=gamma, along=along, robust=robust, table=table)
     first, second = _as_loops(first), _as_loops(second)
     for b in (first[0], second[0]):
         if len(b.loop) < MIN_BOUNDARY:
@@ -392,8 +394,7 @@ def alignment_at(
 
 
 def _checked_table(table: float) -> float:
-    if not (np.isfinite(table) and table >= 0):
-        raise StitchError(f"table must be a finite non-negative number, got {table}")
+    check_weights(table=table)
     return float(table)
 
 

@@ -11,6 +11,7 @@ from scipy.special import expit
 from heatdata.errors import StitchError
 from heatdata.io.models import Model
 from heatdata.jasnom.boundary import Boundary, _unit, resample_loop
+from heatdata.jasnom.defaults import MAX_WEIGHT
 
 
 @dataclass(frozen=True)
@@ -183,20 +184,30 @@ def _robust(squares: np.ndarray, scale: float) -> np.ndarray:
     return squares if scale <= 0 else 2 * scale**2 * (np.sqrt(1.0 + squares / scale**2) - 1.0)
 
 
+def check_weights(**weights: float) -> None:
+    """Refuse a JASNOM weight that is not a finite number in [0, :data:`MAX_WEIGHT`] (``alpha`` must be > 0), before
+    any arithmetic.
+
+    Parameters
+    ----------
+    **weights : float
+        ``alpha``, ``beta``, ``gamma``, ``along``, ``robust`` or ``table``, by name.
+
+    Raises
+    ------
+    StitchError
+    """
+    for name, value in weights.items():
+        low = 0.0 if name == "alpha" else None
+        if not (np.isfinite(value) and 0 <= value <= MAX_WEIGHT) or (low is not None and value <= low):
+            kind = "positive" if low is not None else "non-negative"
+            raise StitchError(f"{name} must be a finite {kind} number of at most {MAX_WEIGHT:g}, got {value}")
+
+
 def _weights(
     c1: _Curve, alpha: float, beta: float, gamma: float, along: float, robust: float, samples: int
 ) -> _Weights:
-    for name, value, low in (
-        ("alpha", alpha, 0.0),
-        ("beta", beta, None),
-        ("gamma", gamma, None),
-        ("along", along, None),
-        ("robust", robust, None),
-    ):
-        if not np.isfinite(value) or value < 0 or (low is not None and value <= low):
-            raise StitchError(
-                f"{name} must be a finite {'positive' if low is not None else 'non-negative'} number, got {value}"
-            )
+    check_weights(alpha=alpha, beta=beta, gamma=gamma, along=along, robust=robust)
     x = c1.samples
     scale = float(np.sqrt(np.mean(np.sum((x - x.mean(axis=0)) ** 2, axis=1))))
     spacing = float(np.mean(np.linalg.norm(np.roll(x[:samples], -1, axis=0) - x[:samples], axis=1)))

@@ -17,3 +17,6 @@ SCAN_ALONG, SCAN_ROBUST = 0.1, 0.05
 MIN_SAMPLES, MAX_SAMPLES = 8, 2048
 #: weight of the support-plane term for scans of an object on a table (:mod:`heatdata.jasnom.table`)
 TABLE = 10.0
+#: the largest weight, steepness or width a JASNOM option takes: far beyond the defaults, and where one term would swamp
+#: every other and the costs overflow (1e300 reached the k-d tree as infinity)
+MAX_WEIGHT = 1000.0

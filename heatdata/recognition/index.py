@@ -407,10 +407,11 @@ def _held(index, count: int, dimension: int) -> tuple[np.ndarray, np.ndarray, np
     import faiss
 
     if isinstance(index, faiss.IndexFlat):
-        vectors = faiss.vector_to_array(index.codes).view(np.float32).reshape(count, dimension)
-        return vectors, np.arange(count), np.zeros(count, np.int64)
+        flat = faiss.vector_to_array(index.codes).view(np.float32).reshape(count, dimension)
+        return flat, np.arange(count), np.zeros(count, np.int64)
     lists = faiss.downcast_InvertedLists(index.invlists)
-    ids, vectors, numbers = [np.zeros(0, np.int64)], [np.zeros((0, dimension), np.float32)], [np.zeros(0, np.int64)]
+    ids, numbers = [np.zeros(0, np.int64)], [np.zeros(0, np.int64)]
+    vectors = [np.zeros((0, dimension), np.float32)]
     for number in range(index.nlist):
         size = lists.list_size(number)
         if size:

@@ -703,7 +703,7 @@ class Library:
         mask : (h, w) bool, optional
             The pixels to look at (objects cut out by the user; each object in it is still one answer).
         depth_range : (near, far) metres, optional
-            Without a mask: the depths to look at.
+            The depths to look at (with a mask too: the pixels both keep).
         name : str
             The frame's name, for messages.
         threshold : float in [0, 1], optional

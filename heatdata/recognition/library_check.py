@@ -245,6 +245,31 @@ def spec_of(meta: dict) -> DescriptorSpec:
     return spec
 
 
+def check_values(values: np.ndarray, spec: DescriptorSpec) -> None:
+    """Check a library's values: finite everywhere (a view with NaN values is left out when a library is built), and
+    not negative where the kind's values are a histogram (its index compares their square roots).
+
+    Parameters
+    ----------
+    values : (N, M) float
+        The rows' values.
+    spec : DescriptorSpec
+        The library's descriptor.
+
+    Raises
+    ------
+    LibraryError
+    """
+    finite = np.isfinite(values).all(axis=1)
+    if not finite.all():
+        raise LibraryError(f"values: {int((~finite).sum())} of {len(values)} rows hold NaN or infinite values")
+    if spec.impl.index_space == "hellinger":
+        negative = (values < 0).any(axis=1)
+        if negative.any():
+            rows = f"{int(negative.sum())} of {len(values)} rows"
+            raise LibraryError(f"values: {rows} hold negative values; a {spec.kind} is a histogram")
+
+
 def check_library(rows: pd.DataFrame, metadata: dict, path: object, values: np.ndarray | None = None) -> DescriptorSpec:
     """:func:`check_metadata`, :func:`spec_of` and :func:`check_rows`, with ``path`` in the message.
 
@@ -275,6 +300,8 @@ def check_library(rows: pd.DataFrame, metadata: dict, path: object, values: np.n
         if spec.impl.time_scaled != (metadata.get("time_scales") is not None):
             raise LibraryError(f"time_scales: {'missing for' if spec.impl.time_scaled else 'given to'} {spec.name}")
         check_rows(rows, metadata, values)
+        if values is not None:
+            check_values(values, spec)
         foreign = spec.impl.foreign_fit(spec, metadata["objects"])
         if foreign:
             raise LibraryError(f"spec: {foreign}")

@@ -128,8 +128,9 @@ def support_plane(
             continue
         try:
             outline = Outline(plane, sampled[on])
-        except QhullError:  # its points on one line: a plane seen exactly edge-on
-            notes.append(f"a plane {span:.2f} m across is seen as a line, edge-on: not a support")
+        except (QhullError, ValueError):  # its points on one line (a plane seen edge-on), or too few for an outline
+            held = f"{int(on.sum())} sampled readings"
+            notes.append(f"a plane {span:.2f} m across of {held} has no outline (a line, edge-on): not a support")
             continue
         near = (np.abs(height) >= settings.min_height) & (np.abs(height) <= settings.max_height)
         standing = int(outline.contains(sampled[near & (height > 0)]).sum())
@@ -240,7 +241,11 @@ def refined_plane(points: np.ndarray, model, distance: float) -> tuple[np.ndarra
     then came out another way in 3 of 6 runs and moved an object's segment, so the callers pass
     ``probability=1.0`` and every sample is drawn.
     """
-    plane = np.asarray(model, np.float64) / np.linalg.norm(np.asarray(model, np.float64)[:3])
+    model = np.asarray(model, np.float64)
+    length = float(np.linalg.norm(model[:3]))
+    if not (np.isfinite(model).all() and length > 0):  # RANSAC drew three points of one spot: no plane
+        return np.array([0.0, 0.0, 1.0, 0.0]), np.zeros(0, np.int64)
+    plane = model / length
     inliers = np.flatnonzero(np.abs(points @ plane[:3] + plane[3]) < distance)
     for _ in range(REFINE_STEPS):
         if len(inliers) < 3:

@@ -141,7 +141,7 @@ def segment_frame(
     mask : (h, w) bool, optional
         The pixels to segment (an object cut out by the user: two objects in one mask are two segments).
     depth_range : (near, far) metres, optional
-        Without a mask: the depths to segment.
+        The depths to segment (with a mask too: the pixels both keep).
     name : str
         The frame's name, for messages and the views' ids (``name/0``, ``name/1``...).
 

@@ -29,10 +29,10 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 from PIL import Image
 
 from heatdata.errors import OutputError, ViewError
+from heatdata.io.bounded_yaml import load_yaml
 from heatdata.io.files import atomic, require_file
 from heatdata.typing import StrPath
 from heatdata.views.view import INTRINSIC_KEYS, MAX_IMAGE_PIXELS, View, check_intrinsics
@@ -159,7 +159,7 @@ def view_from_depth(
     mask : (h, w) bool, optional
         The object's pixels.
     depth_range : (near, far) metres, optional
-        Used when there is no mask: the pixels within it.
+        The pixels within it (with a mask too: the pixels both keep).
     max_depth_jump : float
         See :func:`grid_faces`.
 
@@ -220,7 +220,7 @@ def checked_depth(depth: np.ndarray, intrinsics: dict, name: str) -> tuple[np.nd
 def cut_depth(
     depth: np.ndarray, mask: np.ndarray | None, depth_range: tuple[float, float] | None, name: str
 ) -> tuple[np.ndarray, str]:
-    """A checked depth image (:func:`checked_depth`) kept where ``mask`` is true, else within ``depth_range``.
+    """A checked depth image (:func:`checked_depth`) kept where ``mask`` is true and within ``depth_range``.
 
     Parameters
     ----------
@@ -229,7 +229,7 @@ def cut_depth(
     mask : (h, w) bool, optional
         The pixels to keep.
     depth_range : (near, far) metres, optional
-        Without a mask: the depths to keep.
+        The depths to keep (with a mask too: the pixels both keep).
     name : str
         The frame, for messages.
 
@@ -249,22 +249,27 @@ def cut_depth(
     readings = int(np.isfinite(depth).sum())
     if readings == 0:
         raise ViewError(f"{name}: the depth image has no valid pixel (all zero, NaN or negative)")
+    kept = []
     if mask is not None:
         mask = np.asarray(mask)
         if mask.shape != depth.shape:
             raise ViewError(f"{name}: the mask is {mask.shape[1::-1]} but the depth image is {depth.shape[::-1]}")
         depth[~mask.astype(bool)] = np.nan
-        note = f"segmented by the mask: {int(np.isfinite(depth).sum())} of {readings} readings"
-    elif depth_range is not None:
+        kept.append("the mask")
+    if depth_range is not None:
         near, far = map(float, depth_range)
         if not 0 <= near < far:
             raise ViewError(f"{name}: depth_range must be (near, far) with 0 <= near < far, got {depth_range}")
         depth[(depth < near) | (depth > far)] = np.nan
-        note = f"segmented by depth {near:g}-{far:g} m: {int(np.isfinite(depth).sum())} of {readings} readings"
-    else:
-        note = f"not segmented: all {readings} readings"
+        kept.append(f"depth {near:g}-{far:g} m")
+    left = int(np.isfinite(depth).sum())
+    note = (
+        f"segmented by {' and '.join(kept)}: {left} of {readings} readings"
+        if kept
+        else f"not segmented: all {readings} readings"
+    )
     if not np.isfinite(depth).any():
-        raise ViewError(f"{name}: no valid pixel is left after segmentation ({note.split(':')[0]})")
+        raise ViewError(f"{name}: no valid pixel is left after segmentation ({note.split(':', maxsplit=1)[0]})")
     return depth, note
 
 
@@ -322,9 +327,12 @@ def read_intrinsics(path: StrPath, shape: tuple[int, int] | None = None) -> dict
         raise ViewError(f"{path}: {path.stat().st_size >> 20} MB is not an intrinsics file (six numbers)")
     try:
         text = path.read_text()
-        data = json.loads(text) if path.suffix.lower() == ".json" else yaml.safe_load(text)  # YAML reads 5.8e2 as text
-    except (OSError, ValueError, RecursionError, yaml.YAMLError) as error:
-        raise ViewError(f"{path}: cannot read the intrinsics ({error})") from error
+        if path.suffix.lower() == ".json":
+            data = json.loads(text)
+        else:  # YAML reads 5.8e2 as text; aliases are refused (a few hundred bytes of them expand to gigabytes)
+            data = load_yaml(text, str(path), ViewError)
+    except (OSError, ValueError, RecursionError) as error:
+        raise ViewError(f"{path}: cannot read the intrinsics ({' '.join(str(error).split())[:300]})") from None
     if not isinstance(data, dict):
         raise ViewError(
             f"{path}: the intrinsics must be a mapping of {', '.join(INTRINSIC_KEYS)} or a camera matrix "

@@ -33,6 +33,7 @@ from heatdata.core.mesh import (
     mesh_edges,
 )
 from heatdata.errors import OutputError, ViewError
+from heatdata.io.bounded_yaml import brief
 from heatdata.io.files import atomic, atomic_group, require_file
 from heatdata.typing import StrPath
 
@@ -89,7 +90,7 @@ def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, nam
     if missing:
         raise ViewError(f"{name}: missing {', '.join(missing)} (need {', '.join(INTRINSIC_KEYS)})")
     given = {key: intrinsics[key] for key in INTRINSIC_KEYS}
-    odd = [f"{key}={value!r}" for key, value in given.items() if isinstance(value, bool) or not _is_number(value)]
+    odd = [f"{key}={brief(value)}" for key, value in given.items() if isinstance(value, bool) or not _is_number(value)]
     if odd:
         raise ViewError(f"{name}: intrinsics must be numbers, got {', '.join(odd)}")
     k = {key: _as_float(value) for key, value in given.items()}
@@ -98,7 +99,7 @@ def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, nam
     bad += [
         f"{key}={k[key]:g} (a whole number of pixels >= 1)"
         for key in ("width", "height")
-        if not (k[key] >= 1 and k[key] == round(k[key]))
+        if np.isfinite(k[key]) and not (k[key] >= 1 and k[key] == round(k[key]))
     ]
     if not bad and k["width"] * k["height"] > MAX_IMAGE_PIXELS:
         bad.append(f"{k['width']:g}x{k['height']:g} pixels, above the cap of {MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel")

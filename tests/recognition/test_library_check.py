@@ -242,3 +242,24 @@ def test_fuzzed_metadata_loads_or_is_refused_as_a_library_error(built, tmp_path,
         assert "\n" not in str(exc) and len(str(exc)) < 600
         return
     assert set(library.objects) == set(OBJECTS) and library.time_rule in ("plausible", "every")
+
+
+def test_values_not_finite_or_a_negative_histogram_are_refused(built, tmp_path):
+    rows, metadata = built
+    for bad in (np.nan, np.inf):
+        changed = rows.copy()
+        values = np.array(changed.at[1, "values"], dtype=np.float64)
+        values[3] = bad
+        changed.at[1, "values"] = values
+        one_line_refusal(written(tmp_path, changed, metadata), "values: 1 of", "NaN or infinite")
+    catalog = hd.read_catalog(ROOT / "data/models/catalog.csv")
+    views = {"train": 2, "test": 1, "elevation": 30.0, "distance": 1.0, "noise": True, "seed": 0}
+    hgd = hd.DescriptorSpec("hgd")
+    frames = [render_object_views(catalog[catalog["object"] == obj].iloc[0].to_dict(), views) for obj in OBJECTS[:2]]
+    table = pd.concat([describe_view_table(f, [hgd]) for f in frames], ignore_index=True)
+    rows, metadata = build_library(table, hgd, 2, source="test")
+    assert hd.load_library(written(tmp_path, rows, metadata, "hgd.parquet")).objects == sorted(OBJECTS[:2])
+    values = np.array(rows.at[0, "values"], dtype=np.float64)
+    values[0] = -0.5
+    rows.at[0, "values"] = values
+    one_line_refusal(written(tmp_path, rows, metadata, "hgd.parquet"), "negative values; a hgd is a histogram")

@@ -220,7 +220,7 @@ def test_the_command_refuses_what_it_cannot_draw_or_read(library, tmp_path, capl
     base = ["recognize", str(tmp_path / "empty.png"), "--intrinsics", str(tmp_path / "empty.json")]
     cases = [
         ([*base, "--library", library.path], "empty frame"),
-        ([*base, "--library", library.path, "--overlay", str(tmp_path / "o.jpg")], "written as a .png"),
+        ([*base, "--library", library.path, "--overlay", str(tmp_path / "o.jpg")], "ending in .png"),
         ([*base, "--library", library.path, "--overlay", str(tmp_path / "empty.png")], "empty.png"),
     ]
     for command, message in cases:

@@ -1,5 +1,7 @@
 # The config, read as the schema types it and validated against it before any rule is defined; an error is one
 # line naming the key.
+from pathlib import Path
+
 import jsonschema
 import yaml
 from snakemake.exceptions import WorkflowError
@@ -7,6 +9,7 @@ from snakemake.logging import logger
 from snakemake.utils import validate
 
 from heatdata.errors import ConfigError
+from heatdata.io.bounded_yaml import load_yaml
 from heatdata.experiments.config import accept_aliases
 
 
@@ -30,17 +33,21 @@ def typed(value, schema):
     untyped = not types and "enum" not in schema
     if isinstance(value, str) and (untyped or {"integer", "number", "boolean"} & set(
             [types] if isinstance(types, str) else types)):
-        parsed = yaml.safe_load(value)
+        parsed = load_yaml(value, "--config", ConfigError)
         return value if parsed is None or isinstance(parsed, (str, dict, list)) else parsed
     return value
 
 
 try:
+    # each config file read again, bounded and without YAML's aliases, before anything walks the config: 400 bytes of
+    # nested aliases stand for 10^9 values, and the typing below and the schema would walk every one
+    for path in workflow.configfiles:
+        load_yaml(Path(path).read_text(), str(path), ConfigError)
     for note in accept_aliases(config):  # the old spellings, renamed with a warning
         logger.warning(note)
+    config.update(typed(dict(config), SCHEMA))
 except ConfigError as exc:
     raise WorkflowError(f"config error: {exc}") from None
-config.update(typed(dict(config), SCHEMA))
 
 
 def schema_message(error, where=""):
