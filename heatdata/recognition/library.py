@@ -275,12 +275,18 @@ def write_library(rows: pd.DataFrame, metadata: dict, path: StrPath, *, index: b
     index : bool
         Also write its search index beside it (``name.faiss``; :mod:`heatdata.recognition.index`), for a kind with an
         index space.
+
+    Raises
+    ------
+    OutputError
+        With ``index``, a library file named like its own index (``name.faiss``).
     """
     rows = rows.iloc[np.argsort((rows["split"] != "train").to_numpy(), kind="stable")]
     space = spec_of(metadata["spec"]).impl.index_space if index else None
     if space is not None:
+        beside = check_output(index_path(path), inputs=[path], what="the index")  # a library named name.faiss
         views = np.stack(rows.loc[rows["split"] == "train", "values"].to_numpy())
-        build_index(views, space, what=str(path)).write(index_path(path))
+        build_index(views, space, what=str(path)).write(beside)
     write_table(rows, Path(path), DESCRIPTOR_SCHEMA, {LIBRARY_KEY: metadata}, row_group_size=ROW_GROUP)
 
 

@@ -10,6 +10,7 @@ import threading
 
 import faiss
 import numpy as np
+import pandas as pd
 import pytest
 from conftest import ROOT
 from test_index import histograms
@@ -179,3 +180,14 @@ def test_heatdata_index_never_writes_over_its_library(tmp_path):
     with pytest.raises(OutputError, match="is also an input"):
         write_library_index(named_like_its_index)
     assert named_like_its_index.read_bytes() == before
+
+
+def test_a_library_written_with_its_index_is_never_its_own_index(tmp_path):
+    from heatdata.errors import OutputError
+    from heatdata.recognition.library import write_library
+
+    library = _small_library(tmp_path / "lib.parquet")
+    rows = pd.concat([library.views, library.independent], ignore_index=True)
+    with pytest.raises(OutputError, match="is also an input"):
+        write_library(rows, library.metadata, tmp_path / "other.faiss", index=True)
+    assert not (tmp_path / "other.faiss").exists()
