@@ -222,3 +222,13 @@ def test_no_frame_makes_segmentation_raise(depth, depth_range):
     except ViewError:  # no reading at all, or none in the range: one line
         return
     assert all(segment.view.n_vertices > 0 for segment in found.segments)
+
+
+@pytest.mark.parametrize(
+    ("change", "needle"),
+    [({"fx": 1e300}, "focal length above"), ({"cx": 1e300}, "principal point"), ({"cy": -5e6}, "principal point")],
+)
+def test_intrinsics_out_of_any_cameras_range_are_refused(change, needle):
+    camera = {"fx": 500.0, "fy": 500.0, "cx": 320.0, "cy": 240.0, "width": 640, "height": 480}
+    with pytest.raises(ViewError, match=needle):
+        check_intrinsics(camera | change)

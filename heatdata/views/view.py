@@ -60,6 +60,9 @@ MAX_IMAGE_PIXELS = 2**21
 MAX_VIEW_VERTICES = MAX_IMAGE_PIXELS
 CANONICAL_STEPS = 8  # fixed-point steps of the canonical rotation (2-3 reach CANONICAL_PIXELS)
 CANONICAL_PIXELS = 1e-3  # how near the optical axis the canonical frame centres the image's bounding box
+#: the longest focal length and the farthest principal point, pixels: 10^6 px over a 2,000-pixel-wide image is a
+#: 0.1 deg field of view, beyond any depth sensor; far beyond it, back-projection overflows
+MAX_FOCAL = 1e6
 KINECT_INTRINSICS = {"fx": 580.0, "fy": 580.0, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480}
 
 
@@ -84,7 +87,8 @@ def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, nam
     ------
     ViewError
         A key missing, a value that is not a number (a bool or a string is not), not finite, ``fx`` or ``fy``
-        <= 0, a size that is not a whole number >= 1, more than ``MAX_IMAGE_PIXELS``, or another shape.
+        <= 0 or above :data:`MAX_FOCAL`, ``cx`` or ``cy`` beyond it, a size that is not a whole number >= 1, more than
+        ``MAX_IMAGE_PIXELS``, or another shape.
     """
     missing = [key for key in INTRINSIC_KEYS if key not in intrinsics]
     if missing:
@@ -101,8 +105,14 @@ def check_intrinsics(intrinsics: dict, shape: tuple[int, int] | None = None, nam
         for key in ("width", "height")
         if np.isfinite(k[key]) and not (k[key] >= 1 and k[key] == round(k[key]))
     ]
+    bad += [f"{key}={k[key]:g} (a focal length above {MAX_FOCAL:g} px)" for key in ("fx", "fy") if k[key] > MAX_FOCAL]
     if not bad and k["width"] * k["height"] > MAX_IMAGE_PIXELS:
         bad.append(f"{k['width']:g}x{k['height']:g} pixels, above the cap of {MAX_IMAGE_PIXELS / 1e6:.1f} Mpixel")
+    bad += [
+        f"{key}={k[key]:g} (a principal point beyond {MAX_FOCAL:g} px)"
+        for key in ("cx", "cy")
+        if abs(k[key]) > MAX_FOCAL
+    ]
     if bad:
         raise ViewError(f"{name}: bad intrinsics: {', '.join(bad)}")
     k["width"], k["height"] = int(k["width"]), int(k["height"])
