@@ -284,13 +284,20 @@ def read_table(
 
 
 def read_matrix_table(
-    path: str | Path, matrix: str, *, schema: pa.Schema, skip: tuple[str, ...] = ()
+    path: str | Path,
+    matrix: str,
+    *,
+    schema: pa.Schema,
+    skip: tuple[str, ...] = (),
+    first: tuple[str, object] | None = None,
 ) -> tuple[pd.DataFrame, np.ndarray | None, dict]:
     """:func:`read_table` for a large table whose list column ``matrix`` holds rows of equal length: that column as
     one (N, M) array, without a Python object per row built and then copied.
 
     The frame's ``matrix`` column holds views of the array's rows. A table whose rows differ in length (or hold a
-    null) is read as :func:`read_table` reads it, and the array is None.
+    null) is read as :func:`read_table` reads it, and the array is None. With ``first``, the rows whose column
+    equals a value come first (each part in the file's order): each row is decoded straight into its place, so a
+    caller that needs those rows as one block (a library's views) gets a slice of the array, not a second copy.
 
     Parameters
     ----------
@@ -302,6 +309,8 @@ def read_matrix_table(
         The table the caller needs: a file without its columns is refused.
     skip : tuple of str
         Columns not to read (they are left out of the frame).
+    first : (column, value), optional
+        The rows to put first.
 
     Returns
     -------
@@ -321,33 +330,49 @@ def read_matrix_table(
         raise HeatdataError(f"{path}: not the table this needs: it lacks column(s) {', '.join(missing)}")
     columns = [name for name in file.schema_arrow.names if name not in skip]
     try:
-        values = _matrix(file, matrix, path)
-        frame = file.read(columns=[c for c in columns if c != matrix or values is None]).to_pandas()
+        frame = file.read(columns=[c for c in columns if c != matrix]).to_pandas()
+        order = None
+        if first is not None:
+            chosen = frame[first[0]].eq(first[1]).to_numpy()
+            if not chosen[: int(chosen.sum())].all():  # not already first
+                order = np.concatenate([np.flatnonzero(chosen), np.flatnonzero(~chosen)])
+                frame = frame.iloc[order].reset_index(drop=True)
+        values = _matrix(file, matrix, path, order)
+        if values is None:
+            whole = file.read(columns=[matrix]).to_pandas()[matrix].to_numpy()
+            frame.insert(columns.index(matrix), matrix, whole if order is None else whole[order])
+        else:
+            frame.insert(columns.index(matrix), matrix, list(values))
     except Exception as exc:
         raise HeatdataError(f"{path}: not a readable Parquet table ({exc})") from exc
-    if values is not None:
-        frame.insert(columns.index(matrix), matrix, list(values))
     return frame, values, _run_metadata(file, path)
 
 
-def _matrix(file: pq.ParquetFile, column: str, path: str | Path) -> np.ndarray | None:
-    """A list column of equal-length rows as one (N, M) float64 array, its row groups decoded side by side into it;
-    None when its rows differ in length or one is null.
+#: readers decoding a matrix column side by side
+MATRIX_READERS = 4
 
-    Each row group is decoded through a reader of its own (``path`` opened again) and without arrow's thread pool:
-    a Parquet file reader is not thread-safe, and four threads sharing ``file`` hung within 300 reads of a 20-group
-    table.
+
+def _matrix(file: pq.ParquetFile, column: str, path: str | Path, order: np.ndarray | None) -> np.ndarray | None:
+    """A list column of equal-length rows as one (N, M) float64 array, row ``order[i]`` of the file as row ``i`` (the
+    file's order without ``order``); None when its rows differ in length or one is null.
+
+    The row groups are cut into :data:`MATRIX_READERS` contiguous spans, each decoded by a reader of its own sharing
+    ``file``'s parsed footer, without arrow's thread pool: a Parquet file reader is not thread-safe (four threads
+    sharing ``file`` hung within 300 reads of a 20-group table), and a reader per row group parsed the whole footer
+    again each time (a 400,000-row file of 1,112 groups took 48 s).
     """
     import concurrent.futures
+    import itertools
     import os
 
     leaves = [file.metadata.schema.column(k).path for k in range(file.metadata.num_columns)]
     leaf = leaves.index(f"{column}.list.element") if f"{column}.list.element" in leaves else None
     if leaf is None:
         return None
+    metadata = file.metadata
 
     def lengths(group: int) -> tuple[int, int]:
-        stats = file.metadata.row_group(group)
+        stats = metadata.row_group(group)
         return stats.num_rows, stats.column(leaf).num_values
 
     groups = [lengths(g) for g in range(file.num_row_groups)]
@@ -360,20 +385,32 @@ def _matrix(file: pq.ParquetFile, column: str, path: str | Path) -> np.ndarray |
     width = int(next(iter(widths)))
     out = np.empty((rows, width))
     starts = np.concatenate([[0], np.cumsum([g[0] for g in groups])])
+    place = None
+    if order is not None:
+        place = np.empty(rows, np.int64)
+        place[order] = np.arange(rows)
 
-    def fill(group: int) -> bool:
-        with pq.ParquetFile(path) as reader:
-            part = reader.read_row_group(group, columns=[column], use_threads=False).column(0)
-        if _common_width(part) != width:
-            return False
-        at = starts[group]
-        for chunk in part.chunks:
-            out[at : at + len(chunk)] = chunk.flatten().to_numpy(zero_copy_only=False).reshape(-1, width)
-            at += len(chunk)
+    def fill(span: range) -> bool:
+        with pq.ParquetFile(path, metadata=metadata) as reader:
+            for group in span:
+                part = reader.read_row_group(group, columns=[column], use_threads=False).column(0)
+                if _common_width(part) != width:
+                    return False
+                at = starts[group]
+                for chunk in part.chunks:
+                    block = chunk.flatten().to_numpy(zero_copy_only=False).reshape(-1, width)
+                    if place is None:
+                        out[at : at + len(chunk)] = block
+                    else:
+                        out[place[at : at + len(chunk)]] = block
+                    at += len(chunk)
         return True
 
-    with concurrent.futures.ThreadPoolExecutor(max_workers=min(4, os.cpu_count() or 1)) as pool:
-        filled = list(pool.map(fill, range(len(groups))))
+    workers = max(1, min(MATRIX_READERS, os.cpu_count() or 1, len(groups)))
+    cuts = np.linspace(0, len(groups), workers + 1).round().astype(int)
+    spans = [range(int(a), int(b)) for a, b in itertools.pairwise(cuts) if b > a]
+    with concurrent.futures.ThreadPoolExecutor(max_workers=len(spans)) as pool:
+        filled = list(pool.map(fill, spans))
     return out if all(filled) else None
 
 

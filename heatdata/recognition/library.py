@@ -978,7 +978,9 @@ def load_library(path: StrPath, *, index: bool = True) -> Library:
         Not a library file, another layout, or a probe this heatdata describes differently.
     """
     try:
-        rows, values, run = read_matrix_table(Path(path), "values", schema=DESCRIPTOR_SCHEMA, skip=UNREAD)
+        rows, values, run = read_matrix_table(
+            Path(path), "values", schema=DESCRIPTOR_SCHEMA, skip=UNREAD, first=("split", "train")
+        )
     except HeatdataError as exc:
         raise LibraryError(str(exc)) from None
     rows = rows.assign(**dict.fromkeys(UNREAD))

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pyarrow as pa
+import pyarrow.parquet as pq
 import pytest
 
 import heatdata as hd
@@ -128,6 +129,45 @@ for _ in range(400):
 """
     child = [sys.executable, "-c", script, tmp_path / "m.parquet"]
     subprocess.run(child, check=True, timeout=90, cwd=Path(__file__).parent)
+
+
+@pytest.mark.parametrize("groups", [1, 20])
+def test_chosen_rows_come_first_each_decoded_into_its_place(tmp_path, groups):
+    frame = write_matrix(tmp_path / "m.parquet", max(1, 20 // groups))
+    odd = [f"v{k}" for k in range(1, 20, 2)]
+    frame["name"] = frame["name"].where(~frame["name"].isin(odd), "odd")
+    write_table(frame, tmp_path / "m.parquet", MATRIX_SCHEMA, row_group_size=max(1, 20 // groups))
+    back, matrix, _ = read_matrix_table(tmp_path / "m.parquet", "values", schema=MATRIX_SCHEMA, first=("name", "odd"))
+    order = np.r_[1:20:2, 0:20:2]
+    assert np.array_equal(matrix, VALUES[order]) and list(back["name"][:10]) == ["odd"] * 10
+    assert list(back["name"][10:]) == [f"v{k}" for k in range(0, 20, 2)]
+    assert all(
+        np.shares_memory(row, matrix) and np.array_equal(row, VALUES[k]) for row, k in zip(back["values"], order)
+    )
+    ragged = pd.DataFrame({"name": ["a", "odd"], "values": [np.ones(3), np.zeros(2)], "extra": [[], []]})
+    write_table(ragged, tmp_path / "r.parquet", MATRIX_SCHEMA)
+    back, matrix, _ = read_matrix_table(tmp_path / "r.parquet", "values", schema=MATRIX_SCHEMA, first=("name", "odd"))
+    assert matrix is None and list(back["name"]) == ["odd", "a"] and [len(v) for v in back["values"]] == [2, 3]
+
+
+def test_a_file_of_a_thousand_row_groups_reads_each_once(tmp_path, monkeypatch):
+    """A file another tool wrote with a row group per few rows: the footer is parsed once, not once per group (the
+    time is benchmarks/bench_tables.py's)."""
+    rows = 3000
+    values = np.random.default_rng(0).random((rows, 4))
+    table = pa.table({"name": [f"v{k}" for k in range(rows)], "values": list(values), "extra": [["x"]] * rows})
+    pq.write_table(table.cast(MATRIX_SCHEMA), tmp_path / "m.parquet", row_group_size=3)
+    opened = []
+    original = pq.ParquetFile.__init__
+
+    def counting(self, source, *args, **kwargs):
+        opened.append(kwargs.get("metadata") is not None)
+        original(self, source, *args, **kwargs)
+
+    monkeypatch.setattr(pq.ParquetFile, "__init__", counting)
+    _, matrix, _ = read_matrix_table(tmp_path / "m.parquet", "values", schema=MATRIX_SCHEMA)
+    assert np.array_equal(matrix, values) and pq.ParquetFile(tmp_path / "m.parquet").num_row_groups == 1000
+    assert len(opened) - 1 <= 4 and opened.count(False) <= 2  # one parse of the footer, and a reader per span
 
 
 def test_a_ragged_matrix_column_reads_row_by_row(tmp_path):
