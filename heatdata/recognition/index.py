@@ -375,12 +375,28 @@ def check_layout(data: bytes, count: int, dimension: int, space: str) -> None:
             direct, entries = struct.unpack_from("<bQ", data, at)
             if direct != 0 or entries != 0 or data[at + 9 : at + 13] != b"ilar":
                 raise HeatdataError("an IVF index whose lists are not held in the file (heatdata writes them in it)")
+            _check_lists(data, at + 13, lists, count, dimension)
         elif struct.unpack_from("<Q", data, at)[0] != count * dimension:
             raise HeatdataError("a flat index whose vectors are not this library's size")
         elif len(data) != at + 8 + 4 * count * dimension:
             raise struct.error("not the size its header says")
-    except struct.error:
+    except (struct.error, ValueError):  # a field past the end of the file
         raise HeatdataError("a truncated index file, or one longer than its header says") from None
+
+
+def _check_lists(data: bytes, at: int, lists: int, count: int, dimension: int) -> None:
+    """Check an IVF index's in-memory lists from ``at`` (after their ``ilar``): every list's size is read before
+    FAISS allocates it, so their sizes must add up to the library's views, and the file must end where they do."""
+    held, width = struct.unpack_from("<QQ", data, at)
+    kind, length = data[at + 16 : at + 20], struct.unpack_from("<Q", data, at + 20)[0]
+    if held != lists or width != 4 * dimension or kind not in (b"full", b"sprs") or length > 2 * lists:
+        raise HeatdataError("an IVF index whose lists are not what heatdata writes")
+    numbers = np.frombuffer(data, "<u8", length, at + 28)
+    sizes = numbers if kind == b"full" else numbers[1::2]  # sparse: (list, size) pairs
+    if (kind == b"full" and length != lists) or np.any(sizes > count) or int(sizes.sum()) != count:
+        raise HeatdataError("an IVF index whose lists do not hold the library's views")
+    if len(data) != at + 28 + 8 * length + count * (width + 8):
+        raise struct.error("not the size its lists say")
 
 
 def _read_bytes(path: Path, largest: int) -> bytes:

@@ -94,6 +94,20 @@ def test_a_size_field_that_claims_gigabytes_is_refused_without_allocating_them(v
     refused(path, values, "truncated")
 
 
+def test_an_ivf_list_size_that_claims_gigabytes_is_refused_before_faiss_allocates_it(values, tmp_path, monkeypatch):
+    monkeypatch.setattr(ix, "FLAT_ROWS", 50)
+    data = bytearray(faiss.serialize_index(ix.build_index(values, "hellinger").index).tobytes())
+    sizes = data.index(b"full") + 12  # the lists' sizes follow "full" and their count
+    path = tmp_path / "a.faiss"
+    for claim in (2**26, 2**40, 0):
+        mutant = bytearray(data)
+        struct.pack_into("<Q", mutant, sizes, claim)
+        path.write_bytes(mutant)
+        refused(path, values, "lists do not hold the library's views")
+    path.write_bytes(data[:-8])
+    refused(path, values, "truncated")
+
+
 def test_a_link_a_pipe_or_a_folder_is_never_read(values, tmp_path):
     target = tmp_path / "passwd"
     target.write_text("root:x:0:0:root\n")
