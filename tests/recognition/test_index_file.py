@@ -94,7 +94,7 @@ def test_a_size_field_that_claims_gigabytes_is_refused_without_allocating_them(v
     refused(path, values, "truncated")
 
 
-def test_an_ivf_list_size_that_claims_gigabytes_is_refused_before_faiss_allocates_it(values, tmp_path, monkeypatch):
+def test_an_ivf_list_size_that_claims_gigabytes_is_refused_before_faiss_reads_it(values, tmp_path, monkeypatch):
     monkeypatch.setattr(ix, "FLAT_ROWS", 50)
     data = bytearray(faiss.serialize_index(ix.build_index(values, "hellinger").index).tobytes())
     sizes = data.index(b"full") + 12  # the lists' sizes follow "full" and their count
