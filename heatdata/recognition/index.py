@@ -393,6 +393,9 @@ def _check_lists(data: bytes, at: int, lists: int, count: int, dimension: int) -
         raise HeatdataError("an IVF index whose lists are not what heatdata writes")
     numbers = np.frombuffer(data, "<u8", length, at + 28)
     sizes = numbers if kind == b"full" else numbers[1::2]  # sparse: (list, size) pairs
+    named = numbers[0::2]
+    if kind == b"sprs" and (length % 2 or np.any(named >= lists) or len(np.unique(named)) != len(named)):
+        raise HeatdataError("an IVF index whose lists are not what heatdata writes")
     if (kind == b"full" and length != lists) or np.any(sizes > count) or int(sizes.sum()) != count:
         raise HeatdataError("an IVF index whose lists do not hold the library's views")
     if len(data) != at + 28 + 8 * length + count * (width + 8):

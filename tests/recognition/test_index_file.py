@@ -205,3 +205,23 @@ def test_a_library_written_with_its_index_is_never_its_own_index(tmp_path):
     with pytest.raises(OutputError, match="is also an input"):
         write_library(rows, library.metadata, tmp_path / "other.faiss", index=True)
     assert not (tmp_path / "other.faiss").exists()
+
+
+def test_an_ivf_index_with_most_lists_empty_is_read_from_faiss_s_sparse_layout(values, tmp_path):
+    mapped = ix.mapped(values, "hellinger")
+    lists = 14
+    centroids = np.full((lists, mapped.shape[1]), 10.0, np.float32)  # far from every view: empty lists
+    centroids[:3] = mapped[[0, 70, 140]]
+    quantizer = faiss.IndexFlatL2(mapped.shape[1])
+    quantizer.add(centroids)
+    ivf = faiss.IndexIVFFlat(quantizer, mapped.shape[1], lists, faiss.METRIC_L2)
+    ivf.is_trained = True
+    ivf.add(mapped)
+    path = tmp_path / "a.faiss"
+    faiss.write_index(ivf, str(path))
+    assert b"sprs" in path.read_bytes()
+    assert len(ix.read_index(path, values, "hellinger")) == len(values)
+    data = bytearray(path.read_bytes())
+    struct.pack_into("<Q", data, data.index(b"sprs") + 12, lists + 5)  # a list beyond the index's
+    path.write_bytes(data)
+    refused(path, values, "lists are not what heatdata writes")
