@@ -39,7 +39,7 @@ def cmd_stitch(args: argparse.Namespace) -> None:
     from heatdata.io.models import SUPPORTED_SUFFIXES, load_model, save_model
     from heatdata.jasnom.seam import stitch
 
-    beside = [f"{Path(p).with_suffix('')}{end}" for p in (args.first, args.second) for end in (".json", ".rgb.png")]
+    beside = [companion for path in (args.first, args.second) for companion in _companions(path)]
     out = check_output(
         args.out, inputs=command_inputs(args, *beside), suffixes=SUPPORTED_SUFFIXES, what="the stitched model"
     )
@@ -142,6 +142,13 @@ def _depth_frames(args: argparse.Namespace) -> bool:
     return all(frames)
 
 
+def _companions(frame: Path) -> tuple[Path, Path]:
+    """The files a depth frame's scan reads beside it when no option names them: ``<name>.json`` (its intrinsics) and
+    ``<name>.rgb.png`` (its colour)."""
+    base = Path(frame).with_suffix("")
+    return Path(f"{base}.json"), Path(f"{base}.rgb.png")
+
+
 def _table_scans(args: argparse.Namespace):
     """The two frames' objects on their tables: each frame's intrinsics are --intrinsics or its ``<name>.json``, its
     colour the --rgb given or its ``<name>.rgb.png`` when there is one."""
@@ -149,14 +156,14 @@ def _table_scans(args: argparse.Namespace):
 
     scans = []
     for k, path in enumerate((args.first, args.second)):
-        base = Path(path).with_suffix("")
-        intrinsics = args.intrinsics or Path(f"{base}.json")
+        camera, colour = _companions(path)
+        intrinsics = args.intrinsics or camera
         if not Path(intrinsics).is_file():
             raise HeatdataError(
                 f"{path}: no intrinsics: give --intrinsics (JSON or YAML with fx, fy, cx, cy, width, height) or "
-                f"write {base}.json"
+                f"write {camera}"
             )
-        rgb = args.rgb[k] if args.rgb else Path(f"{base}.rgb.png")
+        rgb = args.rgb[k] if args.rgb else colour
         scans.append(read_table_scan(path, intrinsics, rgb if Path(rgb).is_file() or args.rgb else None))
     return scans
 

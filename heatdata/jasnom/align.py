@@ -207,7 +207,7 @@ def align(
     begin = time.perf_counter()
     c1, c2 = _Curve.of(first, samples), _Curve.of(second, samples)
     w = _weights(c1, alpha, beta, gamma, along, robust, samples)
-    table = _checked_table(table)
+    table = float(table)
     size = float(
         np.linalg.norm(
             np.ptp(np.vstack([c1.samples, c2.samples - c2.samples.mean(axis=0) + c1.samples.mean(axis=0)]), axis=0)
@@ -376,6 +376,7 @@ def alignment_at(
     Nothing is searched, so :func:`stitch` can join scans whose motion is known and an
     experiment can compare J at the true motion with J at :func:`align`'s optimum.
     """
+    check_weights(alpha=alpha, beta=beta, gamma=gamma, along=along, robust=robust, table=table)
     begin = time.perf_counter()
     c1, c2 = _Curve.of(_as_loops(first), samples), _Curve.of(_as_loops(second), samples)
     w = _weights(c1, alpha, beta, gamma, along, robust, samples)
@@ -389,13 +390,8 @@ def alignment_at(
         1,
         begin,
         contact,
-        _checked_table(table),
+        float(table),
     )
-
-
-def _checked_table(table: float) -> float:
-    check_weights(table=table)
-    return float(table)
 
 
 def _alignment(

@@ -207,7 +207,7 @@ def check_weights(**weights: float) -> None:
 def _weights(
     c1: _Curve, alpha: float, beta: float, gamma: float, along: float, robust: float, samples: int
 ) -> _Weights:
-    check_weights(alpha=alpha, beta=beta, gamma=gamma, along=along, robust=robust)
+    """The weights of J for ``c1``'s scale and spacing (the callers have checked them: :func:`check_weights`)."""
     x = c1.samples
     scale = float(np.sqrt(np.mean(np.sum((x - x.mean(axis=0)) ** 2, axis=1))))
     spacing = float(np.mean(np.linalg.norm(np.roll(x[:samples], -1, axis=0) - x[:samples], axis=1)))
