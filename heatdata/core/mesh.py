@@ -88,7 +88,8 @@ def consistent_winding(faces: np.ndarray) -> tuple[np.ndarray, int]:
             continue
         patch, parent = csgraph.breadth_first_order(graph, root, directed=False, return_predecessors=True)
         children = patch[1:]
-        reverse = (np.asarray(graph[parent[children], children]).ravel() == 2).tolist()
+        # a face alone in its patch has no children, and indexing the graph with no pairs gives no array
+        reverse = (np.asarray(graph[parent[children], children]).ravel() == 2).tolist() if len(children) else []
         state = flip.tolist()
         for node, up, rev in zip(children.tolist(), parent[children].tolist(), reverse, strict=True):
             state[node] = state[up] ^ rev  # BFS order: a parent is set before its children

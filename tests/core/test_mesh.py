@@ -40,6 +40,14 @@ def test_winding_is_made_consistent_by_the_majority():
     assert count == 0 and np.array_equal(faces, TETRAHEDRON)
 
 
+def test_winding_is_made_consistent_beside_a_face_alone_in_its_patch():
+    # the first two faces cross edge 1-2 the same way; the third shares no edge (a speck left by a decimation)
+    faces, count = consistent_winding(np.array([[0, 1, 2], [1, 2, 3], [4, 5, 6]]))
+    assert count == 1 and faces[2].tolist() == [4, 5, 6]
+    edges = [{(int(f[i]), int(f[(i + 1) % 3])) for i in range(3)} for f in faces[:2]]
+    assert ((1, 2) in edges[0]) != ((1, 2) in edges[1])  # now crossed in opposite directions
+
+
 def test_surface_samples_are_uniform_by_area_on_the_mesh():
     # a unit square (two triangles) and a 3x1 rectangle beside it: a quarter of the samples on the square
     vertices = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [4, 0, 0], [4, 1, 0]], float)
