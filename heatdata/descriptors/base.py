@@ -86,6 +86,9 @@ class Option:
     check: Callable[[Any], Any] = lambda value: value
     #: None given for this option means its default (False: None is a value, e.g. samples=None)
     none_is_default: bool = True
+    #: the value that describes as a spec saved before the option existed did (None: its default does); a library
+    #: file whose spec lacks the option reads with it (:func:`heatdata.recognition.library_check.spec_of`)
+    before: Any = None
 
 
 def integer(low: int, high: int | None = None, *, allow_none: bool = False) -> Callable[[Any], Any]:

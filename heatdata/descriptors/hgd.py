@@ -5,6 +5,11 @@ along the outline loses what tells chairs apart (the chairs' ablation, docs/chap
 shape-distribution idea is Osada et al.'s D2, which the ESF (3.6.1) refines with its
 in/out/mixed lines; here heat decides what the ESF decides with voxels:
 
+0. a view of more than ``vertices`` vertices (the budget, :data:`VERTEX_BUDGET` by default) is seen through
+   pixels ``s`` times wider (:func:`heatdata.views.resolution.coarse_view`): the heat method's cost is bounded
+   whatever the view's resolution, and a close query is described at about its library views' resolution (the
+   share of straight paths grows with it where the sensor's noise is finer than a pixel; a spec saved before the
+   budget, as in an older library file, reads as ``vertices=0``, every vertex);
 1. ``sources`` vertices are spread over the view by farthest-point sampling, starting
    from its ``"interior"`` source (the vertex farthest from the outer boundary);
 2. from each, heat diffuses for a short time and the heat method turns it into
@@ -44,12 +49,16 @@ from heatdata.descriptors.base import (
 from heatdata.descriptors.boundary import source_vertex
 from heatdata.descriptors.histograms import HistogramKind
 from heatdata.errors import SpecError, ViewError
+from heatdata.views.resolution import coarse_view
 
 #: bins of Euclidean / geodesic distance: another component or far round, round a gap, bent, straight
 RATIO_EDGES = np.array([0.0, 0.5, 0.8, 0.95, 1.0])
 HUES = 12  # hue bins of the colour part
 GREY = 0.15  # saturation below which a colour is a grey
 COLOR_PARTS = ("none", "hue-saturation")
+#: the vertices a view is described with at most (:func:`heatdata.views.resolution.coarse_view`): the heat method's
+#: cost grows with them, and the share of straight paths with the resolution (docs/guide/speed.md measures both)
+VERTEX_BUDGET = 2000
 
 
 def vertex_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -133,6 +142,13 @@ class HGD(HistogramKind):
         Option("far", 2.5, "upper edge of the last distance bin, metres", number(0.0, 100.0)),
         Option("color", "none", "hue-saturation: append the view's colour histogram", one_of(COLOR_PARTS)),
         Option("color_weight", 1.0, "the colour part's weight against the shape's 1", number(0.0, 100.0)),
+        Option(
+            "vertices",
+            VERTEX_BUDGET,
+            "the vertex budget: a view with more is seen coarser (0: every vertex)",
+            integer(0, 10**7),
+            before=0,
+        ),
     )
 
     def validate(self, options: dict) -> dict:
@@ -151,8 +167,8 @@ class HGD(HistogramKind):
         return spec.bins * (len(RATIO_EDGES) - 1) + (2 * HUES + 1) * (spec.color != "none")
 
     def compute(self, work, spec: DescriptorSpec, **context):
-        view = work.view
-        self.check_points(view)
+        self.check_points(work.view)
+        view = coarse_view(work.view, spec.vertices)
         values = hgd_histogram(view, sources=spec.sources, bins=spec.bins, near=spec.near, far=spec.far)
         if spec.color != "none":
             area = vertex_areas(np.asarray(view.vertices, np.float64), view.faces)

@@ -222,6 +222,10 @@ def check_rows(rows: pd.DataFrame, metadata: dict, values: np.ndarray | None = N
 def spec_of(meta: dict) -> DescriptorSpec:
     """The descriptor spec a library's metadata stores (its ``spec``), fitted arrays checked.
 
+    An option the spec lacks (added to its kind since the file was written) takes the value that describes as the
+    kind did then (:attr:`heatdata.descriptors.base.Option.before`), so that a query is described as the library's
+    views were.
+
     Parameters
     ----------
     meta : dict
@@ -242,7 +246,12 @@ def spec_of(meta: dict) -> DescriptorSpec:
         raise LibraryError(f"spec: {shortened(str(exc))}") from None
     if spec.name != meta["name"]:
         raise LibraryError(f"spec: reads as {spec.name}, not {shortened(meta['name'])}")
-    return spec
+    written_before = {
+        option.name: option.before
+        for option in spec.impl.options
+        if option.before is not None and option.name not in meta["options"]
+    }
+    return spec.replace(**written_before) if written_before else spec
 
 
 def check_values(values: np.ndarray, spec: DescriptorSpec) -> None:

@@ -51,6 +51,9 @@ SURFACE_SAMPLES = 2000
 ICP_POINTS = 800
 #: library views of an object whose poses start ICP (its nearest ones to the query)
 STARTS = 3
+#: points of a segment whose distance to a posed surface verification measures (a seeded subset of a larger
+#: segment): the share explained of 1,000 points has a standard error of 1 percentage point about 0.9
+VERIFY_POINTS = 1000
 #: ICP's correspondence distances, coarse then fine: this share of the object's diameter, then the tolerance
 COARSE = 0.15
 #: ICP's iterations at each distance
@@ -574,7 +577,7 @@ def verify(
     Returns
     -------
     explained : float
-        The share of ``points`` within ``tol`` of the posed surface.
+        The share of ``points`` within ``tol`` of the posed surface (of a seeded :data:`VERIFY_POINTS` of them).
     in_front : float
         The share of the posed surface's visible points, where the frame has a depth, that lie more than ``tol``
         in front of it.
@@ -586,7 +589,7 @@ def verify(
         fit a bump of it); 0 without a plane.
     """
     posed = surface.points @ matrix[:3, :3].T + matrix[:3, 3]
-    gaps, _ = cKDTree(posed).query(points, distance_upper_bound=tol)
+    gaps, _ = cKDTree(posed).query(_subset(points, VERIFY_POINTS), distance_upper_bound=tol)
     explained = float(np.mean(np.isfinite(gaps)))
     below = 0.0 if plane is None else float(np.mean(posed @ np.asarray(plane[:3], float) + float(plane[3]) < -tol))
     seen = posed[visible(posed, np.zeros(3))]
@@ -665,19 +668,17 @@ def coarse_fits(
     list of (score, (4, 4) float64)
         Each start's score and pose after the quick ICP, best first (equals in the starts' order).
     """
-    import open3d as o3d
-
-    registration = o3d.pipelines.registration
-    source, target = _cloud(_subset(points, COARSE_POINTS)), _cloud(surface.points)
+    subset = _subset(points, COARSE_POINTS)
+    source, target = _cloud(subset), _cloud(surface.points)
+    tree = cKDTree(surface.points)  # one tree for every start's fitness (open3d's evaluation builds one a call)
     samples = _subset(surface.points, COARSE_SAMPLES)
     fits = []
     for start in starts:
         matrix = _point_to_point(source, target, surface, start, tol, COARSE_ITERATIONS)
-        fitness = registration.evaluate_registration(source, target, 2 * tol, matrix).fitness
+        gaps, _ = tree.query(subset @ matrix[:3, :3].T + matrix[:3, 3], distance_upper_bound=2 * tol)
         pose = np.linalg.inv(matrix)
-        fits.append(
-            (float(fitness) - _in_front(samples @ pose[:3, :3].T + pose[:3, 3], measured, intrinsics, tol), pose)
-        )
+        in_front = _in_front(samples @ pose[:3, :3].T + pose[:3, 3], measured, intrinsics, tol)
+        fits.append((float(np.mean(np.isfinite(gaps))) - in_front, pose))
     order = sorted(range(len(fits)), key=lambda i: -fits[i][0])
     return [fits[i] for i in order]
 

@@ -617,5 +617,14 @@ def nearest_readings(depth: np.ndarray, size: int) -> np.ndarray:
     """
     from scipy.ndimage import minimum_filter
 
-    nearest = minimum_filter(np.where(np.isfinite(depth), depth, np.inf), size=size, mode="constant", cval=np.inf)
-    return np.where(np.isfinite(nearest), nearest, np.nan)
+    out = np.full(depth.shape, np.nan)
+    rows, cols = np.flatnonzero(np.isfinite(depth).any(axis=1)), np.flatnonzero(np.isfinite(depth).any(axis=0))
+    if not len(rows):
+        return out
+    half = size // 2  # only the box of the readings, grown by half a window, can have one within its window
+    v0, v1 = max(rows[0] - half, 0), min(rows[-1] + half + 1, depth.shape[0])
+    u0, u1 = max(cols[0] - half, 0), min(cols[-1] + half + 1, depth.shape[1])
+    box = depth[v0:v1, u0:u1]
+    nearest = minimum_filter(np.where(np.isfinite(box), box, np.inf), size=size, mode="constant", cval=np.inf)
+    out[v0:v1, u0:u1] = np.where(np.isfinite(nearest), nearest, np.nan)
+    return out

@@ -14,10 +14,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import heatdata as hd
+from heatdata.descriptors.hgd import VERTEX_BUDGET
 from heatdata.errors import LibraryError
 from heatdata.experiments.describe import describe_view_table, view_table_time_scales
 from heatdata.experiments.views import render_object_views
-from heatdata.recognition.library import build_library, write_library
+from heatdata.recognition.library import _spec_metadata, build_library, write_library
+from heatdata.recognition.library_check import spec_of
 
 FT = hd.DescriptorSpec("ft-pvhk", 16, "center", "polar")
 PVHK = hd.DescriptorSpec("pvhk", 16, "center", "polar")
@@ -263,3 +265,13 @@ def test_values_not_finite_or_a_negative_histogram_are_refused(built, tmp_path):
     values[0] = -0.5
     rows.at[0, "values"] = values
     one_line_refusal(written(tmp_path, rows, metadata, "hgd.parquet"), "negative values; a hgd is a histogram")
+
+
+def test_a_spec_saved_before_an_option_existed_reads_as_its_kind_described_then():
+    spec = hd.DescriptorSpec("hgd", color="hue-saturation")
+    saved = _spec_metadata(spec)
+    assert spec_of(saved) == spec and spec.get("vertices") == VERTEX_BUDGET
+    older = {**saved, "options": {k: v for k, v in saved["options"].items() if k != "vertices"}}
+    assert spec_of(older) == spec.replace(vertices=0)  # every vertex, as the HGD described before its budget
+    every = _spec_metadata(spec.replace(vertices=0))
+    assert spec_of(every) == spec.replace(vertices=0) and every["name"] == "hgd/color=hue-saturation/vertices=0"

@@ -9,6 +9,8 @@ import numpy as np
 import open3d as o3d
 import pymeshlab
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from PIL import Image
 
 import heatdata as hd
@@ -300,3 +302,14 @@ def test_a_depth_png_reads_with_a_camera_matrix_beside_it(rendered, tmp_path):
     (tmp_path / "meta.yml").write_text(f"INTRINSICS: {matrix}\n")
     view = hd.read_depth(tmp_path / "d.png", tmp_path / "meta.yml")
     assert view.intrinsics == k and len(view.vertices) > 100
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 24), st.integers(1, 24), st.sampled_from([1, 3, 5]), st.floats(0.0, 1.0), st.integers(0, 2**31))
+def test_nearest_readings_over_the_readings_box_equal_the_filter_over_the_whole_image(h, w, size, share, seed):
+    from scipy.ndimage import minimum_filter
+
+    rng = np.random.default_rng(seed)
+    depth = np.where(rng.random((h, w)) < share, rng.uniform(0.3, 3.0, (h, w)), np.nan)
+    whole = minimum_filter(np.where(np.isfinite(depth), depth, np.inf), size=size, mode="constant", cval=np.inf)
+    assert np.array_equal(nearest_readings(depth, size), np.where(np.isfinite(whole), whole, np.nan), equal_nan=True)
