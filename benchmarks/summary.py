@@ -23,6 +23,8 @@ def command(name: str) -> str:
         return f".venv/bin/python benchmarks/bench_compact_lp.py config/experiments/{name[17:]}.yaml"
     if name == "bench_recognize":
         return ".venv/bin/python benchmarks/bench_recognize.py results/chairs_library"
+    if name == "bench_recognize_view":
+        return ".venv/bin/python benchmarks/bench_recognize_view.py results/hgd_budget"
     if name == "bench_first_hour_busy":
         return ".venv/bin/python benchmarks/bench_first_hour.py --busy 2"
     if name == "bench_classify":
