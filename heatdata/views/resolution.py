@@ -38,7 +38,7 @@ def coarse_view(view: View, vertices: int) -> View:
     View
         ``view`` itself within the budget; else the coarser view, with about ``n / s**2`` vertices (at most about
         ``vertices``; a thin part may keep a few more), its repairs noting the stride; ``view`` itself when the
-        coarser pixels would form no triangle.
+        coarser pixels would form no triangle, or when its vertices project far beyond its image.
     """
     n = view.n_vertices
     if vertices <= 0 or n <= vertices:
@@ -48,13 +48,16 @@ def coarse_view(view: View, vertices: int) -> View:
     cell = pixel // stride
     off_centre = np.square(pixel - (cell * stride + (stride - 1) // 2)).sum(axis=1)  # whole, below 2 stride**2
     cell -= cell.min(axis=0)
-    width = int(cell[:, 0].max()) + 1
+    width, height = int(cell[:, 0].max()) + 1, int(cell[:, 1].max()) + 1
+    k = view.intrinsics
+    if width * height > 4 * (k["width"] // stride + 2) * (k["height"] // stride + 2):
+        return view  # its vertices project far beyond its image (not a sensor's view): no grid of blocks to keep
     key = cell[:, 1] * width + cell[:, 0]
     z = view.vertices[:, 2]
     # by block, then nearest its centre, then nearest the camera: one sort of one float key (exact below 2**52)
     order = np.argsort((key * (2 * stride**2 + 1) + off_centre) + z / (2.0 * z.max()))
     first = order[np.r_[True, key[order][1:] != key[order][:-1]]]
-    index = np.full((int(cell[:, 1].max()) + 1, width), -1, np.int64)
+    index = np.full((height, width), -1, np.int64)
     index[cell[first, 1], cell[first, 0]] = np.arange(len(first))
     faces = grid_faces(index, view.vertices[first, 2], MAX_DEPTH_JUMP * stride)
     if len(faces) == 0:  # a view thinner than a block everywhere: nothing coarser to see

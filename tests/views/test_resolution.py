@@ -73,3 +73,11 @@ def test_a_rendered_view_keeps_its_outline_and_ids():
     assert vertex_areas(small.vertices, small.faces).sum() == pytest.approx(area, rel=0.03)
     box = np.ptp(view.vertices, axis=0)
     assert np.allclose(np.ptp(small.vertices, axis=0), box, atol=0.01)
+
+
+def test_a_view_projecting_far_beyond_its_image_is_kept_whole():
+    view = plane_view(np.ones((100, 100)))
+    near = view.vertices.copy()
+    near[0] = [1.0, 1.0, 1e-6]  # a vertex a micrometre from the camera: a billion pixels out
+    odd = hd.View.from_arrays(near, view.faces, intrinsics=INTRINSICS)
+    assert coarse_view(odd, 2500) is odd
