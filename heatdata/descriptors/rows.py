@@ -90,7 +90,8 @@ def failed_descriptor(spec: DescriptorSpec, count: int, time: float, reason: str
 def descriptor_row(
     view: View, planned, spec: DescriptorSpec, d: Descriptor, seconds: float, time_object: str = ""
 ) -> dict:
-    """One :data:`heatdata.io.tables.DESCRIPTOR_SCHEMA` row; boundary columns are null for kinds without them."""
+    """One :data:`heatdata.io.tables.DESCRIPTOR_SCHEMA` row; boundary columns (``n_boundary`` too) are null for kinds
+    that do not sample the outline."""
     boundary = "sampling" in spec.options
     return {
         "object": view.object_id,
@@ -102,7 +103,7 @@ def descriptor_row(
         "distance": view.distance,
         "seed": planned.seed,
         "n_vertices": view.n_vertices,
-        "n_boundary": len(view.boundary),
+        "n_boundary": len(view.boundary) if boundary else None,  # the outline of a large view is not free
         "descriptor": spec.name,
         "kind": spec.kind,
         "sampling": spec.get("sampling"),

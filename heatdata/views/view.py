@@ -597,6 +597,7 @@ class View:
         x = self.vertices
         if np.any(x[:, 2] <= 0):
             raise ViewError(f"{self.name}: vertices behind the camera (z <= 0)")
+        x = x[_image_hull(x)]  # the box's sides lie on these in any turned frame: the same box, ~100 points
         k = self.intrinsics
         scale = np.array([k["fx"], k["fy"]])
         axis = np.array([0.0, 0.0, 1.0])
@@ -657,6 +658,21 @@ def _compact(vertices, colors, faces, keep):
 def _signed_area(points: np.ndarray) -> float:
     x, y = points[:, 0], points[:, 1]
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _image_hull(points: np.ndarray) -> np.ndarray:
+    """Indices of the points whose rays span the convex hull of the image (all of them when it is flat).
+
+    Turning the camera about its centre maps the image by a homography; for points in front of the camera before
+    and after the turn it maps the hull of their image to the hull of the turned image, so the turned image's
+    bounding box is that of these points (:attr:`View.canonical_rotation`).
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        return ConvexHull(points[:, :2] / points[:, 2:]).vertices
+    except (QhullError, ValueError):  # fewer than three points, or all on one line
+        return np.arange(len(points))
 
 
 def _outer_boundary(view: View) -> np.ndarray:

@@ -6,10 +6,12 @@ import pytest
 from conftest import grid_mesh
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
 
 import heatdata as hd
 from heatdata.core.geometry import rotation_between
 from heatdata.descriptors import source_vertex
+from heatdata.views.view import _image_hull
 
 
 def bumpy_view(shift=(0.0, 0.0)) -> hd.View:
@@ -74,3 +76,18 @@ def test_a_view_behind_the_camera_is_an_error():
     view = hd.View.from_arrays(vertices, faces)
     with pytest.raises(hd.ViewError, match="behind the camera"):
         _ = view.canonical_rotation
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.integers(3, 300), st.floats(0.0, 0.6), st.integers(0, 2**31))
+def test_a_turned_image_s_box_is_that_of_the_image_hull_s_points(n, angle, seed):
+    # the canonical rotation iterates on the hull's points only: a turn of the camera must not move the box off them
+    rng = np.random.default_rng(seed)
+    points = np.column_stack([rng.normal(size=(n, 2)) * rng.uniform(0.05, 0.5, 2), rng.uniform(0.5, 3.0, n)])
+    hull = _image_hull(points)
+    turn = Rotation.from_rotvec(angle * np.append(rng.normal(size=2), 0.0) / np.sqrt(2)).as_matrix()
+    turned = points @ turn.T
+    assert (turned[:, 2] > 0).all()
+    image = turned[:, :2] / turned[:, 2:]
+    assert np.array_equal(image.min(axis=0), image[hull].min(axis=0))
+    assert np.array_equal(image.max(axis=0), image[hull].max(axis=0))
