@@ -83,7 +83,8 @@ def test_a_view_behind_the_camera_is_an_error():
 def test_a_turned_image_s_box_is_that_of_the_image_hull_s_points(n, angle, seed):
     # the canonical rotation iterates on the hull's points only: a turn of the camera must not move the box off them
     rng = np.random.default_rng(seed)
-    points = np.column_stack([rng.normal(size=(n, 2)) * rng.uniform(0.05, 0.5, 2), rng.uniform(0.5, 3.0, n)])
+    depth = rng.uniform(0.5, 3.0, n)  # within a 58 x 58 deg field of view, so that every point stays in front
+    points = np.column_stack([rng.uniform(-0.55, 0.55, (n, 2)) * rng.uniform(0.05, 1.0, 2) * depth[:, None], depth])
     hull = _image_hull(points)
     turn = Rotation.from_rotvec(angle * np.append(rng.normal(size=2), 0.0) / np.sqrt(2)).as_matrix()
     turned = points @ turn.T
