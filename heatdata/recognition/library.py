@@ -499,7 +499,14 @@ class Library:
         return distance
 
     def recognize(
-        self, view: View, k: int = 5, *, threshold: float | None = None, pose: bool = True, exact: bool = False
+        self,
+        view: View,
+        k: int = 5,
+        *,
+        threshold: float | None = None,
+        pose: bool = True,
+        exact: bool = False,
+        depth: np.ndarray | None = None,
     ) -> Recognition:
         """The ``k`` objects nearest ``view`` (Alg. 3.1; Alg. 5.2 for a time-scaled kind), nearest first, how
         confident the answer is that the nearest is the object seen, and where it is.
@@ -525,15 +532,30 @@ class Library:
             without).
         exact : bool
             Compare the view with every library view, not through the library's index (:meth:`distances`).
+        depth : (h, w) float, optional
+            The depth image ``view`` was cut from (its intrinsics' size; NaN where no reading), which verification
+            compares the posed model with. By default the view's own vertices: where the view holds nothing counts
+            as measured empty, so a part of the object the view dropped (a rendered view keeps its largest
+            connected component) reads as unseen.
 
         Returns
         -------
         Recognition
+
+        Raises
+        ------
+        HeatdataError
+            ``depth`` is not the size of the view's image.
         """
         notes = self._colour_note(has_colour(view.colors), view.name)
         if pose and not self.surfaces:
             notes.append(self.no_surfaces())
-        answer = self._nearest(view, k, threshold, pose=pose, exact=exact)
+        if depth is not None:
+            shape = (int(view.intrinsics["height"]), int(view.intrinsics["width"]))
+            if np.shape(depth) != shape:
+                raise HeatdataError(f"depth is {np.shape(depth)}, and {view.name}'s image is {shape}")
+            depth = np.asarray(depth, dtype=np.float64)
+        answer = self._nearest(view, k, threshold, pose=pose, exact=exact, depth=depth)
         return replace(answer, repairs=answer.repairs + notes)
 
     def no_surfaces(self) -> str:

@@ -213,3 +213,23 @@ def test_a_frames_colour_is_compared_only_with_the_models_that_have_colour(model
     query, _ = scans.query_distances(painted)
     assert np.allclose(query["values"].iloc[0], scans.query_distances(seen)[0]["values"].iloc[0])
     assert any("library's models have no colour" in r for r in scans.recognize(painted, pose=False).repairs)
+
+
+def test_recognize_verifies_the_pose_against_the_depth_it_is_given(models, tmp_path):
+    from heatdata.recognition.pose import sample_surface
+
+    spec = hd.DescriptorSpec("hgd")
+    parts = []
+    for obj in ("coffee-cup", "beer-mug"):
+        plan = view_plan([obj], 4, 1, elevation=30.0, distance=1.0, seed=0)
+        parts.append(descriptor_rows(render_views(models[obj], plan), plan, [spec]))
+    surfaces = {o: sample_surface(models[o].vertices, models[o].faces, 300) for o in ("coffee-cup", "beer-mug")}
+    write_library(*build_library(pd.concat(parts), spec, 4, surfaces=surfaces), tmp_path / "posed.parquet")
+    library = hd.load_library(tmp_path / "posed.parquet")
+    view = hd.render_view(models["beer-mug"], azimuth=20.0, elevation=30.0, seed=1)
+    assert library.recognize(view).object == "beer-mug"
+    wall = np.full((480, 640), 2.0)  # a frame that measured a wall 2 m away and nothing in front of it
+    walled = library.recognize(view, depth=wall)
+    assert walled.object is None and walled.pose.in_front > 0.9
+    with pytest.raises(HeatdataError, match=r"depth is \(480, 639\), and .*'s image is \(480, 640\)"):
+        library.recognize(view, depth=wall[:, 1:])

@@ -156,6 +156,22 @@ def test_verification_rejects_another_object_a_larger_twin_and_a_surface_in_fron
     assert in_front > 0.5 and explained < 0.5 and unseen == 0.0 and below == 0.0
 
 
+def test_verification_reads_what_the_frame_measured_not_what_the_view_kept():
+    """A face seen edge-on at 0.35 m breaks into depth steps, and the view drops its vertices: in a depth image of the
+    view alone the true pose's samples on that face are unseen; the frame the view came from measured them."""
+    catalog = hd.read_catalog(ROOT / "data/models/catalog.csv")
+    (row,) = [r for r in catalog.to_dict("records") if r["object"] == "speaker-small"]
+    model = hd.load_catalog_model(row)
+    surface = sample_surface(model.vertices, model.faces)
+    view = hd.render_view(model, 14.5, 30.0, 0.35, seed=10)
+    frame = hd.render_scene([hd.Placement(model, np.eye(4))], view.pose, sensor="noise", seed=10)
+    truth, tol = np.linalg.inv(view.pose), 0.01
+    _, _, bare, _ = verify(truth, view.vertices, surface, depth_image(view.vertices, view.intrinsics), view.intrinsics,
+                           tol)  # fmt: skip
+    explained, in_front, unseen, _ = verify(truth, view.vertices, surface, frame.depth, view.intrinsics, tol)
+    assert bare > 0.15 and unseen < 0.02 and explained > 0.99 and in_front < 0.02
+
+
 def test_a_pose_sunk_into_the_support_plane_is_rejected(mug):
     model, surface = mug
     view = hd.render_view(model, 40.0, 30.0, 1.0, seed=1)
