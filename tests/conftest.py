@@ -16,6 +16,27 @@ settings.load_profile("suite")
 
 ROOT = Path(__file__).resolve().parents[1]
 
+#: the test files that take a minute or more, longest first: the suite starts them first (pytest-xdist hands out
+#: files in collection order, ``--no-loadscope-reorder`` in pyproject.toml), so that no long file is left to end the
+#: run alone on one worker while the other waits; the Slurm test mostly waits for Slurm's status checks, and runs
+#: beside the workflow's own runs
+LONG_FIRST = (
+    "experiments/test_workflow.py",
+    "experiments/test_slurm.py",
+    "descriptors/test_invariance.py",
+    "experiments/test_docs_targets.py",
+    "test_docs.py",
+    "test_readme.py",
+)
+if missing := [name for name in LONG_FIRST if not (ROOT / "tests" / name).is_file()]:
+    raise pytest.UsageError(f"tests/conftest.py LONG_FIRST names test files that do not exist: {missing}")
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """The files of :data:`LONG_FIRST` first, in its order; every other test keeps its place."""
+    rank = {(ROOT / "tests" / name).resolve(): k for k, name in enumerate(LONG_FIRST)}
+    items.sort(key=lambda item: rank.get(Path(item.path).resolve(), len(rank)))
+
 
 def grid_mesh(nx: int, ny: int, spacing: float = 0.002, depth: float = 1.0):
     """A flat rectangular grid of triangles facing the camera at ``depth`` metres.

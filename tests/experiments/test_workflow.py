@@ -517,7 +517,8 @@ def test_a_corrupt_model_fails_its_jobs_and_keep_going_finishes_the_rest(tmp_pat
     # PVHKs only: with an FT-PVHK every describe job waits for every object's time scale (Alg. 5.2)
     config = tiny_config(objects=[], models_dir=str(models))
     config["descriptors"] = config["descriptors"][:2]
-    result = snakemake(tmp_path / "run", config, "--keep-going")
+    objects = ("boxes-a", "boxes-b", "crates-c", "crates-d")
+    result = snakemake(tmp_path / "run", config, "--keep-going", *(f"results/descriptors/{o}.parquet" for o in objects))
     assert result.returncode != 0
     log = (tmp_path / "run" / "results" / "logs" / "render" / "crates-d.log").read_text()
     assert "crates/d.ply" in log and "cannot read the model file" in log
@@ -593,7 +594,7 @@ def test_objects_from_a_sweet_home_library(tmp_path):
         library_sizes=[4],
     )
     config["descriptors"] = config["descriptors"][:1]  # the import is under test, not the kinds
-    result = snakemake(tmp_path, config)
+    result = snakemake(tmp_path, config, "results/catalog.csv", "results/evaluation/predictions.parquet")
     assert result.returncode == 0, result.stderr[-3000:]
     catalog = pd.read_csv(tmp_path / "results" / "catalog.csv")
     assert sorted(catalog["label"]) == ["coffee cup", "plastic cup"]
@@ -665,7 +666,7 @@ def test_captured_depth_images_are_recognized_against_the_library(tmp_path):
         views={"train": 8, "test": 2}, library_sizes=[8, 4], captures={"dir": str(captures), "depth_range": [0.5, 1.5]}
     )
     config["descriptors"] = config["descriptors"][:3]
-    result = snakemake(tmp_path / "run", config)
+    result = snakemake(tmp_path / "run", config, "results/figures/captures.html")
     assert result.returncode == 0, result.stderr[-3000:]
     results = tmp_path / "run" / "results"
     views, _ = read_table(results / "captures" / "views" / "plastic-cup.parquet")
@@ -750,7 +751,7 @@ def test_colour_twins_join_the_run_and_only_colour_tells_them_apart(tmp_path):
         descriptors=[shape, colour],
         library_sizes=[8],
     )
-    result = snakemake(tmp_path, config)
+    result = snakemake(tmp_path, config, "results/catalog.csv", "results/evaluation/predictions.parquet")
     assert result.returncode == 0, result.stderr[-3000:]
     results = tmp_path / "results"
     twin_row = pd.read_csv(results / "catalog.csv").set_index("object").loc["yogurt-bottle-hue120"]
@@ -805,7 +806,8 @@ def test_a_stitched_pair_joins_the_run_as_an_object(tmp_path):
         stitch={"pairs": [pair, registered], "samples": 32},
     )
     config["descriptors"] = config["descriptors"][:1]
-    result = snakemake(tmp_path / "run", config)
+    made = ["results/catalog.csv", "results/views/stitched-mug.parquet", "results/figures/stitch/stitched-mug.png"]
+    result = snakemake(tmp_path / "run", config, *made, "results/stitched/registered-mug.json")
     assert result.returncode == 0, result.stderr[-3000:]
     results = tmp_path / "run" / "results"
     mesh = trimesh.load(results / "stitched" / "stitched-mug.ply", process=False)
