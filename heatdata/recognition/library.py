@@ -56,7 +56,7 @@ from heatdata.recognition.pose import STARTS, Pose, Surface, depth_image, pose_c
 from heatdata.segmentation.segment import Segment, Segmentation, SegmentSettings, segment_frame
 from heatdata.typing import StrPath
 from heatdata.version import __version__
-from heatdata.views.depth import view_from_depth
+from heatdata.views.depth import checked_depth, view_from_depth
 from heatdata.views.view import View, has_colour, joined_view
 
 log = logging.getLogger(__name__)
@@ -533,10 +533,10 @@ class Library:
         exact : bool
             Compare the view with every library view, not through the library's index (:meth:`distances`).
         depth : (h, w) float, optional
-            The depth image ``view`` was cut from (its intrinsics' size; NaN where no reading), which verification
-            compares the posed model with. By default the view's own vertices: where the view holds nothing counts
-            as measured empty, so a part of the object the view dropped (a rendered view keeps its largest
-            connected component) reads as unseen.
+            The depth image ``view`` was cut from (its intrinsics' size; NaN, infinite or <= 0 where no reading),
+            which verification compares the posed model with. By default the view's own vertices: where the view
+            holds nothing counts as measured empty, so a part of the object the view dropped (a rendered view keeps
+            its largest connected component; a face seen edge-on breaks into depth steps) reads as unseen.
 
         Returns
         -------
@@ -544,17 +544,14 @@ class Library:
 
         Raises
         ------
-        HeatdataError
-            ``depth`` is not the size of the view's image.
+        ViewError
+            ``depth`` is not a 2-D image of the view's size (:func:`heatdata.views.depth.checked_depth`).
         """
         notes = self._colour_note(has_colour(view.colors), view.name)
         if pose and not self.surfaces:
             notes.append(self.no_surfaces())
         if depth is not None:
-            shape = (int(view.intrinsics["height"]), int(view.intrinsics["width"]))
-            if np.shape(depth) != shape:
-                raise HeatdataError(f"depth is {np.shape(depth)}, and {view.name}'s image is {shape}")
-            depth = np.asarray(depth, dtype=np.float64)
+            depth, _ = checked_depth(depth, view.intrinsics, view.name)
         answer = self._nearest(view, k, threshold, pose=pose, exact=exact, depth=depth)
         return replace(answer, repairs=answer.repairs + notes)
 

@@ -231,5 +231,8 @@ def test_recognize_verifies_the_pose_against_the_depth_it_is_given(models, tmp_p
     wall = np.full((480, 640), 2.0)  # a frame that measured a wall 2 m away and nothing in front of it
     walled = library.recognize(view, depth=wall)
     assert walled.object is None and walled.pose.in_front > 0.9
-    with pytest.raises(HeatdataError, match=r"depth is \(480, 639\), and .*'s image is \(480, 640\)"):
+    with pytest.raises(HeatdataError, match=r"the intrinsics are for 640x480 but the depth image is 639x480"):
         library.recognize(view, depth=wall[:, 1:])
+    unread = wall.copy()
+    unread[view.pixels[:, 1].astype(int), view.pixels[:, 0].astype(int)] = 0.0  # 0: no reading, as sensors write it
+    assert library.recognize(view, depth=unread).pose.unseen > 0.5  # read as readings, 0 m would be none unseen
