@@ -57,7 +57,8 @@ TIME_SCALES = [f"{RESULTS}/time_scales.csv"] if FIXED_TIME else []
 # kinds learned on the library views (SI-HKS's codebook): one fit job each, before any describe job
 FITTED = {file_name(s.name): s for s in SPECS if s.impl.fitted}
 MULTIVIEW_DESCRIPTOR = multiview_descriptor(config)
-# a library file per descriptor x library size: what `heatdata recognize` reads
+# a library file per descriptor x library size: what `heatdata recognize` reads; the scenes' size is built too
+LIBRARY_SIZES = sorted(set(config["library_sizes"]) | ({SCENES["size"]} if SCENES["scenes"] else set()), reverse=True)
 LIBRARIES = [f"{RESULTS}/libraries/{name}-{size}.parquet" for name in SPEC_FILES for size in config["library_sizes"]]
 
 

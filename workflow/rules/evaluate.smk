@@ -1,23 +1,23 @@
-# Libraries and evaluation: nearest-neighbour predictions, one job per descriptor x library size,
-# precision tables and the report's figures.
+# Libraries and evaluation: nearest-neighbour predictions, one job per descriptor (every library size: its test rows
+# are read once), precision tables and the report's figures.
 
 
 rule classify:
     input:
         f"{RESULTS}/descriptors.parquet",
     output:
-        temp(f"{RESULTS}/evaluation/parts/{{descriptor}}-{{size}}.parquet"),
+        temp(f"{RESULTS}/evaluation/parts/{{descriptor}}.parquet"),
     params:
         descriptor=lambda wildcards: SPEC_FILES[wildcards.descriptor].name,
+        sizes=config["library_sizes"],
         time_rule=config["time_scale_rule"],
         version=VERSION,
     wildcard_constraints:
         descriptor="|".join(map(re.escape, SPEC_FILES)),
-        size=r"\d+",
     log:
-        f"{RESULTS}/logs/classify/{{descriptor}}-{{size}}.log",
+        f"{RESULTS}/logs/classify/{{descriptor}}.log",
     benchmark:
-        f"{RESULTS}/benchmarks/classify/{{descriptor}}-{{size}}.tsv"
+        f"{RESULTS}/benchmarks/classify/{{descriptor}}.tsv"
     threads: 1
     resources:
         mem_mb=lambda wildcards, attempt: 4000 * attempt,
@@ -28,8 +28,7 @@ rule classify:
 
 rule evaluate:
     input:
-        expand(f"{RESULTS}/evaluation/parts/{{descriptor}}-{{size}}.parquet",
-               descriptor=SPEC_FILES, size=config["library_sizes"]),
+        expand(f"{RESULTS}/evaluation/parts/{{descriptor}}.parquet", descriptor=SPEC_FILES),
     output:
         predictions=f"{RESULTS}/evaluation/predictions.parquet",
         precision=report(f"{RESULTS}/evaluation/precision.csv", caption="../report/precision_table.rst",
@@ -151,8 +150,10 @@ rule surface:
         "../scripts/surface.py"
 
 
-# A library file and, beside it, its search index (name.faiss; heatdata.recognition.index), which heatdata recognize
-# reads; the index is not an output of its own, as a time-scaled kind has none (a library without one builds it).
+# A descriptor's library files, one per library size (the run's and the scenes'), each with its search index beside it
+# (name.faiss; heatdata.recognition.index), which heatdata recognize reads; the index is not an output of its own, as a
+# time-scaled kind has none (a library without one builds it). One job a descriptor: building a library takes a
+# fraction of the second its imports take.
 rule library:
     input:
         descriptors=f"{RESULTS}/descriptors.parquet",
@@ -160,9 +161,10 @@ rule library:
         time_scales=TIME_SCALES,
         fitted=lambda wildcards: [f"{RESULTS}/fitted/{wildcards.descriptor}.npz"] if wildcards.descriptor in FITTED else [],
     output:
-        f"{RESULTS}/libraries/{{descriptor}}-{{size}}.parquet",
+        expand(f"{RESULTS}/libraries/{{descriptor}}-{{size}}.parquet", size=LIBRARY_SIZES, allow_missing=True),
     params:
         descriptor=lambda wildcards: SPEC_FILES[wildcards.descriptor].name,
+        library_sizes=LIBRARY_SIZES,
         descriptors=config["descriptors"],
         render=config["views"],
         sizes=catalog_sizes(CATALOG),
@@ -171,11 +173,10 @@ rule library:
         version=VERSION,
     wildcard_constraints:
         descriptor="|".join(map(re.escape, SPEC_FILES)),
-        size=r"\d+",
     log:
-        f"{RESULTS}/logs/library/{{descriptor}}-{{size}}.log",
+        f"{RESULTS}/logs/library/{{descriptor}}.log",
     benchmark:
-        f"{RESULTS}/benchmarks/library/{{descriptor}}-{{size}}.tsv"
+        f"{RESULTS}/benchmarks/library/{{descriptor}}.tsv"
     threads: 1
     resources:
         mem_mb=lambda wildcards, attempt: 2000 * attempt,

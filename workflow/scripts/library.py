@@ -1,5 +1,5 @@
-"""A library file of one descriptor and library size, which `heatdata recognize` reads, and its search index beside it
-(name.faiss, for a kind with an index space) (rule library)."""
+"""A descriptor's library files, one per library size, which `heatdata recognize` reads, each with its search index
+beside it (name.faiss, for a kind with an index space) (rule library)."""
 
 import pandas as pd
 
@@ -16,15 +16,17 @@ name = snakemake.params.descriptor
 (spec,) = load_fitted([spec], {name: snakemake.input.fitted[0]} if snakemake.input.fitted else {})
 rows, _ = read_table(snakemake.input.descriptors, filters=[("descriptor", "==", name)])
 scales = pd.concat([pd.read_csv(p) for p in snakemake.input.time_scales]) if snakemake.input.time_scales else None
-library, metadata = build_library(
-    rows,
-    spec,
-    int(snakemake.wildcards.size),
-    time_scales=scales,
-    render=snakemake.params.render,
-    time_rule=snakemake.params.time_rule,
-    source=snakemake.input.descriptors,
-    sizes=snakemake.params.sizes,
-    surfaces={obj: read_surface(p) for obj, p in zip(snakemake.params.objects, snakemake.input.surfaces, strict=True)},
-)
-write_library(library, metadata, snakemake.output[0], index=True)
+surfaces = {obj: read_surface(p) for obj, p in zip(snakemake.params.objects, snakemake.input.surfaces, strict=True)}
+for size, path in zip(snakemake.params.library_sizes, snakemake.output, strict=True):
+    library, metadata = build_library(
+        rows,
+        spec,
+        int(size),
+        time_scales=scales,
+        render=snakemake.params.render,
+        time_rule=snakemake.params.time_rule,
+        source=snakemake.input.descriptors,
+        sizes=snakemake.params.sizes,
+        surfaces=surfaces,
+    )
+    write_library(library, metadata, path, index=True)
