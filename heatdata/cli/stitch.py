@@ -33,8 +33,11 @@ log = logging.getLogger("heatdata")
 def cmd_stitch(args: argparse.Namespace) -> None:
     """JASNOM (thesis ch. 7): align the second mesh onto the first by their boundaries and stitch them.
 
-    The output is in the first mesh's frame. It prints the motion, J and its terms, the runner-up's J and the
-    seam's mean gap, and warns when another pose is nearly as cheap (ambiguous) or the seam is wide (poor).
+    Two scans on their scanners' grids (PCD, range-grid PLY) are first registered by their overlap (FPFH + RANSAC,
+    then ICP); where they overlap the registration stands, and where they do not JASNOM stitches them; the output
+    says which ran and why. The output is in the first mesh's frame. It prints the motion, J and its terms, the
+    runner-up's J and the seam's mean gap, and warns when another pose is nearly as cheap (ambiguous) or the seam is
+    wide (poor).
     """
     from heatdata.io.models import SUPPORTED_SUFFIXES, load_model, save_model
     from heatdata.jasnom.seam import stitch
@@ -63,10 +66,25 @@ def cmd_stitch(args: argparse.Namespace) -> None:
         "name": out.stem,
         "motion": motion,
     }
+    joined = None
     if _depth_frames(args):
         from heatdata.jasnom.seam import stitch_scans
 
         result = stitch_scans(*_table_scans(args), table=args.table, **options)
+    elif _scan_files(args):
+        from heatdata.jasnom.join import join
+        from heatdata.jasnom.scans import read_scan
+
+        first, second = (read_scan(path, scale=args.scale) for path in (args.first, args.second))
+        if motion is None:
+            del options["motion"]
+            joined = join(first, second, **options)
+            if joined.stitched is None:  # registered: the scans overlap
+                _save_registration(joined, out, args.json)
+                return
+            result = joined.stitched
+        else:
+            result = stitch(first, second, scans=True, **options)
     else:
         if args.intrinsics or args.rgb:
             raise HeatdataError("--intrinsics and --rgb are for two depth frames (heatdata stitch --scans a.png b.png)")
@@ -86,7 +104,7 @@ def cmd_stitch(args: argparse.Namespace) -> None:
             100 * a.gap / a.size,
         )
     summary = {"model": str(out), "vertices": len(result.model.vertices), "faces": len(result.model.faces)}
-    summary |= result.summary()
+    summary |= result.summary() | ({"method": "jasnom", "why": joined.why} if joined is not None else {})
     del summary["facing"]  # a found motion always faces away (align's constraint)
     summary |= {
         "rotation": np.round(a.rotation, 6).tolist(),
@@ -99,19 +117,12 @@ def cmd_stitch(args: argparse.Namespace) -> None:
 def stitch_table(summary: dict) -> str:
     """The terminal's answer of ``heatdata stitch``: what was written, the motion, the costs and the seam, a line
     each (``--json`` prints ``summary`` itself)."""
-    rotation = Rotation.from_matrix(np.asarray(summary["rotation"]))
-    axis_angle = rotation.as_rotvec()
-    degrees = float(np.degrees(np.linalg.norm(axis_angle)))
-    axis = axis_angle / np.linalg.norm(axis_angle) if degrees > 0 else np.array([0.0, 0.0, 1.0])
     runner_up = "none tried" if summary["runner_up"] is None else f"{summary['runner_up']:.4g}"
     verdicts = [word for word in ("ambiguous", "poor") if summary[word]]
     rows = [
         ("model", f"{printable(summary['model'])}: {summary['vertices']} vertices, {summary['faces']} faces"),
-        (
-            "motion",
-            f"turn {degrees:.1f} deg about ({axis[0]:+.3f} {axis[1]:+.3f} {axis[2]:+.3f}), then move "
-            "({:+.4f} {:+.4f} {:+.4f}) m".format(*summary["translation"]),
-        ),
+        *([("method", f"JASNOM: {summary['why']}")] if "why" in summary else []),
+        ("motion", _motion_words(summary)),
         (
             "cost J",
             f"{summary['cost']:.4g} (boundary {summary['edge_cost']:.4g}, interpenetration "
@@ -122,12 +133,56 @@ def stitch_table(summary: dict) -> str:
             "seam",
             f"mean gap {summary['mean_gap']:.4g} m ({100 * summary['mean_gap_of_size']:.2f}% of the size); "
             f"boundary loops {summary['boundaries'][0]} and {summary['boundaries'][1]}; "
-            f"{summary['strip_faces']} faces of strip",
+            f"{summary['strip_faces']} faces of strip; {summary['holes']} hole(s) left open",
         ),
         ("verdict", ", ".join(verdicts) + " (see the warnings above)" if verdicts else "clear"),
         ("time", f"{summary['seconds']:.2f} s"),
     ]
     return "\n".join(f"{name:<8} {value}" for name, value in rows)
+
+
+def _save_registration(joined, out: Path, as_json: bool) -> None:
+    """Two overlapping scans registered: the joined model written, and what was done printed."""
+    from heatdata.io.models import save_model
+
+    save_model(joined.model, out)
+    summary = {"model": str(out), "vertices": len(joined.model.vertices), "faces": len(joined.model.faces)}
+    summary |= joined.summary() | {"seconds": round(joined.registration.seconds, 2)}
+    print(dump_json(summary) if as_json else registration_table(summary))
+
+
+def registration_table(summary: dict) -> str:
+    """The terminal's answer of ``heatdata stitch`` for two overlapping scans: what was written, the motion, and why
+    it was registered (``--json`` prints ``summary`` itself)."""
+    rows = [
+        ("model", f"{printable(summary['model'])}: {summary['vertices']} vertices, {summary['faces']} faces"),
+        ("method", f"registration (FPFH + RANSAC, then ICP): {summary['why']}"),
+        ("motion", _motion_words(summary)),
+        ("time", f"{summary['seconds']:.2f} s"),
+    ]
+    return "\n".join(f"{name:<8} {value}" for name, value in rows)
+
+
+def _motion_words(summary: dict) -> str:
+    """A motion as a turn about an axis, then a move."""
+    rotation = Rotation.from_matrix(np.asarray(summary["rotation"]))
+    axis_angle = rotation.as_rotvec()
+    degrees = float(np.degrees(np.linalg.norm(axis_angle)))
+    axis = axis_angle / np.linalg.norm(axis_angle) if degrees > 0 else np.array([0.0, 0.0, 1.0])
+    return (
+        f"turn {degrees:.1f} deg about ({axis[0]:+.3f} {axis[1]:+.3f} {axis[2]:+.3f}), then move "
+        "({:+.4f} {:+.4f} {:+.4f}) m".format(*summary["translation"])
+    )
+
+
+def _scan_files(args: argparse.Namespace) -> bool:
+    """Whether ``stitch`` was given two scans on their scanners' grids (PCD, range-grid PLY) rather than meshes."""
+    from heatdata.jasnom.scans import is_scan_file
+
+    scans = [is_scan_file(path) for path in (args.first, args.second)]
+    if any(scans) and not all(scans):
+        raise HeatdataError("give two scans (PCD or range-grid PLY files) or two meshes, not one of each")
+    return all(scans)
 
 
 def _depth_frames(args: argparse.Namespace) -> bool:
@@ -172,14 +227,16 @@ def add_stitch(sub) -> None:
     """The ``stitch`` command's arguments."""
     join = sub.add_parser(
         "stitch",
-        help="JASNOM: one model from two non-overlapping meshes (thesis ch. 7)",
+        help="one model from two meshes or scans of an object: JASNOM where they do not overlap (thesis ch. 7)",
         description=cmd_stitch.__doc__,
     )
     join.add_argument(
         "first",
         type=Path,
-        help="the mesh that stays put: the output is in its frame (PLY, OBJ, OFF, STL, GLB); with --scans, a depth "
-        "frame (.png in millimetres, .npy in metres) of the object standing on a table",
+        help="the mesh that stays put: the output is in its frame (PLY, OBJ, OFF, STL, GLB); a scan on its "
+        "scanner's grid (PCD, range-grid PLY), registered where the two scans overlap and stitched by JASNOM where "
+        "they do not; with --scans, a depth frame (.png in millimetres, .npy in metres) of the object standing on a "
+        "table",
     )
     join.add_argument("second", type=Path, help="the mesh moved onto it; with --scans, a frame of the object flipped")
     join.add_argument("-o", "--out", type=Path, required=True, help="the stitched mesh (.ply keeps vertex colours)")

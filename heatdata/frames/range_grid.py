@@ -23,10 +23,16 @@ STANDOFF_PITCHES = 500.0  # the grid's distance from the camera, in column steps
 
 def is_range_grid(path: Path) -> bool:
     """Whether a PLY's header declares a ``range_grid`` element."""
+    return ply_declares(path, "range_grid")
+
+
+def ply_declares(path: Path, element: str) -> bool:
+    """Whether a PLY's header (its first 200 lines) declares ``element`` (``range_grid``, MeshLab's ``camera``)."""
+    declaration = f"element {element}".encode()
     with open(path, "rb") as file:
         for _ in range(200):
             line = file.readline(4096).strip()
-            if line.startswith(b"element range_grid"):
+            if line.startswith(declaration):
                 return True
             if not line or line == b"end_header":
                 return False

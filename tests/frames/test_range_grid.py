@@ -3,38 +3,10 @@ triangulated from its grid like any range map."""
 
 import numpy as np
 import pytest
+from conftest import range_grid_ply
 
 import heatdata as hd
 from heatdata.frames.clouds import read_cloud_grid
-
-
-def range_grid_ply(path, rows=20, cols=30, holes=(), cells=None):
-    """A tilted plane scanned on a rows x cols grid (0.5 mm steps, y up, the scanner looking along -z), as the
-    Stanford repository writes it: ASCII, obj_info num_cols/num_rows, a vertex list and a range_grid."""
-    vertices, grid = [], []
-    for r in range(rows):
-        for c in range(cols):
-            if (r, c) in holes:
-                grid.append("0")
-                continue
-            x, y = 0.0005 * c, 0.0005 * r
-            grid.append(f"1 {len(vertices)}")
-            vertices.append(f"{x} {y} {0.2 * x}")
-    header = [
-        "ply",
-        "format ascii 1.0",
-        f"obj_info num_cols {cols}",
-        f"obj_info num_rows {rows}",
-        f"element vertex {len(vertices)}",
-        "property float x",
-        "property float y",
-        "property float z",
-        f"element range_grid {cells or rows * cols}",
-        "property list uchar int vertex_indices",
-        "end_header",
-    ]
-    path.write_text("\n".join(header + vertices + grid[: cells or rows * cols]) + "\n")
-    return path
 
 
 def test_a_range_grid_is_triangulated_from_its_grid(tmp_path):
