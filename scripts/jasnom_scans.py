@@ -65,6 +65,7 @@ from heatdata.jasnom.align import align, alignment_at
 from heatdata.jasnom.boundary import boundaries
 from heatdata.jasnom.cost import ScanSurface
 from heatdata.jasnom.defaults import SCAN_ALONG, SCAN_ROBUST
+from heatdata.jasnom.register import fpfh_ransac as register_fpfh_ransac
 from heatdata.jasnom.seam import stitch, stitch_scans
 from heatdata.jasnom.table import TableContact, table_scan
 from heatdata.log import progress
@@ -331,39 +332,20 @@ def summarize_tried(tried: pd.DataFrame) -> pd.DataFrame:
 
 
 def fpfh_ransac(first: Model, second: Model, size: float) -> tuple[np.ndarray, np.ndarray]:
-    """open3d's global registration of ``second`` onto ``first`` (FPFH features matched by RANSAC, seeded), the
-    baseline that needs no initial pose: its rotation and translation."""
+    """open3d's global registration of ``second`` onto ``first`` (FPFH features matched by RANSAC, seeded;
+    :func:`heatdata.jasnom.register.fpfh_ransac`), the baseline that needs no initial pose, on points downsampled at
+    size / 40 with normals from their neighbours as estimated (not turned to the camera): its rotation and
+    translation."""
     import open3d as o3d
 
-    o3d.utility.random.seed(0)
     voxel = size / 40
-    clouds, features = [], []
+    clouds = []
     for model in (first, second):
         cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(model.vertices)).voxel_down_sample(voxel)
         cloud.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=2 * voxel, max_nn=30))
-        features.append(
-            o3d.pipelines.registration.compute_fpfh_feature(
-                cloud, o3d.geometry.KDTreeSearchParamHybrid(radius=5 * voxel, max_nn=100)
-            )
-        )
         clouds.append(cloud)
-    registration = o3d.pipelines.registration
-    found = registration.registration_ransac_based_on_feature_matching(
-        clouds[1],
-        clouds[0],
-        features[1],
-        features[0],
-        True,
-        1.5 * voxel,
-        registration.TransformationEstimationPointToPoint(False),
-        3,
-        [
-            registration.CorrespondenceCheckerBasedOnEdgeLength(0.9),
-            registration.CorrespondenceCheckerBasedOnDistance(1.5 * voxel),
-        ],
-        registration.RANSACConvergenceCriteria(100000, 0.999),
-    )
-    return np.asarray(found.transformation[:3, :3]), np.asarray(found.transformation[:3, 3])
+    found = register_fpfh_ransac(clouds[0], clouds[1], voxel, seed=0)
+    return found[:3, :3], found[:3, 3]
 
 
 def on_table(

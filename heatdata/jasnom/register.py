@@ -91,6 +91,49 @@ def _cloud(points: np.ndarray, voxel: float):
     return cloud
 
 
+def fpfh_ransac(first, second, voxel: float, *, seed: int = 0) -> np.ndarray:
+    """open3d's global registration of two downsampled clouds with normals: FPFH features (radius 5 voxels) matched
+    mutually by RANSAC (3 points, edge-length and 1.5-voxel distance checks, seeded).
+
+    Parameters
+    ----------
+    first, second : open3d.geometry.PointCloud
+        Downsampled at ``voxel``, with normals.
+    voxel : float
+    seed : int
+        open3d's random seed.
+
+    Returns
+    -------
+    (4, 4) float64
+        The motion of ``second`` onto ``first``.
+    """
+    import open3d as o3d
+
+    registration = o3d.pipelines.registration
+    features = [
+        registration.compute_fpfh_feature(cloud, o3d.geometry.KDTreeSearchParamHybrid(radius=5 * voxel, max_nn=100))
+        for cloud in (first, second)
+    ]
+    o3d.utility.random.seed(seed)
+    found = registration.registration_ransac_based_on_feature_matching(
+        second,
+        first,
+        features[1],
+        features[0],
+        True,
+        1.5 * voxel,
+        registration.TransformationEstimationPointToPoint(False),
+        3,
+        [
+            registration.CorrespondenceCheckerBasedOnEdgeLength(0.9),
+            registration.CorrespondenceCheckerBasedOnDistance(1.5 * voxel),
+        ],
+        registration.RANSACConvergenceCriteria(RANSAC_ITERATIONS, RANSAC_CONFIDENCE),
+    )
+    return np.asarray(found.transformation)
+
+
 def register(first: np.ndarray, second: np.ndarray, *, seed: int = 0, voxel: float | None = None) -> Registration:
     """FPFH + RANSAC, then point-to-plane ICP: the motion of ``second`` onto ``first`` (module docstring).
 
@@ -126,31 +169,12 @@ def register(first: np.ndarray, second: np.ndarray, *, seed: int = 0, voxel: flo
                 f"the {name} scan has {len(cloud.points)} points at a {voxel:.3g} voxel: at least {MIN_POINTS} are "
                 "needed to register it"
             )
-    features = [
-        registration.compute_fpfh_feature(cloud, o3d.geometry.KDTreeSearchParamHybrid(radius=5 * voxel, max_nn=100))
-        for cloud in clouds
-    ]
-    o3d.utility.random.seed(seed)
-    coarse = registration.registration_ransac_based_on_feature_matching(
-        clouds[1],
-        clouds[0],
-        features[1],
-        features[0],
-        True,
-        1.5 * voxel,
-        registration.TransformationEstimationPointToPoint(False),
-        3,
-        [
-            registration.CorrespondenceCheckerBasedOnEdgeLength(0.9),
-            registration.CorrespondenceCheckerBasedOnDistance(1.5 * voxel),
-        ],
-        registration.RANSACConvergenceCriteria(RANSAC_ITERATIONS, RANSAC_CONFIDENCE),
-    )
+    coarse = fpfh_ransac(clouds[0], clouds[1], voxel, seed=seed)
     fine = registration.registration_icp(
         clouds[1],
         clouds[0],
         ICP_VOXELS * voxel,
-        coarse.transformation,
+        coarse,
         registration.TransformationEstimationPointToPlane(),
         registration.ICPConvergenceCriteria(max_iteration=100),
     )

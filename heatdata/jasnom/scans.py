@@ -77,13 +77,15 @@ def read_scan(path: StrPath, *, scale: float = 1.0, intrinsics: dict | None = No
     return model
 
 
-def scan_loops(model: Model) -> ScanLoops:
+def scan_loops(model: Model, loops: list[Boundary] | None = None) -> ScanLoops:
     """The outer loop and the holes of a scan in its camera's frame (module docstring).
 
     Parameters
     ----------
     model : Model
         One connected piece, triangulated on a grid seen from the origin (every vertex at z > 0).
+    loops : list of Boundary, optional
+        ``model``'s loops when the caller has them already (:func:`heatdata.jasnom.boundary.boundaries`).
 
     Returns
     -------
@@ -98,7 +100,7 @@ def scan_loops(model: Model) -> ScanLoops:
         raise StitchError(
             f"{model.name}: a vertex lies at or behind the camera (z <= 0): not a scan in its camera's frame"
         )
-    loops = boundaries(model)
+    loops = boundaries(model) if loops is None else loops
     areas = np.array([abs(_projected_area(model.vertices[b.loop])) for b in loops])
     outer = int(np.argmax(areas))
     holes = [b for k, b in enumerate(loops) if k != outer]

@@ -257,7 +257,11 @@ def stitch(
     # missed, align two opposite bunny scans better than the silhouettes alone (6 deg off against 10;
     # docs/chapters/jasnom.md); they are counted
     in_camera_frames = scans and all(np.all(model.vertices[:, 2] > 0) for model in (first, second))
-    holes = sum(len(scan_loops(model).holes) for model in (first, second)) if in_camera_frames else 0
+    holes = (
+        sum(len(scan_loops(model, loops).holes) for model, loops in ((first, loops1), (second, loops2)))
+        if in_camera_frames
+        else 0
+    )
     weights: dict[str, Any] = {
         "alpha": alpha,
         "beta": beta,
