@@ -17,6 +17,7 @@ from heatdata.jasnom.defaults import (
     ALONG,
     ALPHA,
     BETA,
+    FREE_SPACE,
     GAMMA,
     MAX_SAMPLES,
     MAX_WEIGHT,
@@ -62,6 +63,7 @@ def cmd_stitch(args: argparse.Namespace) -> None:
         "gamma": args.gamma,
         "along": args.along,
         "robust": args.robust,
+        "free_space": args.free_space,
         "samples": args.samples,
         "name": out.stem,
         "motion": motion,
@@ -80,7 +82,7 @@ def cmd_stitch(args: argparse.Namespace) -> None:
             del options["motion"]
             joined = join(first, second, **options)
             if joined.stitched is None:  # registered: the scans overlap
-                _save_registration(joined, out, args.json)
+                _save_registration(joined, out, args.json, args.close_holes)
                 return
             result = joined.stitched
         else:
@@ -90,7 +92,8 @@ def cmd_stitch(args: argparse.Namespace) -> None:
             raise HeatdataError("--intrinsics and --rgb are for two depth frames (heatdata stitch --scans a.png b.png)")
         first, second = (load_model(path, scale=args.scale, center=False) for path in (args.first, args.second))
         result = stitch(first, second, scans=args.scans, **options)
-    save_model(result.model, out)
+    model, closed = _closed(result.model, args.close_holes)
+    save_model(model, out)
     a = result.alignment
     if a.ambiguous:
         log.warning(
@@ -103,8 +106,8 @@ def cmd_stitch(args: argparse.Namespace) -> None:
             "poor: the seam's mean gap is %.1f%% of the size: the boundaries are not one curve here",
             100 * a.gap / a.size,
         )
-    summary = {"model": str(out), "vertices": len(result.model.vertices), "faces": len(result.model.faces)}
-    summary |= result.summary() | ({"method": "jasnom", "why": joined.why} if joined is not None else {})
+    summary = {"model": str(out), "vertices": len(model.vertices), "faces": len(model.faces)}
+    summary |= result.summary() | closed | ({"method": "jasnom", "why": joined.why} if joined is not None else {})
     del summary["facing"]  # a found motion always faces away (align's constraint)
     summary |= {
         "rotation": np.round(a.rotation, 6).tolist(),
@@ -127,13 +130,14 @@ def stitch_table(summary: dict) -> str:
             "cost J",
             f"{summary['cost']:.4g} (boundary {summary['edge_cost']:.4g}, interpenetration "
             f"{summary['crossing_cost']:.4g}, crease {summary['crease_cost']:.4g}, table "
-            f"{summary['table_cost']:.4g}); runner-up {runner_up}",
+            f"{summary['table_cost']:.4g}, free space {summary['free_space_cost']:.4g}); runner-up {runner_up}",
         ),
         (
             "seam",
             f"mean gap {summary['mean_gap']:.4g} m ({100 * summary['mean_gap_of_size']:.2f}% of the size); "
             f"boundary loops {summary['boundaries'][0]} and {summary['boundaries'][1]}; "
-            f"{summary['strip_faces']} faces of strip; {summary['holes']} hole(s) left open",
+            f"{summary['strip_faces']} faces of strip; {summary['holes']} hole(s) inside the scans, "
+            + (f"{summary['holes_closed']} loop(s) closed" if "holes_closed" in summary else "left open"),
         ),
         ("verdict", ", ".join(verdicts) + " (see the warnings above)" if verdicts else "clear"),
         ("time", f"{summary['seconds']:.2f} s"),
@@ -141,14 +145,25 @@ def stitch_table(summary: dict) -> str:
     return "\n".join(f"{name:<8} {value}" for name, value in rows)
 
 
-def _save_registration(joined, out: Path, as_json: bool) -> None:
+def _save_registration(joined, out: Path, as_json: bool, close_holes: int | None) -> None:
     """Two overlapping scans registered: the joined model written, and what was done printed."""
     from heatdata.io.models import save_model
 
-    save_model(joined.model, out)
-    summary = {"model": str(out), "vertices": len(joined.model.vertices), "faces": len(joined.model.faces)}
-    summary |= joined.summary() | {"seconds": round(joined.registration.seconds, 2)}
+    model, closed = _closed(joined.model, close_holes)
+    save_model(model, out)
+    summary = {"model": str(out), "vertices": len(model.vertices), "faces": len(model.faces)}
+    summary |= joined.summary() | closed | {"seconds": round(joined.registration.seconds, 2)}
     print(dump_json(summary) if as_json else registration_table(summary))
+
+
+def _closed(model, max_edges: int | None):
+    """``model`` with its holes of up to ``max_edges`` edges closed (none when None), and the summary's line on it."""
+    if max_edges is None:
+        return model, {}
+    from heatdata.jasnom.scans import close_holes
+
+    closed, filled = close_holes(model, max_edges)
+    return closed, {"holes_closed": filled}
 
 
 def registration_table(summary: dict) -> str:
@@ -158,6 +173,7 @@ def registration_table(summary: dict) -> str:
         ("model", f"{printable(summary['model'])}: {summary['vertices']} vertices, {summary['faces']} faces"),
         ("method", f"registration (FPFH + RANSAC, then ICP): {summary['why']}"),
         ("motion", _motion_words(summary)),
+        *([("holes", f"{summary['holes_closed']} closed")] if "holes_closed" in summary else []),
         ("time", f"{summary['seconds']:.2f} s"),
     ]
     return "\n".join(f"{name:<8} {value}" for name, value in rows)
@@ -286,6 +302,12 @@ def add_stitch(sub) -> None:
         help=f"with two depth frames: weight of the support-plane term, the tables as witnesses (default {TABLE:g})",
     )
     join.add_argument(
+        "--free-space",
+        type=number(0.0, high=MAX_WEIGHT),
+        help="with two scans: weight of the free-space term, which keeps each scan out of the space the other's "
+        f"camera saw empty (default {FREE_SPACE:g} for scans without tables, else 0)",
+    )
+    join.add_argument(
         "--along",
         type=number(0.0, high=MAX_WEIGHT),
         help="weight of the gap along the seam's continuation in J1: below 1 tolerates a band of "
@@ -295,6 +317,13 @@ def add_stitch(sub) -> None:
         "--robust",
         type=number(0.0, high=MAX_WEIGHT),
         help=f"soft-L1 width of the residuals, in boundary radii (default 0: squares; with --scans {SCAN_ROBUST:g})",
+    )
+    join.add_argument(
+        "--close-holes",
+        type=int,
+        metavar="EDGES",
+        help="close the holes of the output of up to EDGES boundary edges (pymeshlab), such as a scanner leaves where "
+        "it saw nothing; by default they stay open and are counted",
     )
     join.add_argument(
         "--samples",

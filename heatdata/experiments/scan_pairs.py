@@ -96,6 +96,10 @@ class Trial:
     seconds: float
     ambiguous: bool
     poor: bool
+    free_space: float
+    cost: float
+    free_space_cost: float
+    cost_at_truth: float
 
 
 def errors(found: np.ndarray, truth: np.ndarray, points: np.ndarray, size: float) -> tuple[float, float]:
@@ -132,9 +136,18 @@ def read_pair(folder: StrPath, names: tuple[str, str], conf: dict[str, np.ndarra
     return models, true_motion(conf, names, (offsets[0], offsets[1]))
 
 
-def pair_trials(first: Model, second: Model, truth: np.ndarray, pair: str, starts: int, seed: int = 0) -> list[Trial]:
+def pair_trials(
+    first: Model,
+    second: Model,
+    truth: np.ndarray,
+    pair: str,
+    starts: int,
+    seed: int = 0,
+    free_space: float | None = None,
+) -> list[Trial]:
     """``first`` and ``second`` joined from ``starts`` random starting motions of ``second`` (:func:`join`), each
-    scored against ``truth`` (module docstring)."""
+    scored against ``truth`` (module docstring); ``free_space`` is JASNOM's free-space weight (default: the
+    stitch's)."""
     from heatdata.io.models import transformed
     from heatdata.jasnom.join import join
 
@@ -147,7 +160,7 @@ def pair_trials(first: Model, second: Model, truth: np.ndarray, pair: str, start
         motion = random_motion(rng, size)
         moved = transformed(second, motion[:3, :3], motion[:3, 3])
         begin = time.perf_counter()
-        joined = join(first, moved, seed=start)
+        joined = join(first, moved, seed=start, free_space=free_space)
         seconds = time.perf_counter() - begin
         found = np.eye(4)
         found[:3, :3], found[:3, 3] = joined.rotation, joined.translation
@@ -165,6 +178,7 @@ def pair_trials(first: Model, second: Model, truth: np.ndarray, pair: str, start
                 seconds=seconds,
                 ambiguous=bool(alignment is not None and alignment.ambiguous),
                 poor=bool(alignment is not None and alignment.poor),
+                **_costs(first, moved, alignment, truth @ np.linalg.inv(motion), free_space),
             )
         )
         log.info(
@@ -177,3 +191,20 @@ def pair_trials(first: Model, second: Model, truth: np.ndarray, pair: str, start
             seconds,
         )
     return trials
+
+
+def _costs(first: Model, moved: Model, alignment, truth: np.ndarray, free_space: float | None) -> dict[str, float]:
+    """JASNOM's weight of F, its J and F at the answer, and J at the truth (NaN where the pair was registered)."""
+    from heatdata.jasnom.defaults import FREE_SPACE
+    from heatdata.jasnom.seam import stitch
+
+    if alignment is None:
+        return {"free_space": np.nan, "cost": np.nan, "free_space_cost": np.nan, "cost_at_truth": np.nan}
+    weight = FREE_SPACE if free_space is None else free_space
+    at_truth = stitch(first, moved, scans=True, motion=truth, free_space=weight).alignment
+    return {
+        "free_space": weight,
+        "cost": alignment.cost,
+        "free_space_cost": alignment.free_space_cost,
+        "cost_at_truth": at_truth.cost,
+    }

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -22,7 +22,7 @@ from heatdata.jasnom.cost import (
     _weights,
     check_weights,
 )
-from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, GAMMA, MAX_SAMPLES, MIN_SAMPLES, TABLE
+from heatdata.jasnom.defaults import ALONG, ALPHA, BETA, FREE_SPACE, GAMMA, MAX_SAMPLES, MIN_SAMPLES, TABLE
 from heatdata.jasnom.table import TableContact
 
 log = logging.getLogger(__name__)
@@ -51,9 +51,11 @@ class Alignment:
     translation : (3,) float64
         ``x = rotation @ y + translation`` maps the second mesh into the first's frame.
     cost, edge_cost, crossing_cost, crease_cost : float
-        J, J1, J2 and J3 at the motion (module docstring); ``J = J1 + beta J2 + gamma J3 + T``.
+        J, J1, J2 and J3 at the motion (module docstring); ``J = J1 + beta J2 + gamma J3 + T + F``.
     table_cost : float
         T, the support-plane term (:mod:`heatdata.jasnom.table`), weight included; 0 without tables.
+    free_space_cost : float
+        F, the free-space term of two depth scans (:class:`Witnesses`), weight included; 0 for meshes.
     runner_up : float
         J of the best pose found more than 2 deg or 1% of the size away (NaN when the
         search found none, or no search was made).
@@ -78,6 +80,7 @@ class Alignment:
     crossing_cost: float
     crease_cost: float
     table_cost: float
+    free_space_cost: float
     runner_up: float
     gap: float
     size: float
@@ -94,6 +97,55 @@ class Alignment:
     def poor(self) -> bool:
         """The seam's mean gap exceeds :data:`POOR_GAP` of the size."""
         return bool(self.gap > POOR_GAP * self.size)
+
+
+@dataclass(frozen=True)
+class Witnesses:
+    """What two scans know beyond their boundaries, as terms of J: their tables (T) and the space their cameras saw
+    empty (F).
+
+    ``F = free_space * (r_1^2 + r_2^2) / s^2``, where ``r_1`` is the RMS of how far scan 2's surface samples stand in
+    front of what camera 1 measured along its rays, beyond the samples' spacing, and ``r_2`` the same for scan 1 in
+    camera 2 (:meth:`ScanSurface.free_space`); ``s`` is J's scale. At the true motion F is 0 up to the sensor's
+    noise: each scan lies behind the other's surface, or off its rays. A pose that pushes part of one scan through
+    the surface the other measured pays for it (measured: the back bunny scan slid into the front one's seen space,
+    a speaker's half turned over), where the boundary terms, on a seam that grazing surface left unscanned, do not
+    see it. It does not see two scans drawn apart along the viewing ray: each then lies behind the other.
+
+    Attributes
+    ----------
+    scans : (ScanSurface, ScanSurface), optional
+        The two meshes as depth scans, each in its camera's frame.
+    contact : TableContact, optional
+        Their table planes (:mod:`heatdata.jasnom.table`).
+    table, free_space : float
+        T's and F's weights.
+    """
+
+    scans: tuple[ScanSurface, ScanSurface] | None = None
+    contact: TableContact | None = None
+    table: float = TABLE
+    free_space: float = FREE_SPACE
+
+    def parts(self, rotation: np.ndarray, translation: np.ndarray, scale: float) -> tuple[np.ndarray, np.ndarray]:
+        """T's and F's residuals at a motion, weights included: the squares of each sum to the term."""
+        table, free = np.zeros(0), np.zeros(0)
+        if self.contact is not None:
+            table = np.sqrt(self.table) * self.contact.residuals(rotation, translation, scale)
+        if self.scans is not None and self.free_space > 0:
+            free = np.sqrt(self.free_space) * self.scans[0].free_space(self.scans[1], rotation, translation) / scale
+        return table, free
+
+
+def free_space_weight(
+    free_space: float | None, scans: tuple[ScanSurface, ScanSurface] | None, contact: TableContact | None
+) -> float:
+    """F's weight: ``free_space`` if given; else :data:`heatdata.jasnom.defaults.FREE_SPACE` for scans without
+    tables, and 0 for meshes (no cameras) and for scans on tables, whose term already holds each scan out of the
+    space the other's whole depth frame saw empty."""
+    if free_space is not None:
+        return float(free_space)
+    return FREE_SPACE if scans is not None and contact is None else 0.0
 
 
 def _kabsch(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -143,6 +195,7 @@ def align(
     scans: tuple[ScanSurface, ScanSurface] | None = None,
     contact: TableContact | None = None,
     table: float = TABLE,
+    free_space: float | None = None,
     constrained: bool = True,
     trace: list | None = None,
 ) -> Alignment:
@@ -174,6 +227,9 @@ def align(
         (:mod:`heatdata.jasnom.table`).
     table : float
         T's weight (default :data:`heatdata.jasnom.defaults.TABLE`).
+    free_space : float, optional
+        F's weight, for scans (:class:`Witnesses`; default :func:`free_space_weight`'s; 0
+        leaves it out).
     constrained : bool
         False allows every pose (no orientation constraint; for ablations).
     trace : list, optional
@@ -193,7 +249,8 @@ def align(
         finite number in range, or ``samples`` outside [MIN_SAMPLES, MAX_SAMPLES].
     """
     checked_samples(samples)
-    check_weights(alpha=alpha, beta=beta, gamma=gamma, along=along, robust=robust, table=table)
+    free_space = free_space_weight(free_space, scans, contact)
+    check_weights(alpha=alpha, beta=beta, gamma=gamma, along=along, robust=robust, table=table, free_space=free_space)
     first, second = _as_loops(first), _as_loops(second)
     for b in (first[0], second[0]):
         if len(b.loop) < MIN_BOUNDARY:
@@ -207,7 +264,7 @@ def align(
     begin = time.perf_counter()
     c1, c2 = _Curve.of(first, samples), _Curve.of(second, samples)
     w = _weights(c1, alpha, beta, gamma, along, robust, samples)
-    table = float(table)
+    witnesses = Witnesses(scans, contact, float(table), float(free_space))
     size = float(
         np.linalg.norm(
             np.ptp(np.vstack([c1.samples, c2.samples - c2.samples.mean(axis=0) + c1.samples.mean(axis=0)]), axis=0)
@@ -216,29 +273,37 @@ def align(
     centre = c2.samples.mean(axis=0)
     visited: list = []
 
-    def evaluate(rotation, translation) -> tuple[np.ndarray, float]:
-        """The residual vector whose squares sum to J, and J: +inf where the meshes would lie on one side of the
-        seam (7.3)."""
-        residuals, _, cosines = _residuals(rotation, translation, c1, c2, w)
-        vector = _flat_residuals(residuals * w.root, w.robust)
-        if contact is not None:
-            vector = np.concatenate([vector, np.sqrt(table) * contact.residuals(rotation, translation, w.scale)])
-        if not constrained:
-            allowed = True
-        elif scans is None:
-            allowed = np.mean(cosines) <= 0.0  # the meshes lie on the two sides of the seam (7.3)
-        else:  # each scan is the far side of the object from the other's camera
-            allowed = (
-                max(
-                    scans[1].faces_camera(rotation, translation, np.zeros(3)),
-                    scans[0].faces_camera(rotation.T, -rotation.T @ translation, np.zeros(3)),
-                )
-                < 0.5
+    def evaluator(terms: Witnesses):
+        def evaluate(rotation, translation) -> tuple[np.ndarray, float]:
+            """The residual vector whose squares sum to J (with ``terms``), and J: +inf where the meshes would lie
+            on one side of the seam (7.3)."""
+            residuals, _, cosines = _residuals(rotation, translation, c1, c2, w)
+            vector = np.concatenate(
+                [_flat_residuals(residuals * w.root, w.robust), *terms.parts(rotation, translation, w.scale)]
             )
-        value = float(vector @ vector) if allowed else np.inf
-        visited.append((rotation, translation, value))
-        return vector, value
+            if not constrained:
+                allowed = True
+            elif scans is None:
+                allowed = np.mean(cosines) <= 0.0  # the meshes lie on the two sides of the seam (7.3)
+            else:  # each scan is the far side of the object from the other's camera
+                allowed = (
+                    max(
+                        scans[1].faces_camera(rotation, translation, np.zeros(3)),
+                        scans[0].faces_camera(rotation.T, -rotation.T @ translation, np.zeros(3)),
+                    )
+                    < 0.5
+                )
+            value = float(vector @ vector) if allowed else np.inf
+            visited.append((rotation, translation, value))
+            return vector, value
 
+        return evaluate
+
+    # F is left out of the coarse search and the first refinement: measured on two opposite bunny scans, it steers
+    # the coarse ranking to a flipped pose (160-170 deg off), while from J's optimum it moves the answer towards the
+    # truth
+    free = witnesses.free_space > 0 and scans is not None
+    evaluate = evaluator(replace(witnesses, free_space=0.0) if free else witnesses)
     shifts = np.arange(samples)
     order = np.concatenate(
         [
@@ -286,6 +351,12 @@ def align(
         ),
         key=lambda pose: pose[2],
     )
+    if free:
+        evaluate = evaluator(witnesses)
+        found = sorted(
+            (_refine(r, t, r @ centre + t, w, c1, c2, evaluate, REFINE_STEPS) for r, t, _ in found),
+            key=lambda pose: pose[2],
+        )
     rotation, translation, _best = found[0]
     others = [
         j
@@ -294,9 +365,7 @@ def align(
     ]
     if trace is not None:
         trace.extend(visited)
-    return _alignment(
-        rotation, translation, c1, c2, w, min(others, default=np.nan), len(visited), begin, contact, table
-    )
+    return _alignment(rotation, translation, c1, c2, w, min(others, default=np.nan), len(visited), begin, witnesses)
 
 
 def _slid(rotation: np.ndarray, translation: np.ndarray, c1: _Curve, c2: _Curve, normal: np.ndarray, steps: int = 10):
@@ -368,15 +437,18 @@ def alignment_at(
     along: float = ALONG,
     robust: float = 0.0,
     samples: int = 128,
+    scans: tuple[ScanSurface, ScanSurface] | None = None,
     contact: TableContact | None = None,
     table: float = TABLE,
+    free_space: float | None = None,
 ) -> Alignment:
     """J at a known rigid motion of ``second`` onto ``first`` (registered cameras, a turntable, the truth).
 
     Nothing is searched, so :func:`stitch` can join scans whose motion is known and an
     experiment can compare J at the true motion with J at :func:`align`'s optimum.
     """
-    check_weights(alpha=alpha, beta=beta, gamma=gamma, along=along, robust=robust, table=table)
+    free_space = free_space_weight(free_space, scans, contact)
+    check_weights(alpha=alpha, beta=beta, gamma=gamma, along=along, robust=robust, table=table, free_space=free_space)
     begin = time.perf_counter()
     c1, c2 = _Curve.of(_as_loops(first), samples), _Curve.of(_as_loops(second), samples)
     w = _weights(c1, alpha, beta, gamma, along, robust, samples)
@@ -389,8 +461,7 @@ def alignment_at(
         np.nan,
         1,
         begin,
-        contact,
-        float(table),
+        Witnesses(scans, contact, float(table), float(free_space)),
     )
 
 
@@ -403,22 +474,22 @@ def _alignment(
     runner_up: float,
     candidates: int,
     begin: float,
-    contact: TableContact | None,
-    table: float,
+    witnesses: Witnesses,
 ) -> Alignment:
     residuals, xi, cosines = _residuals(rotation, translation, c1, c2, w)
     cost, edge, crossing, crease = _terms(residuals, w)
-    plane = 0.0 if contact is None else table * float(np.sum(contact.residuals(rotation, translation, w.scale) ** 2))
+    plane, free = (float(part @ part) for part in witnesses.parts(rotation, translation, w.scale))
     moved = c2.samples @ rotation.T + translation
     size = float(np.linalg.norm(np.ptp(np.vstack([c1.samples, moved]), axis=0)))
     return Alignment(
         rotation=rotation,
         translation=translation,
-        cost=cost + plane,
+        cost=cost + plane + free,
         edge_cost=edge,
         crossing_cost=crossing,
         crease_cost=crease,
         table_cost=plane,
+        free_space_cost=free,
         runner_up=float(runner_up),
         gap=float(np.mean(np.linalg.norm(xi, axis=1))),
         size=size,

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from heatdata.errors import StitchError
+from heatdata.jasnom.rays import RayDepths
 
 log = logging.getLogger(__name__)
 
@@ -247,12 +248,6 @@ def in_front(seen: np.ndarray, other: np.ndarray, tolerance: float) -> float:
     float
         In [0, 1]; 0 when no point is on ``seen``'s rays.
     """
-    from scipy.spatial import cKDTree
-
-    ranges = [np.linalg.norm(p, axis=1) for p in (seen, other)]
-    rays = [p / r[:, None] for p, r in zip((seen, other), ranges, strict=True)]
-    tree = cKDTree(rays[0])
-    spacing = float(np.median(tree.query(rays[0], k=2)[0][:, 1]))
-    gap, nearest = tree.query(rays[1], distance_upper_bound=2 * spacing)
-    hit = np.isfinite(gap)
-    return float(np.sum(ranges[1][hit] < ranges[0][nearest[hit]] - tolerance) / max(int(hit.sum()), 1))
+    depth = RayDepths.of(np.asarray(seen, np.float64)).in_front(np.asarray(other, np.float64))
+    hit = np.isfinite(depth)
+    return float(np.sum(depth[hit] > tolerance) / max(int(hit.sum()), 1))

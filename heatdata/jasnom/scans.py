@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from heatdata.core.mesh import boundary_loops, component_labels
 from heatdata.errors import StitchError
 from heatdata.io.models import Model
 from heatdata.jasnom.boundary import Boundary, boundaries
@@ -119,3 +120,82 @@ def _projected_area(points: np.ndarray) -> float:
     """The signed area of a closed polygon of camera-frame points in the image plane (x / z, y / z)."""
     u, v = points[:, 0] / points[:, 2], points[:, 1] / points[:, 2]
     return 0.5 * float(np.dot(u, np.roll(v, -1)) - np.dot(np.roll(u, -1), v))
+
+
+def close_holes(model: Model, max_edges: int) -> tuple[Model, int]:
+    """``model`` with every hole of at most ``max_edges`` boundary edges filled by pymeshlab's
+    ``meshing_close_holes`` (no new vertices; self-intersecting patches refused), as after a stitch of scans whose
+    scanner missed patches inside their silhouettes.
+
+    Each new face takes its corners' colours from a face already at that vertex; textures and the existing faces are
+    kept as they were. A patch that would give an edge more than two faces (holes that meet at a vertex, patched over
+    each other) is left out, and its holes stay open: on Stanford's ``bun000``, 18 of the 30 holes are closed at any
+    length from 30 edges, and pymeshlab's patches of two more were left out.
+
+    Parameters
+    ----------
+    model : Model
+    max_edges : int
+        The longest hole to fill, in boundary edges (at least 3).
+
+    Returns
+    -------
+    closed : Model
+        The existing faces first, in their order, then the patches'; ``repairs`` says how many holes were filled.
+    filled : int
+        Holes filled.
+
+    Raises
+    ------
+    StitchError
+        ``max_edges`` below 3.
+    """
+    import pymeshlab
+
+    if not (int(max_edges) == max_edges and max_edges >= 3):
+        raise StitchError(f"the longest hole to close must be a whole number of at least 3 edges, got {max_edges}")
+    before = len(boundary_loops(model.faces))
+    meshes = pymeshlab.MeshSet()
+    meshes.add_mesh(pymeshlab.Mesh(vertex_matrix=model.vertices, face_matrix=model.faces.astype(np.int32)))
+    # pymeshlab closes the holes of fewer than maxholesize edges
+    meshes.meshing_close_holes(maxholesize=int(max_edges) + 1, selfintersection=False)
+    mesh = meshes.current_mesh()
+    faces = np.asarray(mesh.face_matrix(), np.int64)
+    if len(mesh.vertex_matrix()) != len(model.vertices) or not np.array_equal(faces[: len(model.faces)], model.faces):
+        raise StitchError(f"{model.name}: closing its holes changed its vertices or faces, not only added faces")
+    added = _manifold_patches(faces, len(model.faces), len(model.vertices))
+    faces = np.concatenate([model.faces, added])
+    vertex_colors = np.zeros((len(model.vertices), 3), np.float32)
+    vertex_colors[model.faces.ravel()] = model.corner_colors.reshape(-1, 3)
+    closed = Model(
+        model.name,
+        model.vertices,
+        faces,
+        np.concatenate([model.corner_colors, vertex_colors[added]]),
+        np.concatenate([model.corner_uv, np.zeros((len(added), 3, 2), np.float32)]),
+        np.concatenate([model.face_texture, np.full(len(added), -1, np.int32)]),
+        model.textures,
+        model.label,
+        model.source,
+        list(model.repairs),
+    )
+    filled = before - len(boundary_loops(closed.faces))
+    if filled:
+        closed.repairs.append(f"{filled} hole(s) of up to {int(max_edges)} edges closed ({len(added)} faces)")
+    log.info("%s: %d hole(s) of up to %d edges closed with %d faces", model.name, filled, int(max_edges), len(added))
+    return closed, filled
+
+
+def _manifold_patches(faces: np.ndarray, kept: int, vertices: int) -> np.ndarray:
+    """The faces after the first ``kept`` of ``faces`` (the patches), less every patch (faces joined by vertices)
+    that has an edge shared by more than two faces."""
+    added = faces[kept:]
+    if not len(added):
+        return added
+    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
+    _, inverse, counts = np.unique(edges, axis=0, return_inverse=True, return_counts=True)
+    overfull = np.any(counts[inverse.reshape(3, -1)] > 2, axis=0)[kept:]
+    if not overfull.any():
+        return added
+    patch = component_labels(np.concatenate([added[:, [0, 1]], added[:, [1, 2]]]), vertices)[added[:, 0]]
+    return added[~np.isin(patch, patch[overfull])]

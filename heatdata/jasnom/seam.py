@@ -157,6 +157,7 @@ class Stitched:
             "crossing_cost": a.crossing_cost,
             "crease_cost": a.crease_cost,
             "table_cost": a.table_cost,
+            "free_space_cost": a.free_space_cost,
             "runner_up": None if np.isnan(a.runner_up) else a.runner_up,
             "ambiguous": a.ambiguous,
             "mean_gap": a.gap,
@@ -188,6 +189,7 @@ def stitch(
     motion: np.ndarray | None = None,
     contact: TableContact | None = None,
     table: float = TABLE,
+    free_space: float | None = None,
 ) -> Stitched:
     """JASNOM: align ``second`` onto ``first`` by their longest boundaries and stitch them into one model.
 
@@ -226,6 +228,10 @@ def stitch(
         flip candidates (:mod:`heatdata.jasnom.table`).
     table : float
         The support-plane term's weight (default :data:`heatdata.jasnom.defaults.TABLE`).
+    free_space : float, optional
+        The free-space term's weight (:class:`heatdata.jasnom.align.Witnesses`; default
+        :func:`heatdata.jasnom.align.free_space_weight`'s: :data:`heatdata.jasnom.defaults.FREE_SPACE` for scans
+        without tables, else 0).
 
     Returns
     -------
@@ -272,10 +278,10 @@ def stitch(
     }
     if contact is not None:
         weights |= {"contact": contact, "table": table}
+    surfaces = (ScanSurface.of(first), ScanSurface.of(second)) if scans else None
+    weights |= {"scans": surfaces, "free_space": free_space}
     if motion is None:
-        alignment = align(
-            loops1, loops2, **weights, scans=(ScanSurface.of(first), ScanSurface.of(second)) if scans else None
-        )
+        alignment = align(loops1, loops2, **weights)
     else:
         motion = rigid_motion(motion)
         alignment = alignment_at(loops1, loops2, motion[:3, :3], motion[:3, 3], **weights)

@@ -63,3 +63,44 @@ def test_a_scan_faces_its_own_camera_and_not_the_opposite_one():
     assert surface.faces_camera(np.eye(3), np.zeros(3), np.zeros(3)) > 0.85  # all but the faces near the limb
     turned = Rotation.from_rotvec([0.0, np.pi, 0.0]).as_matrix()  # the back of the ball, seen from the same camera
     assert surface.faces_camera(turned, [0.0, 0.0, 2.0] - turned @ [0.0, 0.0, 1.0], np.zeros(3)) < 0.15
+
+
+def ball_halves():
+    """The two halves of a ball 1 m ahead, each as its camera saw it: the front from the origin, the back from 2 m
+    behind the ball looking back (in its own frame); and the true motion of the back's frame into the front's."""
+    cap = trimesh.creation.icosphere(subdivisions=4, radius=0.1)
+    centre = np.array([0.0, 0.0, 1.0])
+    front = cap.triangles_center[:, 2] < 0
+    turn = Rotation.from_rotvec([0.0, np.pi, 0.0]).as_matrix()  # camera 2's frame from camera 1's: x2 = turn x1 + t
+    t = np.array([0.0, 0.0, 2.0])
+    first = Model.untextured("front", cap.vertices + centre, cap.faces[front][:, ::-1], (0.5, 0.5, 0.5))
+    second = Model.untextured("back", (cap.vertices + centre) @ turn.T + t, cap.faces[~front][:, ::-1], (0.5,) * 3)
+    return first, second, turn.T, -turn.T @ t
+
+
+def ball_scans():
+    first, second, rotation, translation = ball_halves()
+    return ScanSurface.of(first), ScanSurface.of(second), rotation, translation
+
+
+def test_free_space_is_nil_at_the_truth_and_grows_as_one_scan_enters_the_other_s_seen_space():
+    front, back, rotation, translation = ball_scans()
+    np.testing.assert_allclose(front.free_space(back, rotation, translation), 0.0, atol=1e-12)
+    toward = [front.free_space(back, rotation, translation - [0.0, 0.0, shift])[0] for shift in (0.02, 0.04, 0.08)]
+    assert 0 < toward[0] < toward[1] < toward[2]  # the back half moved towards camera 1, through the front half
+    # moved away, each lies behind the other's surface: a thicker object, which only the boundary terms rule out
+    np.testing.assert_array_equal(front.free_space(back, rotation, translation + [0.0, 0.0, 0.04]), 0.0)
+
+
+def test_two_opposite_scans_of_a_ball_are_stitched_where_neither_enters_the_other_s_seen_space():
+    from heatdata.jasnom.seam import stitch
+
+    first, second, rotation, translation = ball_halves()
+    found = stitch(first, second, scans=True, samples=64).alignment
+    assert found.free_space_cost < 1e-6  # nothing at the answer
+    through = np.eye(4)
+    through[:3, :3], through[:3, 3] = rotation, translation - [0.0, 0.0, 0.04]  # the back half through the front
+    assert stitch(first, second, scans=True, samples=64, motion=through).alignment.free_space_cost > 1e-3
+    # a ball's halves may turn about its axis; the back's centre, (0, 0, 1) in its frame too, lands on the front's
+    np.testing.assert_allclose(found.rotation @ [0.0, 0.0, 1.0] + found.translation, [0.0, 0.0, 1.0], atol=0.002)
+    assert stitch(first, second, samples=64).alignment.free_space_cost == 0.0  # meshes: no cameras, no term

@@ -78,8 +78,11 @@ def test_the_command_registers_two_overlapping_pcd_files_and_stitches_two_opposi
     truth = np.linalg.inv(views[0].pose) @ views[40].pose
     assert printed["method"] == "registration" and "the scans overlap" in printed["why"]
     assert angle(np.array(printed["rotation"]), truth[:3, :3]) < 1.0
-    assert main(["stitch", str(files[0]), str(files[180]), "-o", str(tmp_path / "whole.ply")]) == 0
+    whole = ["stitch", str(files[0]), str(files[180]), "-o", str(tmp_path / "whole.ply"), "--close-holes", "30"]
+    assert main(whole) == 0
     table = capsys.readouterr().out
-    assert "method   JASNOM: the scans do not overlap" in table and "hole(s) left open" in table
+    assert "method   JASNOM: the scans do not overlap" in table and "hole(s) inside the scans, " in table
+    assert " loop(s) closed" in table and "left open" not in table
+    assert "free space" in table
     assert main(["stitch", str(files[0]), str(tmp_path / "whole.ply"), "-o", str(tmp_path / "x.ply")]) == 1
     assert "give two scans (PCD or range-grid PLY files) or two meshes, not one of each" in caplog.text
